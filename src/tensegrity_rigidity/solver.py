@@ -1,0 +1,435 @@
+"""Exact relaxation of the linear tensegrity energy and a certified rigid/floppy verdict.
+
+The energy ``E(u) = 1/2 dist_K(e0 + R u, Z)^2`` is convex, piecewise quadratic and C1
+(MODEL.md), so its minimum ``E*`` and the tensions ``t*`` there are unique. :func:`solve` finds
+them with a semismooth Newton method specialised to this structure:
+
+1. **Newton step.** On the current active set ``A`` (rods, stretched cables, compressed struts)
+   the energy is the quadratic ``1/2 |K^1/2 (e0_A + R_A u)|^2``. The step solves
+   ``(R^T D_A R + mu I) d = -R^T t`` with ``D_A = diag(k_b [b in A])`` and a tiny regularisation
+   ``mu`` (relative to the stiffness) that keeps the factorisation positive definite on floppy
+   networks. The matrix is assembled into a *fixed* sparsity pattern (every non-empty site), so
+   the fill-reducing ordering and symbolic analysis of the sparse LDL^T (QDLDL) are computed once
+   per instance and only the numeric factorisation is redone.
+2. **Exact line search.** Along ``d`` the energy is a one-dimensional convex piecewise
+   quadratic whose breakpoints are where one-sided elements engage or slacken; its minimiser is
+   found exactly by sorting the breakpoints. The energy decreases monotonically, and once the
+   active set is the optimal one the next step lands on the minimum up to ``O(mu)``.
+3. **Certificates** (never an energy threshold alone). *Rigid*: the final tensions ``t`` are an
+   admissible self-stress (signs hold exactly by construction) with a relative force-balance
+   residual ``|R^T t| / |t|`` below ``stationarity_tol`` and a normalised work
+   ``t . e0 / (|t| |e0|)`` above ``work_tol``; by Farkas' lemma no zero-energy displacement
+   can then exist. *Floppy*: a displacement ``u`` whose violation
+   ``sqrt(E(u) / E_ref)`` is below ``floppy_tol``, where ``E_ref = 1/2 sum k e0^2`` over
+   non-empty sites. At the exact optimum the normalised work equals ``sqrt(E*/E_ref)``, so the
+   two tests exclude each other as long as ``floppy_tol < work_tol``; a sample that passes
+   neither is handed to the general path (Clarabel QP for the energy, HiGHS LP for the verdict)
+   and, should that fail too, reported as undecided with a warning.
+4. **Displacements.** The minimiser ``u`` is not unique on floppy networks. We report the
+   minimum-norm minimiser (the limit of a vanishing background stiffness): on the final active
+   set, proximal iterations ``x <- x - (H + mu I)^-1 grad q(x)`` from ``x = 0`` converge to the
+   minimum-norm solution of the active set's equations; it is kept when it is still a minimiser
+   of the full energy (``min_norm_ok``), which is checked. The mean translation is removed.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+import qdldl
+import scipy.sparse as sp
+
+from .errors import UndecidedWarning
+from .mechanics import affine_extensions, rigidity_matrix
+from .network import Element, Instance
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Tolerances and switches of :func:`solve` (all dimensionless).
+
+    Attributes
+    ----------
+    regularization : float
+        ``mu`` of the Newton matrix, relative to the mean stiffness.
+    max_iter : int
+        Newton iterations before giving up on the fast path.
+    stationarity_tol : float
+        Largest relative force-balance residual ``|R^T t| / |t|`` of a rigidity certificate.
+    work_tol : float
+        Smallest normalised work ``t . e0 / (|t| |e0|)`` of a rigidity certificate.
+    floppy_tol : float
+        Largest ``sqrt(E(u) / E_ref)`` of a floppiness certificate.
+    min_norm : bool
+        Compute the minimum-norm minimiser (needed for the nonaffinity).
+    fallback : bool
+        Use the general path (Clarabel, HiGHS) when the fast path cannot certify.
+    """
+
+    regularization: float = 1e-9
+    max_iter: int = 100
+    stationarity_tol: float = 1e-11
+    work_tol: float = 1e-8
+    floppy_tol: float = 1e-10
+    min_norm: bool = True
+    fallback: bool = True
+
+
+@dataclass(frozen=True)
+class SolveResult:
+    """The relaxed state of an instance and the certificate behind its verdict.
+
+    Attributes
+    ----------
+    energy : float
+        Minimum energy E*.
+    affine_energy : float
+        Energy of the affine deformation, E(u = 0).
+    rigid : bool
+        Verdict (False also when undecided; check ``decided``).
+    decided : bool
+        True when a certificate passed its tolerance.
+    tensions : (m,) float
+        Tensions t* at the minimum (zero on empty sites, >= 0 on cables, <= 0 on struts).
+    displacements : (N, 2) float
+        Minimising displacements, mean translation removed (minimum-norm when ``min_norm_ok``).
+    extensions : (m,) float
+        Total extensions e0 + R u at the reported displacements.
+    force_residual : float
+        ``|R^T t| / |t|`` of the rigidity certificate (0 when t = 0).
+    work : float
+        ``t . e0 / (|t| |e0|)`` of the rigidity certificate (0 when t = 0).
+    floppy_residual : float
+        ``sqrt(E(u) / E_ref)`` of the best floppiness candidate.
+    iterations : int
+        Newton iterations.
+    factorizations : int
+        Numeric LDL^T factorisations.
+    method : str
+        "newton", or "newton+fallback" when the general path was needed.
+    min_norm_ok : bool
+        Whether the displacements are the verified minimum-norm minimiser.
+    seconds : float
+        Wall time of the solve.
+    """
+
+    energy: float
+    affine_energy: float
+    rigid: bool
+    decided: bool
+    tensions: np.ndarray
+    displacements: np.ndarray
+    extensions: np.ndarray
+    force_residual: float
+    work: float
+    floppy_residual: float
+    iterations: int
+    factorizations: int
+    method: str
+    min_norm_ok: bool
+    seconds: float = field(default=0.0)
+
+    @property
+    def status(self) -> str:
+        """"rigid", "floppy" or "undecided"."""
+        if not self.decided:
+            return "undecided"
+        return "rigid" if self.rigid else "floppy"
+
+    def summary(self) -> dict:
+        """Scalars of the result as a JSON-ready dict."""
+        return {
+            "status": self.status,
+            "rigid": bool(self.rigid),
+            "decided": bool(self.decided),
+            "energy": float(self.energy),
+            "affine_energy": float(self.affine_energy),
+            "force_residual": float(self.force_residual),
+            "work": float(self.work),
+            "floppy_residual": float(self.floppy_residual),
+            "iterations": int(self.iterations),
+            "factorizations": int(self.factorizations),
+            "method": self.method,
+            "min_norm_ok": bool(self.min_norm_ok),
+            "seconds": float(self.seconds),
+        }
+
+
+class _Problem:
+    """The non-empty part of an instance with a reusable LDL^T of the Newton matrix."""
+
+    def __init__(self, instance: Instance, regularization: float):
+        net = instance.network
+        self.instance = instance
+        self.sites = np.flatnonzero(net.kinds != Element.EMPTY)
+        kinds = net.kinds[self.sites]
+        self.k = net.stiffness_or_ones()[self.sites]
+        self.rod = kinds == Element.ROD
+        # sigma = +1 for cables, -1 for struts: a one-sided element is engaged when sigma e > 0
+        self.sigma = np.where(kinds == Element.CABLE, 1.0, np.where(kinds == Element.STRUT, -1.0, 0.0))
+        self.one_sided = ~self.rod
+        self.R = rigidity_matrix(net, self.sites)
+        self.RT = self.R.T.tocsr()
+        self.e0 = affine_extensions(net, instance.strain)[self.sites]
+        self.n2 = 2 * net.n_nodes
+        self.mu = regularization * (float(self.k.mean()) if self.k.size else 1.0)
+        self._pattern()
+        self._solver: qdldl.Solver | None = None
+        self.factorizations = 0
+
+    def _pattern(self) -> None:
+        """Fixed upper-triangular CSC pattern of R^T D R + mu I and the scatter map into it."""
+        net = self.instance.network
+        i, j = net.bonds[self.sites, 0], net.bonds[self.sites, 1]
+        cols = np.c_[2 * i, 2 * i + 1, 2 * j, 2 * j + 1]  # (m, 4)
+        d = net.bond_vectors()[self.sites]
+        dhat = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+        vals = np.c_[-dhat, dhat]  # row b of R: -dhat at node i, +dhat at node j
+        rr_rows = np.repeat(cols, 4, axis=1)  # (m, 16): row index of entry (p, q) = cols[p]
+        rr_cols = np.tile(cols, (1, 4))  # col index = cols[q]
+        rr_vals = np.einsum("bp,bq->bpq", vals, vals).reshape(-1, 16)
+        keep = rr_rows <= rr_cols  # upper triangle
+        diag = np.arange(self.n2)
+        rows = np.r_[rr_rows[keep], diag]
+        colsf = np.r_[rr_cols[keep], diag]
+        key = colsf.astype(np.int64) * self.n2 + rows
+        uniq, inverse = np.unique(key, return_inverse=True)
+        self._inverse = inverse
+        self._rr = rr_vals[keep]  # values per kept entry, ordered like rr_rows[keep]
+        self._bond_of_entry = np.nonzero(keep)[0]
+        self._indices = (uniq % self.n2).astype(np.int32)
+        counts = np.bincount(uniq // self.n2, minlength=self.n2)
+        self._indptr = np.r_[0, np.cumsum(counts)].astype(np.int32)
+        self._nnz = len(uniq)
+
+    def matrix(self, weights: np.ndarray) -> sp.csc_matrix:
+        """Upper triangle of R^T diag(weights) R + mu I in the fixed pattern."""
+        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, self.mu)]
+        data = np.bincount(self._inverse, weights=w, minlength=self._nnz)
+        return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n2, self.n2))
+
+    def factor(self, weights: np.ndarray) -> qdldl.Solver:
+        H = self.matrix(weights)
+        if self._solver is None:
+            self._solver = qdldl.Solver(H, upper=True)
+        else:
+            self._solver.update(H, upper=True)
+        self.factorizations += 1
+        return self._solver
+
+    def active(self, e: np.ndarray) -> np.ndarray:
+        return self.rod | (self.sigma * e > 0)
+
+    def state(self, u: np.ndarray):
+        e = self.e0 + self.R @ u
+        act = self.active(e)
+        t = np.where(act, self.k * e, 0.0)
+        return e, act, t
+
+
+def _line_search(p: _Problem, e: np.ndarray, s: np.ndarray) -> float:
+    """Exact minimiser alpha >= 0 of E along extensions e + alpha s (s = R d)."""
+    k, sig = p.k, p.sigma
+    ks, kes = k * s * s, k * e * s
+    et, st = sig * e, sig * s
+    # elements engaged at alpha = 0+ (rods, or one-sided with et > 0, or et == 0 and st > 0)
+    on0 = p.rod | (et > 0) | ((et == 0) & (st > 0))
+    c, a = float(kes[on0].sum()), float(ks[on0].sum())
+    # events: one-sided elements that switch at beta = -et/st > 0
+    os = p.one_sided & (st != 0)
+    beta = np.full(e.shape, -1.0)
+    beta[os] = -et[os] / st[os]
+    ev = os & (beta > 0)
+    on = ev & (st > 0)  # engage at beta
+    off = ev & (st < 0)  # slacken at beta (they are in on0)
+    idx = np.flatnonzero(on | off)
+    if idx.size == 0:
+        return -c / a if a > 0 else 0.0
+    order = idx[np.argsort(beta[idx], kind="stable")]
+    sign = np.where(on[order], 1.0, -1.0)
+    bpts = beta[order]
+    cs = c + np.cumsum(sign * kes[order])
+    as_ = a + np.cumsum(sign * ks[order])
+    seg_c = np.r_[c, cs]
+    seg_a = np.r_[a, as_]
+    right = np.r_[bpts, np.inf]
+    left = np.r_[0.0, bpts]
+    with np.errstate(invalid="ignore", over="ignore"):
+        slope_right = seg_c + seg_a * right
+    slope_right[-1] = np.inf if seg_a[-1] > 0 else seg_c[-1]
+    hit = np.flatnonzero(slope_right >= 0)
+    if hit.size == 0:
+        return float(bpts[-1])
+    jj = int(hit[0])
+    if seg_a[jj] <= 0:
+        return float(left[jj])
+    return float(np.clip(-seg_c[jj] / seg_a[jj], left[jj], right[jj]))
+
+
+def _certificates(p: _Problem, t: np.ndarray, E: float, e_ref: float):
+    tn = float(np.linalg.norm(t))
+    e0n = float(np.linalg.norm(p.e0))
+    if tn == 0.0:
+        return 0.0, 0.0, 0.0
+    force = float(np.linalg.norm(p.RT @ t)) / tn
+    work = float(np.dot(t, p.e0)) / (tn * e0n)
+    floppy = float(np.sqrt(max(E, 0.0) / e_ref))
+    return force, work, floppy
+
+
+def _min_norm(p: _Problem, act: np.ndarray, opts: SolverOptions, u_fallback: np.ndarray):
+    """Minimum-norm minimiser on the final active set (see module docstring)."""
+    w = p.k * act
+    solver = p.factor(w)
+    x = np.zeros(p.n2)
+    g0 = None
+    for _ in range(200):
+        e = p.e0 + p.R @ x
+        g = p.RT @ (w * e)
+        gn = float(np.linalg.norm(g))
+        if g0 is None:
+            g0 = max(gn, 1e-300)
+        if gn <= 1e-13 * g0:
+            break
+        x = x - solver.solve(g)
+    e = p.e0 + p.R @ x
+    # still a minimiser of the full energy: the same elements engaged, within round-off
+    scale = 1e-9 * (float(np.abs(p.e0).max()) if p.e0.size else 1.0)
+    ok = bool(np.all(p.rod | act | (p.sigma * e <= scale)) and np.all(~act | p.rod | (p.sigma * e >= -scale)))
+    return (x, True) if ok else (u_fallback, False)
+
+
+def solve(
+    instance: Instance,
+    options: SolverOptions | None = None,
+    initial_displacements: np.ndarray | None = None,
+) -> SolveResult:
+    """Relax an instance exactly and decide whether it rigidly resists its strain.
+
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements and strain.
+    options : SolverOptions, optional
+        Tolerances; the defaults suit unit-order geometry and any strain magnitude.
+    initial_displacements : (N, 2) float, optional
+        Warm start (for example the solution of a neighbouring sample).
+
+    Returns
+    -------
+    SolveResult
+        Energy, tensions, minimum-norm displacements, verdict and its certificate residuals.
+
+    Notes
+    -----
+    See the module docstring for the method and the certificates. The verdict never rests on
+    an energy threshold alone: rigid needs an admissible self-stress doing positive work,
+    floppy a displacement of (numerically) zero energy.
+    """
+    opts = options or SolverOptions()
+    start = time.perf_counter()
+    p = _Problem(instance, opts.regularization)
+    net = instance.network
+    e_ref = 0.5 * float(np.dot(p.k, p.e0**2))
+    u = (
+        np.zeros(p.n2)
+        if initial_displacements is None
+        else np.asarray(initial_displacements, dtype=float).ravel().copy()
+    )
+    e, act, t = p.state(u)
+    E = 0.5 * float(np.dot(t, e))
+    affine_energy = 0.5 * float(np.dot(np.where(p.active(p.e0), p.k * p.e0, 0.0), p.e0))
+    it = 0
+    if e_ref > 0:
+        best_g, stalled, E_prev = np.inf, 0, np.inf
+        for it in range(1, opts.max_iter + 1):  # noqa: B007 (it is reported)
+            if E <= opts.floppy_tol**2 * e_ref:
+                break
+            g = p.RT @ t
+            gn = float(np.linalg.norm(g))
+            if gn <= opts.stationarity_tol * float(np.linalg.norm(t)):
+                break
+            # Progress is a lower energy or, once energies stop resolving it, a smaller gradient.
+            progress = E < E_prev * (1.0 - 1e-13) or gn < best_g
+            stalled = 0 if progress else stalled + 1
+            best_g, E_prev = min(best_g, gn), min(E_prev, E)
+            if stalled >= 3:
+                break
+            d = -p.factor(p.k * act).solve(g)
+            if float(np.dot(g, d)) >= 0:
+                break  # no descent direction left at working precision
+            alpha = _line_search(p, e, p.R @ d)
+            if alpha <= 0:
+                break
+            u = u + alpha * d
+            e, act, t = p.state(u)
+            E = 0.5 * float(np.dot(t, e))
+    force, work, floppy = _certificates(p, t, E, e_ref) if e_ref > 0 else (0.0, 0.0, 0.0)
+    floppy_ok = e_ref == 0 or E <= opts.floppy_tol**2 * e_ref
+    rigid_ok = (not floppy_ok) and force <= opts.stationarity_tol and work >= opts.work_tol
+    method = "newton"
+    if not (floppy_ok or rigid_ok) and opts.fallback:
+        method = "newton+fallback"
+        u, E, t, force, work, floppy, floppy_ok, rigid_ok = _fallback(p, instance, e_ref, opts)
+        e, act, _ = p.state(u)
+    decided = floppy_ok or rigid_ok
+    if not decided:
+        warnings.warn(
+            f"undecided sample: force residual {force:.2e}, work {work:.2e}, "
+            f"floppy residual {floppy:.2e}",
+            UndecidedWarning,
+            stacklevel=2,
+        )
+    min_norm_ok = False
+    if opts.min_norm and p.sites.size and e_ref > 0:
+        u, min_norm_ok = _min_norm(p, act, opts, u)
+        e = p.e0 + p.R @ u
+    disp = u.reshape(-1, 2)
+    disp = disp - disp.mean(axis=0)
+    t_full = np.zeros(net.n_sites)
+    t_full[p.sites] = t if not floppy_ok else 0.0 * t
+    e_full = affine_extensions(net, instance.strain) + rigidity_matrix(net) @ disp.ravel()
+    if floppy_ok:
+        E = 0.0 if e_ref == 0 else E
+    return SolveResult(
+        energy=float(E),
+        affine_energy=affine_energy,
+        rigid=bool(rigid_ok),
+        decided=bool(decided),
+        tensions=t_full,
+        displacements=disp,
+        extensions=e_full,
+        force_residual=force,
+        work=work,
+        floppy_residual=floppy,
+        iterations=it,
+        factorizations=p.factorizations,
+        method=method,
+        min_norm_ok=min_norm_ok,
+        seconds=time.perf_counter() - start,
+    )
+
+
+def _fallback(p: _Problem, instance: Instance, e_ref: float, opts: SolverOptions):
+    """General path: Clarabel for E* and t*, HiGHS for the verdict and its certificate."""
+    from .reference import lp_verdict, qp_solve
+
+    qp = qp_solve(instance)
+    lp = lp_verdict(instance)
+    u = lp.displacements.ravel() if not lp.rigid else qp.displacements.ravel()
+    e, act, t_u = p.state(u)
+    E_u = 0.5 * float(np.dot(t_u, e))
+    if lp.rigid:
+        t = qp.tensions[p.sites]
+        E = qp.value
+        tl = lp.tensions[p.sites]
+        force = float(np.linalg.norm(p.RT @ tl)) / max(float(np.linalg.norm(tl)), 1e-300)
+        work = float(np.dot(tl, p.e0)) / max(float(np.linalg.norm(tl) * np.linalg.norm(p.e0)), 1e-300)
+        rigid_ok = force <= max(opts.stationarity_tol, 1e-9) and work >= opts.work_tol
+        return u, E, t, force, work, float(np.sqrt(E_u / e_ref)), False, rigid_ok
+    floppy = float(np.sqrt(max(E_u, 0.0) / e_ref))
+    floppy_ok = floppy <= max(opts.floppy_tol, 1e-8)
+    return u, E_u, t_u, 0.0, 0.0, floppy, floppy_ok, False
