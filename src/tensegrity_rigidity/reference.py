@@ -6,10 +6,9 @@
   optimum means floppy, and the LP's dual (the multipliers of ``R^T t = 0``) is a displacement
   ``u`` with ``e0 + R u`` admissible (the dual is the l1 distance of ``e0 + R u`` to the
   admissible set).
-* :func:`qp_solve` computes the exact energy as the projection of ``e0`` onto the cone of
-  admissible self-stresses, ``min 1/2 t K^-1 t - e0 . t`` over that cone, by the interior-point
-  solver Clarabel. Its optimum is ``-E*``, its minimiser the unique tensions ``t*``, and the
-  multipliers of ``R^T t = 0`` give a minimising displacement.
+* :func:`qp_solve` computes the exact energy from a generic QP over displacements and elastic
+  extensions, solved by the interior-point solver Clarabel.
+* :func:`min_norm_minimizer` projects the origin onto the polyhedron of minimisers (Clarabel).
 
 Both work on the non-empty sites only and return full-length arrays.
 """
@@ -21,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .mechanics import affine_extensions, rigidity_matrix
+from .mechanics import affine_extensions, rigidity_matrix, tensions_from_extensions
 from .network import Element, Instance
 
 
@@ -95,7 +94,20 @@ def lp_verdict(instance: Instance, tol: float = 1e-9) -> ReferenceResult:
 
 
 def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
-    """Exact energy and tensions from the dual QP, solved by Clarabel (interior point)."""
+    """Exact energy, tensions and a minimiser from a generic QP, solved by Clarabel.
+
+    The primal formulation over displacements ``u`` (2N) and elastic extensions ``y`` (m)::
+
+        min 1/2 sum_b k_b y_b^2   subject to
+        rods:    y = e0 + R u
+        cables:  y >= e0 + R u,  y >= 0
+        struts:  y <= e0 + R u,  y <= 0
+
+    (a cable's energy ``1/2 k max(e, 0)^2`` is ``min 1/2 k y^2`` over ``y >= max(e, 0)``). Its
+    equality rows contain an identity block, so they have full rank whatever the network; the
+    dual form ``min 1/2 t K^-1 t - e0 . t`` over ``R^T t = 0`` does not, and interior-point
+    solvers stall on it. The problem is solved for the unit-norm strain and rescaled.
+    """
     import clarabel
 
     net, sites, kinds, R, e0, k = _nonempty(instance)
@@ -103,39 +115,84 @@ def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
     t_full = np.zeros(net.n_sites)
     if m == 0 or not np.any(e0):
         return ReferenceResult(0.0, False, t_full, np.zeros((net.n_nodes, 2)), "trivial")
-    cable = np.flatnonzero(kinds == Element.CABLE)
-    strut = np.flatnonzero(kinds == Element.STRUT)
-    # rows: R^T t = 0 (zero cone), -t_cable <= 0 and t_strut <= 0 (nonnegative slacks)
-    sign_rows = sp.csr_matrix(
-        (
-            np.r_[-np.ones(len(cable)), np.ones(len(strut))],
-            (np.arange(len(cable) + len(strut)), np.r_[cable, strut]),
-        ),
-        shape=(len(cable) + len(strut), m),
-    )
-    A = sp.vstack([R.T, sign_rows]).tocsc()
-    b = np.zeros(A.shape[0])
-    P = sp.diags(1.0 / k).tocsc()
-    # Solve for the unit-norm strain and rescale: E* scales as |e0|^2 and t* as |e0|, so the
-    # interior-point tolerances act on a problem of unit size whatever the strain magnitude.
     scale = float(np.linalg.norm(e0))
     e0 = e0 / scale
-    cones = [clarabel.ZeroConeT(n2)]
-    if sign_rows.shape[0]:
-        cones.append(clarabel.NonnegativeConeT(sign_rows.shape[0]))
+    rod = np.flatnonzero(kinds == Element.ROD)
+    cab = np.flatnonzero(kinds == Element.CABLE)
+    stru = np.flatnonzero(kinds == Element.STRUT)
+    eye = sp.identity(m, format="csr")
+
+    def rows(sel, sr, sy):
+        # rows  sr * R u + sy * y  for the selected sites
+        return sp.hstack([sr * R[sel], sy * eye[sel]]) if sel.size else None
+
+    blocks_eq = [rows(rod, -1.0, 1.0)]
+    b_eq = [e0[rod]]
+    blocks_in = [rows(cab, 1.0, -1.0), rows(cab, 0.0, -1.0), rows(stru, -1.0, 1.0),
+                 rows(stru, 0.0, 1.0)]
+    b_in = [-e0[cab], np.zeros(cab.size), e0[stru], np.zeros(stru.size)]
+    A_parts, b_parts, cones = [], [], []
+    if rod.size:
+        A_parts.append(blocks_eq[0])
+        b_parts.append(b_eq[0])
+        cones.append(clarabel.ZeroConeT(rod.size))
+    ins = [(blk, bb) for blk, bb in zip(blocks_in, b_in) if blk is not None]
+    if ins:
+        A_parts += [blk for blk, _ in ins]
+        b_parts += [bb for _, bb in ins]
+        cones.append(clarabel.NonnegativeConeT(sum(bb.size for _, bb in ins)))
+    A = sp.vstack(A_parts).tocsc()
+    b = np.concatenate(b_parts)
+    P = sp.block_diag([sp.csc_matrix((n2, n2)), sp.diags(k)], format="csc")
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.tol_gap_abs = tol
     settings.tol_gap_rel = tol
     settings.tol_feas = tol
     settings.max_iter = 500
-    solver = clarabel.DefaultSolver(P, -e0, A, b, cones, settings)
-    sol = solver.solve()
-    status = str(sol.status)
-    t = np.asarray(sol.x) * scale
+    sol = clarabel.DefaultSolver(P, np.zeros(n2 + m), A, b, cones, settings).solve()
+    x = np.asarray(sol.x)
+    u = x[:n2] * scale
+    # Report the exact energy and tensions at the QP's displacements rather than its objective
+    # value: an interior-point objective carries the solver's tolerance, E(u) is exact for u.
+    e = scale * e0 + R @ u
+    t = tensions_from_extensions(kinds, k, e)
     t_full[sites] = t
-    energy = float(0.5 * np.dot(t, t / k))
-    # KKT of the rod rows: t / k - e0 + R z = 0, so e = e0 + R u with u = -z_eq.
-    u = -np.asarray(sol.z)[:n2].reshape(-1, 2) * scale
+    energy = 0.5 * float(np.dot(t, e))
     e_ref = 0.5 * float(np.dot(k, (scale * e0) ** 2))
-    return ReferenceResult(energy, energy > 1e-14 * e_ref, t_full, u, status)
+    u = u.reshape(-1, 2)
+    return ReferenceResult(energy, energy > 1e-14 * e_ref, t_full, u, str(sol.status))
+
+
+def min_norm_minimizer(instance: Instance, tensions: np.ndarray) -> tuple[np.ndarray, str]:
+    """Minimum-norm displacement among all minimisers of the energy, by Clarabel.
+
+    Given the unique optimal tensions ``t*`` (m,), the minimisers form the polyhedron
+    ``U* = {u : e_b = t*_b / k_b on rods and stressed one-sided elements, and the sign constraint
+    on unstressed one-sided elements}``; this returns ``argmin |u|`` over ``U*`` (shape (N, 2))
+    and the solver status. It is the limit of the minimiser of ``E(u) + mu/2 |u|^2`` as
+    ``mu -> 0`` (a vanishing background stiffness).
+    """
+    import clarabel
+
+    net, sites, kinds, R, e0, k = _nonempty(instance)
+    n2 = R.shape[1]
+    if R.shape[0] == 0:
+        return np.zeros((net.n_nodes, 2)), "trivial"
+    t = np.asarray(tensions, dtype=float)[sites]
+    eq = (kinds == Element.ROD) | (t != 0)
+    ineq = ~eq
+    sigma = np.where(kinds == Element.CABLE, 1.0, -1.0)
+    scale = max(float(np.linalg.norm(e0)), 1e-300)
+    # equalities R u = t/k - e0 ; inequalities sigma (e0 + R u) <= 0
+    A = sp.vstack([R[eq], sp.diags(sigma[ineq]) @ R[ineq]]).tocsc()
+    b = np.r_[(t[eq] / k[eq] - e0[eq]), -sigma[ineq] * e0[ineq]] / scale
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = 1e-11
+    settings.max_iter = 500
+    cones = [clarabel.ZeroConeT(int(eq.sum()))]
+    if ineq.any():
+        cones.append(clarabel.NonnegativeConeT(int(ineq.sum())))
+    sol = clarabel.DefaultSolver(sp.eye(n2, format="csc"), np.zeros(n2), A, b, cones, settings).solve()
+    return np.asarray(sol.x).reshape(-1, 2) * scale, str(sol.status)

@@ -26,10 +26,13 @@ them with a semismooth Newton method specialised to this structure:
    neither is handed to the general path (Clarabel QP for the energy, HiGHS LP for the verdict)
    and, should that fail too, reported as undecided with a warning.
 4. **Displacements.** The minimiser ``u`` is not unique on floppy networks. We report the
-   minimum-norm minimiser (the limit of a vanishing background stiffness): on the final active
-   set, proximal iterations ``x <- x - (H + mu I)^-1 grad q(x)`` from ``x = 0`` converge to the
-   minimum-norm solution of the active set's equations; it is kept when it is still a minimiser
-   of the full energy (``min_norm_ok``), which is checked. The mean translation is removed.
+   minimum-norm minimiser (the limit of a vanishing background stiffness). The minimisers form a
+   polyhedron ``U*`` fixed by the unique tensions. First, proximal iterations
+   ``x <- x - (H + mu I)^-1 grad q(x)`` from ``x = 0`` give the minimum-norm solution of the final
+   active set's equations, a superset of ``U*``; when that point satisfies the remaining sign
+   constraints it is the answer. Otherwise the projection of the origin onto ``U*`` is a QP,
+   solved by Clarabel (:func:`tensegrity_rigidity.reference.min_norm_minimizer`).
+   ``min_norm_ok`` says whether either route succeeded. The mean translation is removed.
 """
 
 from __future__ import annotations
@@ -69,7 +72,7 @@ class SolverOptions:
         Use the general path (Clarabel, HiGHS) when the fast path cannot certify.
     """
 
-    regularization: float = 1e-9
+    regularization: float = 1e-12
     max_iter: int = 100
     stationarity_tol: float = 1e-11
     work_tol: float = 1e-8
@@ -280,26 +283,73 @@ def _certificates(p: _Problem, t: np.ndarray, E: float, e_ref: float):
     return force, work, floppy
 
 
-def _min_norm(p: _Problem, act: np.ndarray, opts: SolverOptions, u_fallback: np.ndarray):
-    """Minimum-norm minimiser on the final active set (see module docstring)."""
+def _min_norm(p: _Problem, act: np.ndarray, t: np.ndarray, u_fallback: np.ndarray):
+    """Minimum-norm minimiser (see module docstring); returns (u, verified)."""
     w = p.k * act
     solver = p.factor(w)
     x = np.zeros(p.n2)
     g0 = None
-    for _ in range(200):
-        e = p.e0 + p.R @ x
-        g = p.RT @ (w * e)
+    for _ in range(50):
+        g = p.RT @ (w * (p.e0 + p.R @ x))
         gn = float(np.linalg.norm(g))
-        if g0 is None:
-            g0 = max(gn, 1e-300)
-        if gn <= 1e-13 * g0:
+        g0 = gn if g0 is None else g0
+        if gn <= 1e-13 * max(g0, 1e-300):
             break
         x = x - solver.solve(g)
     e = p.e0 + p.R @ x
-    # still a minimiser of the full energy: the same elements engaged, within round-off
-    scale = 1e-9 * (float(np.abs(p.e0).max()) if p.e0.size else 1.0)
-    ok = bool(np.all(p.rod | act | (p.sigma * e <= scale)) and np.all(~act | p.rod | (p.sigma * e >= -scale)))
-    return (x, True) if ok else (u_fallback, False)
+    tol = 1e-9 * (float(np.abs(p.e0).max()) if p.e0.size else 1.0)
+    # x is the minimum-norm point of a superset of U*; if it lies in U*, it is the answer.
+    slack_ok = np.all(act | (p.sigma * e <= tol))
+    engaged_ok = np.all(~act | p.rod | (p.sigma * e >= -tol))
+    if slack_ok and engaged_ok:
+        return x, True
+    from .reference import min_norm_minimizer
+
+    t_full = np.zeros(p.instance.network.n_sites)
+    t_full[p.sites] = t
+    u, status = min_norm_minimizer(p.instance, t_full)
+    if status == "Solved":
+        return u.ravel(), True
+    return u_fallback, False
+
+
+def _newton(p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions):
+    """Semismooth Newton with exact line search from u; returns (u, E, iterations)."""
+    e, act, t = p.state(u)
+    E = 0.5 * float(np.dot(t, e))
+    best_g, stalled, E_prev, it = np.inf, 0, np.inf, 0
+    for it in range(1, opts.max_iter + 1):  # noqa: B007 (it is reported)
+        if E <= opts.floppy_tol**2 * e_ref:
+            break
+        g = p.RT @ t
+        gn = float(np.linalg.norm(g))
+        if gn <= opts.stationarity_tol * float(np.linalg.norm(t)):
+            break
+        # Progress is a lower energy or, once energies stop resolving it, a smaller gradient.
+        progress = E < E_prev * (1.0 - 1e-13) or gn < best_g
+        stalled = 0 if progress else stalled + 1
+        best_g, E_prev = min(best_g, gn), min(E_prev, E)
+        if stalled >= 3:
+            break
+        d = -p.factor(p.k * act).solve(g)
+        if float(np.dot(g, d)) >= 0:
+            break  # no descent direction left at working precision
+        alpha = _line_search(p, e, p.R @ d)
+        if alpha <= 0:
+            break
+        u = u + alpha * d
+        e, act, t = p.state(u)
+        E = 0.5 * float(np.dot(t, e))
+    return u, E, it
+
+
+def _verdict(p: _Problem, u: np.ndarray, E: float, e_ref: float, opts: SolverOptions):
+    """Certificates at u: (t, force residual, work, floppy residual, floppy_ok, rigid_ok)."""
+    _, _, t = p.state(u)
+    force, work, floppy = _certificates(p, t, E, e_ref)
+    floppy_ok = E <= opts.floppy_tol**2 * e_ref
+    rigid_ok = (not floppy_ok) and force <= opts.stationarity_tol and work >= opts.work_tol
+    return t, force, work, floppy, floppy_ok, rigid_ok
 
 
 def solve(
@@ -334,47 +384,32 @@ def solve(
     p = _Problem(instance, opts.regularization)
     net = instance.network
     e_ref = 0.5 * float(np.dot(p.k, p.e0**2))
+    affine_energy = 0.5 * float(np.dot(np.where(p.active(p.e0), p.k * p.e0, 0.0), p.e0))
     u = (
         np.zeros(p.n2)
         if initial_displacements is None
         else np.asarray(initial_displacements, dtype=float).ravel().copy()
     )
-    e, act, t = p.state(u)
-    E = 0.5 * float(np.dot(t, e))
-    affine_energy = 0.5 * float(np.dot(np.where(p.active(p.e0), p.k * p.e0, 0.0), p.e0))
-    it = 0
-    if e_ref > 0:
-        best_g, stalled, E_prev = np.inf, 0, np.inf
-        for it in range(1, opts.max_iter + 1):  # noqa: B007 (it is reported)
-            if E <= opts.floppy_tol**2 * e_ref:
-                break
-            g = p.RT @ t
-            gn = float(np.linalg.norm(g))
-            if gn <= opts.stationarity_tol * float(np.linalg.norm(t)):
-                break
-            # Progress is a lower energy or, once energies stop resolving it, a smaller gradient.
-            progress = E < E_prev * (1.0 - 1e-13) or gn < best_g
-            stalled = 0 if progress else stalled + 1
-            best_g, E_prev = min(best_g, gn), min(E_prev, E)
-            if stalled >= 3:
-                break
-            d = -p.factor(p.k * act).solve(g)
-            if float(np.dot(g, d)) >= 0:
-                break  # no descent direction left at working precision
-            alpha = _line_search(p, e, p.R @ d)
-            if alpha <= 0:
-                break
-            u = u + alpha * d
-            e, act, t = p.state(u)
-            E = 0.5 * float(np.dot(t, e))
-    force, work, floppy = _certificates(p, t, E, e_ref) if e_ref > 0 else (0.0, 0.0, 0.0)
-    floppy_ok = e_ref == 0 or E <= opts.floppy_tol**2 * e_ref
-    rigid_ok = (not floppy_ok) and force <= opts.stationarity_tol and work >= opts.work_tol
-    method = "newton"
-    if not (floppy_ok or rigid_ok) and opts.fallback:
-        method = "newton+fallback"
-        u, E, t, force, work, floppy, floppy_ok, rigid_ok = _fallback(p, instance, e_ref, opts)
-        e, act, _ = p.state(u)
+    method, iterations = "newton", 0
+    if e_ref == 0:  # no element is strained: u = 0 is an exact floppiness certificate
+        E, t = 0.0, np.zeros(p.sites.size)
+        force = work = floppy = 0.0
+        floppy_ok, rigid_ok = True, False
+    else:
+        u, E, iterations = _newton(p, u, e_ref, opts)
+        t, force, work, floppy, floppy_ok, rigid_ok = _verdict(p, u, E, e_ref, opts)
+        if not (floppy_ok or rigid_ok) and opts.fallback:
+            # General path: a generic interior-point QP, then Newton polishing from its minimiser
+            # (near-optimal, so its active set is nearly right); the LP decides if that fails.
+            from .reference import qp_solve
+
+            method = "newton+qp"
+            u, E, more = _newton(p, qp_solve(instance).displacements.ravel(), e_ref, opts)
+            iterations += more
+            t, force, work, floppy, floppy_ok, rigid_ok = _verdict(p, u, E, e_ref, opts)
+            if not (floppy_ok or rigid_ok):
+                method = "newton+qp+lp"
+                u, E, t, force, work, floppy, floppy_ok, rigid_ok = _lp_fallback(p, e_ref, opts, u, E, t)
     decided = floppy_ok or rigid_ok
     if not decided:
         warnings.warn(
@@ -383,17 +418,17 @@ def solve(
             UndecidedWarning,
             stacklevel=2,
         )
+    if floppy_ok:
+        t = np.zeros_like(t)
+    _, act, _ = p.state(u)
     min_norm_ok = False
     if opts.min_norm and p.sites.size and e_ref > 0:
-        u, min_norm_ok = _min_norm(p, act, opts, u)
-        e = p.e0 + p.R @ u
+        u, min_norm_ok = _min_norm(p, act, t, u)
     disp = u.reshape(-1, 2)
     disp = disp - disp.mean(axis=0)
     t_full = np.zeros(net.n_sites)
-    t_full[p.sites] = t if not floppy_ok else 0.0 * t
+    t_full[p.sites] = t
     e_full = affine_extensions(net, instance.strain) + rigidity_matrix(net) @ disp.ravel()
-    if floppy_ok:
-        E = 0.0 if e_ref == 0 else E
     return SolveResult(
         energy=float(E),
         affine_energy=affine_energy,
@@ -405,7 +440,7 @@ def solve(
         force_residual=force,
         work=work,
         floppy_residual=floppy,
-        iterations=it,
+        iterations=iterations,
         factorizations=p.factorizations,
         method=method,
         min_norm_ok=min_norm_ok,
@@ -413,23 +448,19 @@ def solve(
     )
 
 
-def _fallback(p: _Problem, instance: Instance, e_ref: float, opts: SolverOptions):
-    """General path: Clarabel for E* and t*, HiGHS for the verdict and its certificate."""
-    from .reference import lp_verdict, qp_solve
+def _lp_fallback(p: _Problem, e_ref: float, opts: SolverOptions, u, E, t):
+    """Last resort: the verdict LP (HiGHS) and its certificate; the energy stays the best found."""
+    from .reference import lp_verdict
 
-    qp = qp_solve(instance)
-    lp = lp_verdict(instance)
-    u = lp.displacements.ravel() if not lp.rigid else qp.displacements.ravel()
-    e, act, t_u = p.state(u)
-    E_u = 0.5 * float(np.dot(t_u, e))
+    lp = lp_verdict(p.instance)
     if lp.rigid:
-        t = qp.tensions[p.sites]
-        E = qp.value
         tl = lp.tensions[p.sites]
         force = float(np.linalg.norm(p.RT @ tl)) / max(float(np.linalg.norm(tl)), 1e-300)
         work = float(np.dot(tl, p.e0)) / max(float(np.linalg.norm(tl) * np.linalg.norm(p.e0)), 1e-300)
         rigid_ok = force <= max(opts.stationarity_tol, 1e-9) and work >= opts.work_tol
-        return u, E, t, force, work, float(np.sqrt(E_u / e_ref)), False, rigid_ok
-    floppy = float(np.sqrt(max(E_u, 0.0) / e_ref))
-    floppy_ok = floppy <= max(opts.floppy_tol, 1e-8)
-    return u, E_u, t_u, 0.0, 0.0, floppy, floppy_ok, False
+        return u, E, t, force, work, float(np.sqrt(E / e_ref)), False, rigid_ok
+    u_lp = lp.displacements.ravel()
+    e, _, t_lp = p.state(u_lp)
+    E_lp = 0.5 * float(np.dot(t_lp, e))
+    floppy = float(np.sqrt(max(E_lp, 0.0) / e_ref))
+    return u_lp, E_lp, t_lp, 0.0, 0.0, floppy, floppy <= opts.floppy_tol, False

@@ -1,0 +1,75 @@
+"""The fast solver against independent general-purpose formulations on random small instances:
+the Farkas LP (HiGHS) for the verdict, the dual QP (Clarabel) for the energy."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tensegrity_rigidity import solve
+from tensegrity_rigidity.reference import lp_verdict, qp_solve
+
+from .conftest import random_instance
+
+N_INSTANCES = 300
+
+
+@pytest.mark.parametrize("kind", ["lattice", "random"])
+def test_verdicts_and_energies_agree_with_lp_and_qp(kind):
+    """Zero verdict disagreements with the LP; energies equal to 1e-6 relative where E* > 0.
+
+    Where the LP says floppy, E* = 0: our floppiness certificate is a displacement of energy
+    below 1e-20 E_ref (E_ref = energy if every element were a rod), far below the QP's own
+    accuracy, so there we only check that the QP's energy is small on its scale.
+    """
+    rng = np.random.default_rng(2024 if kind == "lattice" else 7)
+    disagreements, worst, n_rigid = [], 0.0, 0
+    for i in range(N_INSTANCES // 2):
+        inst = random_instance(rng, kind)
+        res = solve(inst)
+        assert res.decided, f"instance {i} undecided"
+        lp = lp_verdict(inst)
+        qp = qp_solve(inst)
+        assert qp.status in ("Solved", "AlmostSolved"), (i, qp.status)
+        if res.rigid != lp.rigid:
+            disagreements.append(i)
+            continue
+        e_ref = _e_ref(inst)
+        if lp.rigid:
+            n_rigid += 1
+            err = abs(res.energy - qp.value) / qp.value
+            worst = max(worst, err)
+            assert err <= 1e-6, (i, res.energy, qp.value)
+        else:
+            assert res.energy <= 1e-20 * e_ref
+            assert qp.value <= 1e-7 * e_ref, (i, qp.value, e_ref)
+    assert disagreements == []
+    # the sample must exercise both verdicts
+    assert 10 < n_rigid < N_INSTANCES // 2 - 10
+    assert worst < 1e-6
+
+
+def _e_ref(inst):
+    k = inst.network.stiffness_or_ones() * (inst.network.kinds > 0)
+    return 0.5 * float(np.sum(k * _e0(inst) ** 2))
+
+
+def _e0(inst):
+    from tensegrity_rigidity.mechanics import affine_extensions
+
+    return affine_extensions(inst.network, inst.strain)
+
+
+def test_lp_certificates_are_valid(rng):
+    """The LP's own certificates: a self-stress doing positive work, or a zero-energy u."""
+    from tensegrity_rigidity.mechanics import energy, net_forces
+
+    for _ in range(30):
+        inst = random_instance(rng)
+        lp = lp_verdict(inst)
+        if lp.rigid:
+            f = net_forces(inst.network, lp.tensions)
+            assert np.abs(f).max() <= 1e-7 * np.abs(lp.tensions).max()
+        else:
+            e_aff = energy(inst)
+            assert energy(inst, lp.displacements) <= 1e-12 * max(e_aff, 1e-300) + 1e-300
