@@ -75,24 +75,24 @@ def run_sweep(
         source = open(spec).read() if os.path.exists(spec) else None
         spec = load_spec(spec)
     store = ResultStore(out)
-    store.prepare(spec, source)
-    chunks = plan_chunks(spec)
-    todo = [(p, c, ks) for p, c, ks in chunks if not store.is_done(p, c, len(ks))]
     start = time.perf_counter()
-    if not todo:
-        return SweepReport(len(chunks), len(chunks), 0, 0, 0.0)
-    n_todo = sum(len(ks) for _, _, ks in todo)
-    show = sys.stderr.isatty() if progress is None else progress
-    bar = tqdm(total=n_todo, unit="sample", disable=not show, dynamic_ncols=True,
-               desc=f"sweep {os.fspath(out)}")
-    done_chunks = done_samples = 0
+    # Reach the executor (a remote scheduler may be down) before touching the directory.
     with open_pool(executor, scheduler) as pool:
+        store.prepare(spec, source)
+        chunks = plan_chunks(spec)
+        todo = [(p, c, ks) for p, c, ks in chunks if not store.is_done(p, c, len(ks))]
+        if not todo:
+            return SweepReport(len(chunks), len(chunks), 0, 0, 0.0)
+        n_todo = sum(len(ks) for _, _, ks in todo)
+        show = sys.stderr.isatty() if progress is None else progress
+        bar = tqdm(total=n_todo, unit="sample", disable=not show, dynamic_ncols=True,
+                   desc=f"sweep {os.fspath(out)}")
+        done_chunks = done_samples = 0
         futures = {pool.submit(run_chunk, spec, p, ks): (p, c, ks) for p, c, ks in todo}
         try:
             for fut in pool.as_completed(list(futures)):
                 point, c, ks = futures[fut]
-                frame = fut.result()
-                store.write(point, c, frame)
+                store.write(point, c, fut.result())
                 done_chunks += 1
                 done_samples += len(ks)
                 bar.update(len(ks))
