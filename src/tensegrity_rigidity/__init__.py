@@ -12,6 +12,7 @@ from .lattice import DEFAULT_DELTA, random_periodic_network, square_lattice, tri
 from .network import Element, Instance, PeriodicNetwork
 from .sample import lattice_instance
 from .solver import SolveResult, SolverOptions, solve
+from .single_node import single_node_probability
 from .strain import strain_tensor
 
 __all__ = [
@@ -30,6 +31,7 @@ __all__ = [
     "place_elements",
     "random_periodic_network",
     "save_instance",
+    "single_node_probability",
     "site_uniforms",
     "solve",
     "square_lattice",
