@@ -179,3 +179,22 @@ def test_unreachable_scheduler_fails_before_any_work(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2 and "cannot reach the Dask scheduler" in err and len(err.splitlines()) == 1
     assert not out.exists()
+
+
+def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
+    spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
+    out = tmp_path / "int"
+    cmd = [sys.executable, "-m", "tensegrity_rigidity", "sweep", str(spec), "--out", str(out),
+           "--workers", "2", "--no-progress"]
+    proc = subprocess.Popen(cmd, start_new_session=True, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    while time.time() < deadline and len(list(out.glob("part-*.parquet"))) < 2:
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole process group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert "interrupted" in err and "Traceback" not in err
+    kept = list(out.glob("part-*.parquet"))
+    assert kept and not list(out.glob(".*.tmp"))
+    subprocess.run(cmd, check=True)
+    pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "clean"))
