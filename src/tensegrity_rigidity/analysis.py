@@ -114,10 +114,12 @@ def outcomes_from_thresholds(thresholds: pd.DataFrame, p_r_grid: np.ndarray,
     """Expand per-sample thresholds (path "p_r", several p_t) into outcome matrices.
 
     Returns (outcomes (S, G), p_r (G,), p_t (G,)) with G = len(p_t values) * len(p_r_grid);
-    grid points with p_r + p_t > 1 are dropped. Samples are matched by their index.
+    grid points with p_r + p_t > 1 are dropped. Samples are matched by their index; a sample
+    missing at any p_t (dropped as undecided) is left out everywhere, keeping the rows paired.
     """
     cols, pr, pt = [], [], []
-    samples = np.sort(thresholds["sample"].unique())
+    groups = [set(sub["sample"]) for _, sub in thresholds.groupby(p_t_col)]
+    samples = np.array(sorted(set.intersection(*groups))) if groups else np.array([], int)
     for p_t, sub in thresholds.groupby(p_t_col):
         s = sub.set_index("sample").reindex(samples)["threshold_p_r"].to_numpy()
         s = np.where(np.isnan(s), np.inf, s)
@@ -140,9 +142,11 @@ class Derivative:
 def paired_derivative(minus: np.ndarray, plus: np.ndarray, h: float) -> Derivative:
     """(P(x + h) - P(x - h)) / 2h from the outcomes of the same samples at x - h and x + h.
 
-    The standard error uses the per-sample differences (CRN makes most of them zero).
+    The standard error uses the per-sample differences (CRN makes most of them zero). Samples
+    missing (nan) at either point are dropped.
     """
     d = np.asarray(plus, float) - np.asarray(minus, float)
+    d = d[np.isfinite(d)]
     n = d.size
     err = d.std(ddof=1) / np.sqrt(n) if n > 1 else np.nan
     return Derivative(float(d.mean() / (2 * h)), float(err / (2 * h)))

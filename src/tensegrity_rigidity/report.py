@@ -198,7 +198,8 @@ FIGURE_CAPTIONS = {
 
 
 def write_report(out: Path, results: dict, figures: dict, scale_name: str,
-                 timings: dict[str, float]) -> dict[str, Path]:
+                 timings: dict[str, float], undecided: dict[str, int] | None = None
+                 ) -> dict[str, Path]:
     """Write report.md, report.html and the CSV tables; returns their paths."""
     out = Path(out)
     tables = out / "tables"
@@ -231,7 +232,11 @@ def write_report(out: Path, results: dict, figures: dict, scale_name: str,
         f"zero-energy displacement), so differences from the paper are statistical, finite-size "
         f"or definitional, not solver noise. {n_agree} claims agree within two combined standard "
         f"errors, {n_dis} do not. Study wall times: "
-        + ", ".join(f"{k} {v:.0f} s" for k, v in timings.items()) + "."
+        + ", ".join(f"{k} {v:.0f} s" for k, v in timings.items()) + ". "
+        + (f"Samples excluded because a configuration's verdict lay below double-precision "
+           f"resolution (no certificate to tolerance): {sum((undecided or {}).values())}"
+           + (" (" + ", ".join(f"{k}: {v}" for k, v in (undecided or {}).items() if v) + ")"
+              if any((undecided or {}).values()) else "") + ".")
     )
     notes = (
         "Conventions (MODEL.md): node disorder delta = 0.2; f_c is the cable fraction (rods + "

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .figures import all_figures
 from .report import write_report
-from .studies import SCALES, STUDIES
+from .studies import SCALES, STUDIES, UNDECIDED
 
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
 EXPECTED = {"tiny": "under a minute", "quick": "about 10 minutes", "paper": "about 40 hours"}
@@ -39,5 +39,5 @@ def reproduce(out, scale: str = "quick", workers=None, scheduler=None, progress=
         timings[name] = time.perf_counter() - start
     print("drawing figures and writing the report", file=sys.stderr, flush=True)
     figures = all_figures(results, out / "figures")
-    paths = write_report(out, results, figures, scale, timings)
+    paths = write_report(out, results, figures, scale, timings, dict(UNDECIDED))
     return {"results": results, "figures": figures, "report": paths, "timings": timings}

@@ -66,6 +66,7 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
                             point.p_t, point.f_c, path, opts)
         rows.append(_base(point, k, theta) | {
             "path": path, "threshold_p_r": th.s, "threshold_p_t": th.p_t, "solves": th.solves,
+            "decided": th.decided,
             "solve_seconds": time.perf_counter() - start,
         })
     return pd.DataFrame(rows)

@@ -57,10 +57,18 @@ SCALES = {
 }
 
 
+#: samples excluded because a verdict was below double-precision resolution, per study
+UNDECIDED: dict[str, int] = {}
+
+
 def _run(out: Path, name: str, spec: dict, workers, scheduler, progress) -> pd.DataFrame:
+    """Run (or resume) one sweep; drop and count undecided samples."""
     path = out / "studies" / name
     run_sweep(parse_spec(spec), path, executor=workers, scheduler=scheduler, progress=progress)
-    return load_results(path)
+    df = load_results(path)
+    bad = ~df["decided"].astype(bool)
+    UNDECIDED[name] = int(bad.sum())
+    return df[~bad].reset_index(drop=True)
 
 
 def _p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
@@ -227,11 +235,14 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
     d_r = _run(out, "fig4_dpr", base | {"p_r": [0.3 - H, 0.3 + H], "p_t": 0.6}, **kw)
     d_t = _run(out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H, 0.6 + H]}, **kw)
 
+    samples = np.arange(1, scale.samples_fig4 + 1)
+
     def outcomes(df, **sel):
+        """Rigidity per sample index (nan where the sample was undecided and dropped)."""
         m = np.ones(len(df), bool)
         for key, val in sel.items():
             m &= np.isclose(df[key], val)
-        return df[m].sort_values("sample").rigid.to_numpy(float)
+        return df[m].set_index("sample").rigid.astype(float).reindex(samples).to_numpy()
 
     per_phi = []
     for phi in FIG4_PHI:
@@ -242,9 +253,11 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
                                        outcomes(d_t, phi=phi, f_c=f, p_t=0.6 + H), H)
             lo, hi = FIG4_FC[max(i - 1, 0)], FIG4_FC[min(i + 1, len(FIG4_FC) - 1)]
             diff = (outcomes(centre, phi=phi, f_c=hi) - outcomes(centre, phi=phi, f_c=lo))
+            diff = diff[np.isfinite(diff)]
             D_f = float(diff.mean() / (hi - lo))
             D_f_err = float(diff.std(ddof=1) / np.sqrt(diff.size) / (hi - lo))
             P = outcomes(centre, phi=phi, f_c=f)
+            P = P[np.isfinite(P)]
             per_phi.append({"phi": phi, "f_c": f, "P": P.mean(), "N": P.size, "S_r": S_r.value,
                             "S_r_err": S_r.err, "S_t": S_t.value, "S_t_err": S_t.err,
                             "D_f": D_f, "D_f_err": D_f_err})

@@ -18,11 +18,12 @@ The threshold ``s*`` is the event that made the sample rigid: the sample is rigi
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, UndecidedWarning
 from .network import Element, Instance, PeriodicNetwork
 from .solver import SolverOptions, solve
 
@@ -39,11 +40,16 @@ class Threshold:
         p_t at the threshold.
     solves : int
         Number of exact solves used.
+    decided : bool
+        False when a configuration on the bisection path had no certificate to tolerance
+        (a verdict below double-precision resolution); s is then nan and the sample should be
+        excluded from statistics, and counted.
     """
 
     s: float
     p_t: float
     solves: int
+    decided: bool = True
 
 
 def _events(u: np.ndarray, path: str, p_t: float):
@@ -116,14 +122,30 @@ def find_threshold(
     n_ev = ev_pos.size
     cache: dict[int, bool] = {}
 
+    class _Undecided(Exception):
+        pass
+
     def rigid(i: int) -> bool:
         if i not in cache:
             kinds = _kinds_after(i, ev_kind, ev_site, initially_os, v, f_c)
-            res = solve(Instance(network.with_kinds(kinds), strain), opts)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UndecidedWarning)
+                res = solve(Instance(network.with_kinds(kinds), strain), opts)
             if not res.decided:
-                raise RuntimeError("undecided sample during threshold bisection")
+                raise _Undecided
             cache[i] = res.rigid
         return cache[i]
+
+    try:
+        return _bisect(rigid, n_ev, ev_pos, p_t, path, cache)
+    except _Undecided:
+        warnings.warn("threshold undecided: a configuration on the path has no certificate "
+                      "to tolerance", UndecidedWarning, stacklevel=2)
+        return Threshold(float("nan"), float("nan"), len(cache) + 1, decided=False)
+
+
+def _bisect(rigid, n_ev, ev_pos, p_t, path, cache) -> Threshold:
+    """Smallest rigid configuration index by bisection; rigid(i) is monotone in i."""
 
     def p_t_at(s):
         return p_t if path == "p_r" else p_t - s
