@@ -36,6 +36,9 @@ class ResultStore:
         """Create DIR for this spec, or check that DIR already belongs to it."""
         meta = self.root / "_spec.json"
         canonical = {"digest": spec.digest(), "spec": spec.canonical()}
+        if self.root.exists():  # temporary files of a killed run
+            for stale in self.root.glob(".part-*.tmp"):
+                stale.unlink(missing_ok=True)
         if meta.exists():
             try:
                 old = json.loads(meta.read_text())
@@ -86,11 +89,15 @@ class ResultStore:
     @staticmethod
     def _atomic_write(path: Path, data: bytes) -> None:
         tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-        with open(tmp, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
+        try:
+            with open(tmp, "wb") as fh:
+                fh.write(data)
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.replace(tmp, path)
+        except BaseException:  # Ctrl-C or a full disk mid-write: leave no partial file
+            tmp.unlink(missing_ok=True)
+            raise
         try:
             dir_fd = os.open(path.parent, os.O_RDONLY)
             try:
