@@ -73,3 +73,23 @@ def test_lp_certificates_are_valid(rng):
         else:
             e_aff = energy(inst)
             assert energy(inst, lp.displacements) <= 1e-12 * max(e_aff, 1e-300) + 1e-300
+
+
+@pytest.mark.slow
+def test_larger_lattices_agree_with_lp_and_qp():
+    """n = 8..12 lattices near the transition (slow: the generic solvers dominate)."""
+    from tensegrity_rigidity import lattice_instance
+
+    rng = np.random.default_rng(99)
+    for i in range(60):
+        n = int(rng.integers(8, 13))
+        p_t = rng.uniform(0, 0.4)
+        inst = lattice_instance(n, 0.66 - p_t / 2 + rng.normal(0, 0.03), p_t,
+                                float(rng.choice([0.0, 0.5, 1.0])), phi=rng.uniform(0, np.pi),
+                                theta=rng.uniform(0, 6.3), seed=i)
+        res, lp, qp = solve(inst), lp_verdict(inst), qp_solve(inst)
+        if not res.decided:
+            continue
+        assert res.rigid == lp.rigid, i
+        if lp.rigid:
+            assert abs(res.energy - qp.value) <= 1e-6 * qp.value, i

@@ -151,7 +151,8 @@ def comparison_table(results: dict) -> pd.DataFrame:
         add("Fig. 4C: (S_c + S_s)/S_r = 1, strain average, every f_c", "1 for every f_c",
             ", ".join(f"{v:.2f}±{e:.2f}" for v, e in zip(a.sum_rel, a.sum_rel_err)), sys_,
             "agree" if (np.abs(dev) <= 2 * a.sum_rel_err + 1e-12).all() else "disagree",
-            "per f_c = 0, 1/8, ..., 1")
+            "per f_c = 0, 1/8, ..., 1; dP/df_c by central differences, second-order one-sided "
+            "at f_c = 0 and 1, where P(f_c) is steep and the estimate is least reliable")
     if "fig3" in results:
         s = results["fig3"]["sim"]
         z = (s.P - s.analytic) / ((s.hi - s.lo) / (2 * 1.96))

@@ -16,7 +16,8 @@ from .report import write_report
 from .studies import SCALES, STUDIES, UNDECIDED
 
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
-EXPECTED = {"tiny": "under a minute", "quick": "about 10 minutes", "paper": "about 40 hours"}
+EXPECTED = {"tiny": "under a minute", "quick": "about 10 minutes (measured 12 min)",
+            "paper": "several hours (see BENCHMARKS.md for solve rates at n = 32)"}
 
 
 def reproduce(out, scale: str = "quick", workers=None, scheduler=None, progress=None,

@@ -11,7 +11,8 @@ Estimators (documented in :mod:`~tensegrity_rigidity.analysis`):
   along p_r at p_t in {0, 0.1, 0.2, 0.3}; bootstrap errors over samples. The strain average
   pools the samples of five strains phi in {0, pi/4, pi/2, 3pi/4, pi}.
 * S_r, S_t, dP/df_c (Fig. 4): paired central differences on common random numbers at
-  (p_r, p_t) = (0.3, 0.6); S_c = S_t + (1 - f_c) dP/df_c / p_t and S_s = S_t - f_c dP/df_c / p_t
+  (p_r, p_t) = (0.3, 0.6), with steps matched in x = p_r + p_t/2 (h_r = 0.025, h_t = 0.05) and
+  the strain average over phi in {0, pi/4, pi/2, 3pi/4, pi}; S_c = S_t + (1 - f_c) dP/df_c / p_t and S_s = S_t - f_c dP/df_c / p_t
   (from S_t = f_c S_c + (1 - f_c) S_s and dP/df_c = p_t (S_c - S_s)).
 * p_crit (Fig. 2): the median per-sample threshold (P = 1/2), bootstrap error.
 """
@@ -221,9 +222,12 @@ def study_fig3(out, scale: Scale, **kw) -> dict:
 
 # --------------------------------------------------------------------------- Fig. 4
 
-FIG4_PHI = [i * math.pi / 8 for i in range(9)]
+FIG4_PHI = PHI5
 FIG4_FC = [i / 8 for i in range(9)]
-H = 0.05
+#: steps of the central differences, matched in the mean-field variable x = p_r + p_t / 2 (both
+#: move x by +-0.025): near the edge of the transition P is strongly curved and a secant is
+#: steeper the wider it is, so unmatched spans would bias S_t / S_r.
+H_R, H_T = 0.025, 0.05
 
 
 def study_fig4(out, scale: Scale, **kw) -> dict:
@@ -232,8 +236,8 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
     base = {"n": scale.n_grid, "f_c": FIG4_FC, "phi": FIG4_PHI, "samples": scale.samples_fig4,
             "seed": 41}
     centre = _run(out, "fig4_centre", base | {"p_r": 0.3, "p_t": 0.6}, **kw)
-    d_r = _run(out, "fig4_dpr", base | {"p_r": [0.3 - H, 0.3 + H], "p_t": 0.6}, **kw)
-    d_t = _run(out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H, 0.6 + H]}, **kw)
+    d_r = _run(out, "fig4_dpr", base | {"p_r": [0.3 - H_R, 0.3 + H_R], "p_t": 0.6}, **kw)
+    d_t = _run(out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H_T, 0.6 + H_T]}, **kw)
 
     samples = np.arange(1, scale.samples_fig4 + 1)
 
@@ -247,15 +251,24 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
     per_phi = []
     for phi in FIG4_PHI:
         for i, f in enumerate(FIG4_FC):
-            S_r = an.paired_derivative(outcomes(d_r, phi=phi, f_c=f, p_r=0.3 - H),
-                                       outcomes(d_r, phi=phi, f_c=f, p_r=0.3 + H), H)
-            S_t = an.paired_derivative(outcomes(d_t, phi=phi, f_c=f, p_t=0.6 - H),
-                                       outcomes(d_t, phi=phi, f_c=f, p_t=0.6 + H), H)
-            lo, hi = FIG4_FC[max(i - 1, 0)], FIG4_FC[min(i + 1, len(FIG4_FC) - 1)]
-            diff = (outcomes(centre, phi=phi, f_c=hi) - outcomes(centre, phi=phi, f_c=lo))
+            S_r = an.paired_derivative(outcomes(d_r, phi=phi, f_c=f, p_r=0.3 - H_R),
+                                       outcomes(d_r, phi=phi, f_c=f, p_r=0.3 + H_R), H_R)
+            S_t = an.paired_derivative(outcomes(d_t, phi=phi, f_c=f, p_t=0.6 - H_T),
+                                       outcomes(d_t, phi=phi, f_c=f, p_t=0.6 + H_T), H_T)
+            # dP/df_c: central difference inside, second-order one-sided at f_c = 0 and 1
+            last = len(FIG4_FC) - 1
+            if 0 < i < last:
+                coef = {i - 1: -1.0, i + 1: 1.0}
+                step = FIG4_FC[i + 1] - FIG4_FC[i - 1]
+            else:
+                j = (1, 2) if i == 0 else (last - 1, last - 2)
+                sign = 1.0 if i == 0 else -1.0
+                coef = {i: -3.0 * sign, j[0]: 4.0 * sign, j[1]: -1.0 * sign}
+                step = 2 * abs(FIG4_FC[j[0]] - FIG4_FC[i])
+            diff = sum(c * outcomes(centre, phi=phi, f_c=FIG4_FC[k]) for k, c in coef.items())
             diff = diff[np.isfinite(diff)]
-            D_f = float(diff.mean() / (hi - lo))
-            D_f_err = float(diff.std(ddof=1) / np.sqrt(diff.size) / (hi - lo))
+            D_f = float(diff.mean() / step)
+            D_f_err = float(diff.std(ddof=1) / np.sqrt(diff.size) / step)
             P = outcomes(centre, phi=phi, f_c=f)
             P = P[np.isfinite(P)]
             per_phi.append({"phi": phi, "f_c": f, "P": P.mean(), "N": P.size, "S_r": S_r.value,
