@@ -59,9 +59,16 @@ class SolverOptions:
     regularization : float
         ``mu`` of the Newton matrix, relative to the mean stiffness.
     max_iter : int
-        Newton iterations before giving up on the fast path.
+        Newton iterations of a polishing run.
+    newton_budget : int
+        Newton iterations from the start before switching to the interior-point path.
     stationarity_tol : float
-        Largest relative force-balance residual ``|R^T t| / |t|`` of a rigidity certificate.
+        Relative force-balance residual ``|R^T t| / |t|`` always accepted in a rigidity
+        certificate.
+    stationarity_ratio : float
+        A larger residual (up to 1e-9) is accepted when it is below this fraction of the
+        normalised work: a floppy network bounds the work by residual / sigma_min(R), and
+        sigma_min >~ 1e-4 on lattices up to n = 128, leaving a margin of 1e3.
     work_tol : float
         Smallest normalised work ``t . e0 / (|t| |e0|)`` of a rigidity certificate.
     floppy_tol : float
@@ -73,8 +80,10 @@ class SolverOptions:
     """
 
     regularization: float = 1e-12
-    max_iter: int = 100
+    max_iter: int = 40
+    newton_budget: int = 15
     stationarity_tol: float = 1e-11
+    stationarity_ratio: float = 1e-7
     work_tol: float = 1e-7
     floppy_tol: float = 1e-9
     min_norm: bool = True
@@ -181,6 +190,7 @@ class _Problem:
         self.mu = regularization * (float(self.k.mean()) if self.k.size else 1.0)
         self._pattern()
         self._solver: qdldl.Solver | None = None
+        self._weights: np.ndarray | None = None
         self.factorizations = 0
 
     def _pattern(self) -> None:
@@ -215,6 +225,10 @@ class _Problem:
         return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n2, self.n2))
 
     def factor(self, weights: np.ndarray) -> qdldl.Solver:
+        """LDL^T of R^T diag(weights) R + mu I; reused when the weights did not change."""
+        if self._solver is not None and np.array_equal(weights, self._weights):
+            return self._solver
+        self._weights = weights.copy()
         H = self.matrix(weights)
         if self._solver is None:
             self._solver = qdldl.Solver(H, upper=True)
@@ -313,18 +327,24 @@ def _min_norm(p: _Problem, act: np.ndarray, t: np.ndarray, u_fallback: np.ndarra
     return u_fallback, False
 
 
-def _newton(p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions):
+def _newton(p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions,
+            max_iter: int | None = None):
     """Semismooth Newton with exact line search from u; returns (u, E, iterations)."""
     e, act, t = p.state(u)
     E = 0.5 * float(np.dot(t, e))
     best_g, stalled, E_prev, it = np.inf, 0, np.inf, 0
-    for it in range(1, opts.max_iter + 1):  # noqa: B007 (it is reported)
+    for it in range(1, (max_iter or opts.max_iter) + 1):  # noqa: B007 (it is reported)
         if E <= opts.floppy_tol**2 * e_ref:
             break
         g = p.RT @ t
         gn = float(np.linalg.norm(g))
-        if gn <= opts.stationarity_tol * float(np.linalg.norm(t)):
+        tn = float(np.linalg.norm(t))
+        if gn <= opts.stationarity_tol * tn:
             break
+        if gn <= 1e-9 * tn:  # stationary enough for a certificate relative to its work?
+            work = float(np.dot(t, p.e0)) / (tn * float(np.linalg.norm(p.e0)))
+            if work >= opts.work_tol and _balanced(gn / tn, work, opts):
+                break
         # Progress is a lower energy or, once energies stop resolving it, a smaller gradient.
         progress = E < E_prev * (1.0 - 1e-13) or gn < best_g
         stalled = 0 if progress else stalled + 1
@@ -383,8 +403,13 @@ def _verdict(p: _Problem, u: np.ndarray, E: float, e_ref: float, opts: SolverOpt
     _, _, t = p.state(u)
     force, work, floppy = _certificates(p, t, E, e_ref)
     floppy_ok = E <= opts.floppy_tol**2 * e_ref
-    rigid_ok = (not floppy_ok) and force <= opts.stationarity_tol and work >= opts.work_tol
+    rigid_ok = (not floppy_ok) and work >= opts.work_tol and _balanced(force, work, opts)
     return t, force, work, floppy, floppy_ok, rigid_ok
+
+
+def _balanced(force: float, work: float, opts: SolverOptions) -> bool:
+    """Is the force-balance residual small enough for a rigidity certificate?"""
+    return force <= opts.stationarity_tol or force <= min(1e-9, opts.stationarity_ratio * work)
 
 
 def solve(
@@ -431,39 +456,26 @@ def solve(
         force = work = floppy = 0.0
         floppy_ok, rigid_ok = True, False
     else:
-        u, E, iterations = _newton(p, u, e_ref, opts)
+        u, E, iterations = _newton(p, u, e_ref, opts, max_iter=opts.newton_budget)
         t, force, work, floppy, floppy_ok, rigid_ok = _verdict(p, u, E, e_ref, opts)
-        if not (floppy_ok or rigid_ok):
-            # Crossover: exact solve on the nearly-identified active set (cheap, one or two
-            # factorisations); certificates judge the outcome.
-            x = _crossover(p, u)
-            if x is not None:
-                e_x, _, t_x = p.state(x)
-                E_x = 0.5 * float(np.dot(t_x, e_x))
-                cand = _verdict(p, x, E_x, e_ref, opts)
-                if cand[4] or cand[5]:
-                    method, u, E = "newton+crossover", x, E_x
-                    t, force, work, floppy, floppy_ok, rigid_ok = cand
-        if not (floppy_ok or rigid_ok) and opts.fallback:
-            # General path: a generic interior-point QP, then Newton polishing from its minimiser
-            # (near-optimal, so its active set is nearly right); the LP decides if that fails.
-            from .reference import qp_solve
-
-            method = "newton+qp"
-            u, E, more = _newton(p, qp_solve(instance).displacements.ravel(), e_ref, opts)
+        stages = [("crossover", lambda: u), ("ipm", lambda: _ipm_start(p))]
+        if opts.fallback:
+            stages += [("qp", lambda: _qp_start(instance)), ("lp", lambda: _lp_start(p))]
+        for name, starting_point in stages:
+            if floppy_ok or rigid_ok:
+                break
+            # Polish a starting point: crossover (exact solve on its near-tight set), then
+            # Newton; the certificates decide whether it worked.
+            u_try, E_try, more = _polish(p, starting_point(), e_ref, opts)
             iterations += more
-            t, force, work, floppy, floppy_ok, rigid_ok = _verdict(p, u, E, e_ref, opts)
-            x = None if (floppy_ok or rigid_ok) else _crossover(p, u)
-            if x is not None:
-                e_x, _, t_x = p.state(x)
-                E_x = 0.5 * float(np.dot(t_x, e_x))
-                cand = _verdict(p, x, E_x, e_ref, opts)
-                if cand[4] or cand[5]:
-                    u, E = x, E_x
-                    t, force, work, floppy, floppy_ok, rigid_ok = cand
-            if not (floppy_ok or rigid_ok):
-                method = "newton+qp+lp"
-                u, E, t, force, work, floppy, floppy_ok, rigid_ok = _lp_fallback(p, e_ref, opts, u, E, t)
+            cand = _verdict(p, u_try, E_try, e_ref, opts)
+            if cand[4] or cand[5] or E_try < E:
+                u, E = u_try, E_try
+                t, force, work, floppy, floppy_ok, rigid_ok = cand
+                method = f"newton+{name}"
+        if not (floppy_ok or rigid_ok) and opts.fallback:
+            method = "newton+lp-certificate"
+            u, E, t, force, work, floppy, floppy_ok, rigid_ok = _lp_fallback(p, e_ref, opts, u, E, t)
     decided = floppy_ok or rigid_ok
     if not decided:
         warnings.warn(
@@ -500,6 +512,46 @@ def solve(
         min_norm_ok=min_norm_ok,
         seconds=time.perf_counter() - start,
     )
+
+
+def _polish(p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions):
+    """Crossover from u, then Newton; returns (u, E, Newton iterations).
+
+    The near-tight set is guessed at widening thresholds: an approximate solution (an interior
+    point, an LP vertex) resolves extensions only to its own accuracy, so a tight element can
+    look slack by ~1e-7 of the strain scale. The first guess that certifies wins.
+    """
+    best = None
+    for tau in (1e-7, 1e-5, 1e-3):
+        x = _crossover(p, u, tau=tau)
+        if x is None:
+            continue
+        e, _, t = p.state(x)
+        E = 0.5 * float(np.dot(t, e))
+        cand = _verdict(p, x, E, e_ref, opts)
+        if cand[4] or cand[5]:
+            return x, E, 0
+        if best is None or E < best[1]:
+            best = (x, E)
+    return _newton(p, u if best is None else best[0], e_ref, opts)
+
+
+def _ipm_start(p: _Problem) -> np.ndarray:
+    from .ipm import interior_point
+
+    return interior_point(p, tol=1e-8)[0]
+
+
+def _qp_start(instance: Instance) -> np.ndarray:
+    from .reference import qp_solve
+
+    return qp_solve(instance).displacements.ravel()
+
+
+def _lp_start(p: _Problem) -> np.ndarray:
+    from .reference import lp_verdict
+
+    return lp_verdict(p.instance).displacements.ravel()
 
 
 def _lp_fallback(p: _Problem, e_ref: float, opts: SolverOptions, u, E, t):

@@ -1,0 +1,89 @@
+"""A primal-dual interior-point method specialised to the tensegrity energy.
+
+Write the energy with one slack per one-sided element: a cable's ``1/2 k max(e, 0)^2`` is
+``min 1/2 k (e + w)^2`` over ``w >= 0`` (a strut's with ``e - w``), so
+
+    E* = min over u, w >= 0 of  1/2 sum_b k_b (e0_b + r_b . u + sigma_b w_b)^2
+
+(``sigma`` = +1 cable, -1 strut, 0 rod), a convex QP with bound constraints only. Its multipliers
+are ``lambda_b = sigma_b t_b >= 0`` (cables pull, struts push). Eliminating the diagonal blocks of
+the Newton system leaves the Schur complement
+
+    R^T diag(k~) R,    k~_b = k_b (lambda_b / w_b) / (k_b + lambda_b / w_b)   (k~ = k for rods),
+
+which has exactly the sparsity pattern of the semismooth Newton matrix: each iteration is one
+numeric refactorisation into the pattern whose ordering was computed once. Mehrotra's
+predictor-corrector uses that factorisation twice. The iteration count hardly depends on the
+combinatorics that slow active-set methods down near the transition; the result is handed to the
+crossover of :mod:`~tensegrity_rigidity.solver`, which makes it exact and certifies it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def interior_point(p, max_iter: int = 60, tol: float = 1e-10):
+    """Approximately minimise the energy of problem ``p`` (a solver._Problem).
+
+    Returns (u, w, lam, iterations): displacements (2N,), slacks and multipliers on the
+    one-sided sites. Stops when the scaled residuals and the duality measure are below ``tol``.
+    """
+    os_ = p.one_sided
+    sig = p.sigma[os_]
+    k_all = p.k
+    k = k_all[os_]
+    scale = max(float(np.abs(p.e0).max()), 1e-300)
+    e0 = p.e0 / scale  # solve the unit-scale problem; displacements scale back linearly
+    u = np.zeros(p.n2)
+    e = e0.copy()
+    # start: slacks that make every one-sided element slightly slack, unit multipliers
+    w = np.maximum(-sig * e[os_], 0.0) + 1.0
+    lam = np.ones_like(w)
+    m_os = max(w.size, 1)
+    it = 0
+    for it in range(1, max_iter + 1):  # noqa: B007 (reported)
+        eps_el = e.copy()
+        eps_el[os_] += sig * w  # elastic extensions
+        t = k_all * eps_el
+        r_u = p.RT @ t
+        r_w = sig * t[os_] - lam
+        mu = float(w @ lam) / m_os if w.size else 0.0
+        res = max(float(np.abs(r_u).max(initial=0.0)), float(np.abs(r_w).max(initial=0.0)))
+        if res <= tol and mu <= tol:
+            break
+        ratio = lam / w
+        D = k + ratio
+        ktil = k_all.copy()
+        ktil[os_] = k * ratio / D
+        solver = p.factor(ktil)
+
+        def direction(tau):
+            q = -r_w - lam + tau / w
+            rhs_full = np.zeros_like(k_all)
+            rhs_full[os_] = k * sig * q / D
+            du = solver.solve(-r_u - p.RT @ rhs_full)
+            s = p.R @ du
+            dw = (q - sig * k * s[os_]) / D
+            dlam = -lam + tau / w - ratio * dw
+            return du, dw, dlam
+
+        def max_step(x, dx):
+            neg = dx < 0
+            return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
+
+        # predictor (affine scaling)
+        du, dw, dlam = direction(np.zeros_like(w))
+        a_p, a_d = max_step(w, dw), max_step(lam, dlam)
+        mu_aff = float((w + a_p * dw) @ (lam + a_d * dlam)) / m_os if w.size else 0.0
+        sigma_c = (mu_aff / mu) ** 3 if mu > 0 else 0.0
+        # corrector
+        du, dw, dlam = direction(sigma_c * mu - dw * dlam)
+        a_p = min(1.0, 0.99 * max_step(w, dw))
+        a_d = min(1.0, 0.99 * max_step(lam, dlam))
+        # u and w move together (primal), lambda separately (dual)
+        u = u + a_p * du
+        w = w + a_p * dw
+        lam = lam + a_d * dlam
+        e = e0 + p.R @ u
+    return u * scale, w * scale, lam * scale, it
