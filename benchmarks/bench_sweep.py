@@ -25,9 +25,18 @@ def main() -> None:
     args = ap.parse_args()
     rows = []
     for n in (16, 32):
-        spec = parse_spec({"n": n, "p_r": [0.45, 0.55, 0.65], "p_t": 0.2, "f_c": [0.0, 0.5, 1.0],
-                           "phi": ["dilation", "shear", "compression"], "samples": args.samples,
-                           "seed": 5, "output": {"chunk_size": 4}})
+        spec = parse_spec(
+            {
+                "n": n,
+                "p_r": [0.45, 0.55, 0.65],
+                "p_t": 0.2,
+                "f_c": [0.0, 0.5, 1.0],
+                "phi": ["dilation", "shear", "compression"],
+                "samples": args.samples,
+                "seed": 5,
+                "output": {"chunk_size": 4},
+            }
+        )
         frames = {}
         for workers in (1, 2):
             out = Path(tempfile.mkdtemp())
@@ -39,14 +48,36 @@ def main() -> None:
                 frames[workers] = df.drop(columns="solve_seconds")
             finally:
                 shutil.rmtree(out)
-            rows.append([n, workers, len(df), f"{wall:.1f}", f"{len(df) / wall:.1f}",
-                         f"{df.solve_seconds.median() * 1e3:.1f}", f"{df.iterations.median():.0f}",
-                         f"{(df.method != 'newton').mean():.3f}"])
+            rows.append(
+                [
+                    n,
+                    workers,
+                    len(df),
+                    f"{wall:.1f}",
+                    f"{len(df) / wall:.1f}",
+                    f"{df.solve_seconds.median() * 1e3:.1f}",
+                    f"{df.iterations.median():.0f}",
+                    f"{(df.method != 'newton').mean():.3f}",
+                ]
+            )
         assert frames[1].equals(frames[2]), "rows differ between worker counts"
-    body = (f"Machine: {machine()}.\n\n"
-            + table(["n", "workers", "samples", "wall s", "samples/s", "median solve ms",
-                     "median Newton iterations", "fallback fraction"], rows)
-            + "\n\nRows are identical for 1 and 2 workers (checked by the script).")
+    body = (
+        f"Machine: {machine()}.\n\n"
+        + table(
+            [
+                "n",
+                "workers",
+                "samples",
+                "wall s",
+                "samples/s",
+                "median solve ms",
+                "median Newton iterations",
+                "fallback fraction",
+            ],
+            rows,
+        )
+        + "\n\nRows are identical for 1 and 2 workers (checked by the script)."
+    )
     record("sweep", "Sweep throughput (benchmarks/bench_sweep.py)", body)
 
 

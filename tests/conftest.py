@@ -27,13 +27,23 @@ def random_instance(rng: np.random.Generator, kind: str | None = None) -> Instan
     gamma = 10 ** rng.uniform(-6, 3)
     if kind == "lattice":
         n = int(rng.integers(2, 7))
-        return lattice_instance(n, p_r, p_t, f_c, phi=phi, theta=theta, gamma=gamma,
-                                delta=rng.uniform(0.05, 0.3), seed=rng)
+        return lattice_instance(
+            n,
+            p_r,
+            p_t,
+            f_c,
+            phi=phi,
+            theta=theta,
+            gamma=gamma,
+            delta=rng.uniform(0.05, 0.3),
+            seed=rng,
+        )
     n_nodes = int(rng.integers(2, 16))
     net = random_periodic_network(n_nodes, int(rng.integers(n_nodes, 4 * n_nodes)), rng)
     u, v = site_uniforms(net.n_sites, rng)
-    return Instance(net.with_kinds(place_elements(u, v, p_r, p_t, f_c)),
-                    strain_tensor(phi, theta, gamma))
+    return Instance(
+        net.with_kinds(place_elements(u, v, p_r, p_t, f_c)), strain_tensor(phi, theta, gamma)
+    )
 
 
 @pytest.fixture

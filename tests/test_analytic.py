@@ -38,10 +38,15 @@ def test_single_spring_in_a_box_under_strain():
     assert res.energy == pytest.approx(0.5 * 2.0 * 0.1**2)
 
 
-@pytest.mark.parametrize("kind,sign,rigid", [
-    (Element.CABLE, +1, True), (Element.CABLE, -1, False),
-    (Element.STRUT, +1, False), (Element.STRUT, -1, True),
-])
+@pytest.mark.parametrize(
+    "kind,sign,rigid",
+    [
+        (Element.CABLE, +1, True),
+        (Element.CABLE, -1, False),
+        (Element.STRUT, +1, False),
+        (Element.STRUT, -1, True),
+    ],
+)
 def test_self_image_cable_and_strut(kind, sign, rigid):
     net = PeriodicNetwork(np.eye(2), [[0.0, 0.0]], [[0, 0]], [[1, 0]], [kind])
     res = solve(Instance(net, [[sign * 0.1, 0.0], [0.0, 0.0]]))
@@ -61,4 +66,4 @@ def test_floppy_certificate_has_zero_energy():
     inst = Instance(net.with_kinds(kinds), strain_tensor("dilation"))
     res = solve(inst)
     assert not res.rigid
-    assert energy(inst, res.displacements) <= SolverOptions().floppy_tol**2 * res.affine_energy
+    assert energy(inst, res.displacements) <= SolverOptions().floppy_tol ** 2 * res.affine_energy

@@ -16,16 +16,22 @@ from tensegrity_rigidity import (
 )
 from tensegrity_rigidity.cli import main
 
-GOOD = dict(box=np.eye(2) * 2, positions=[[0.0, 0.0], [1.0, 0.3]], bonds=[[0, 1]],
-            shifts=[[0, 0]], kinds=[1])
+GOOD = dict(
+    box=np.eye(2) * 2,
+    positions=[[0.0, 0.0], [1.0, 0.3]],
+    bonds=[[0, 1]],
+    shifts=[[0, 0]],
+    kinds=[1],
+)
 
 
 def _net(**over):
     return PeriodicNetwork(**{**GOOD, **over})
 
 
-@pytest.mark.parametrize("kw", [dict(p_r=-0.1), dict(p_r=1.2), dict(p_t=1.5), dict(f_c=-1),
-                                dict(f_c=2)])
+@pytest.mark.parametrize(
+    "kw", [dict(p_r=-0.1), dict(p_r=1.2), dict(p_t=1.5), dict(f_c=-1), dict(f_c=2)]
+)
 def test_probability_outside_unit_interval(kw):
     args = dict(p_r=0.5, p_t=0.1, f_c=0.5) | kw
     with pytest.raises(InputError, match="must lie in"):
@@ -66,9 +72,16 @@ def test_zero_length_bond():
         _net(positions=[[0.0, 0.0], [0.0, 0.0]])
 
 
-@pytest.mark.parametrize("over", [dict(positions=[0.0, 1.0]), dict(bonds=[[0, 1, 1]]),
-                                  dict(shifts=[[0, 0], [0, 0]]), dict(kinds=[1, 1]),
-                                  dict(box=np.eye(3))])
+@pytest.mark.parametrize(
+    "over",
+    [
+        dict(positions=[0.0, 1.0]),
+        dict(bonds=[[0, 1, 1]]),
+        dict(shifts=[[0, 0], [0, 0]]),
+        dict(kinds=[1, 1]),
+        dict(box=np.eye(3)),
+    ],
+)
 def test_wrong_shapes(over):
     with pytest.raises(InputError, match="shape"):
         _net(**over)
@@ -113,23 +126,37 @@ def test_round_trip(tmp_path):
         assert set(data.files) == {"box", "positions", "bonds", "shifts", "kinds", "strain"}
 
 
-@pytest.mark.parametrize("argv,needle", [
-    (["sample", "OUT", "--p-r", "1.5"], "p_r must lie in"),
-    (["sample", "OUT", "--p-r", "0.8", "--p-t", "0.5"], "p_r + p_t"),
-    (["sample", "OUT", "--p-r", "0.5", "--n", "1"], "at least 2"),
-    (["sample", "OUT", "--p-r", "0.5", "--delta", "-1"], "non-negative"),
-    (["sample", "OUT", "--p-r", "nan"], "finite"),
-    (["sample", "OUT", "--p-r", "0.5", "--phi", "twist"], "phi must be"),
-    (["solve", "ABSENT"], "no such file"),
-    (["solve", "GARBAGE"], "not a readable"),
-    (["solve", "BADSTRAIN"], "symmetric"),
-])
+@pytest.mark.parametrize(
+    "argv,needle",
+    [
+        (["sample", "OUT", "--p-r", "1.5"], "p_r must lie in"),
+        (["sample", "OUT", "--p-r", "0.8", "--p-t", "0.5"], "p_r + p_t"),
+        (["sample", "OUT", "--p-r", "0.5", "--n", "1"], "at least 2"),
+        (["sample", "OUT", "--p-r", "0.5", "--delta", "-1"], "non-negative"),
+        (["sample", "OUT", "--p-r", "nan"], "finite"),
+        (["sample", "OUT", "--p-r", "0.5", "--phi", "twist"], "phi must be"),
+        (["solve", "ABSENT"], "no such file"),
+        (["solve", "GARBAGE"], "not a readable"),
+        (["solve", "BADSTRAIN"], "symmetric"),
+    ],
+)
 def test_cli_errors_are_one_line_and_exit_2(tmp_path, capsys, argv, needle):
     (tmp_path / "garbage.npz").write_text("nope")
-    np.savez(tmp_path / "badstrain.npz", box=np.eye(2), positions=[[0.0, 0.0]], bonds=[[0, 0]],
-             shifts=[[1, 0]], kinds=[1], strain=[[0.0, 1.0], [0.0, 0.0]])
-    subst = {"OUT": str(tmp_path / "o.npz"), "ABSENT": str(tmp_path / "absent.npz"),
-             "GARBAGE": str(tmp_path / "garbage.npz"), "BADSTRAIN": str(tmp_path / "badstrain.npz")}
+    np.savez(
+        tmp_path / "badstrain.npz",
+        box=np.eye(2),
+        positions=[[0.0, 0.0]],
+        bonds=[[0, 0]],
+        shifts=[[1, 0]],
+        kinds=[1],
+        strain=[[0.0, 1.0], [0.0, 0.0]],
+    )
+    subst = {
+        "OUT": str(tmp_path / "o.npz"),
+        "ABSENT": str(tmp_path / "absent.npz"),
+        "GARBAGE": str(tmp_path / "garbage.npz"),
+        "BADSTRAIN": str(tmp_path / "badstrain.npz"),
+    }
     code = main([subst.get(a, a) for a in argv])
     err = capsys.readouterr().err.strip()
     assert code == 2

@@ -22,6 +22,9 @@ def test_sample_then_solve_json(tmp_path, capsys):
 
 @pytest.mark.parametrize("cmd", [[], ["sample"], ["solve"]])
 def test_help_everywhere(cmd):
-    proc = subprocess.run([sys.executable, "-m", "tensegrity_rigidity", *cmd, "--help"],
-                          capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "tensegrity_rigidity", *cmd, "--help"],
+        capture_output=True,
+        text=True,
+    )
     assert proc.returncode == 0 and "usage" in proc.stdout

@@ -12,8 +12,7 @@ from tensegrity_rigidity.mechanics import affine_extensions, net_forces
 from tensegrity_rigidity.sample import lattice_geometry
 from tensegrity_rigidity.strain import rotation, strain_tensor
 
-SETTINGS = settings(max_examples=40, deadline=None,
-                    suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 @st.composite
@@ -80,8 +79,10 @@ def test_rod_equals_cable_plus_strut(inst):
     kinds[rods] = Element.CABLE
     split = Instance(
         PeriodicNetwork(
-            net.box, net.positions,
-            np.r_[net.bonds, net.bonds[rods]], np.r_[net.shifts, net.shifts[rods]],
+            net.box,
+            net.positions,
+            np.r_[net.bonds, net.bonds[rods]],
+            np.r_[net.shifts, net.shifts[rods]],
             np.r_[kinds, np.full(rods.size, Element.STRUT)],
         ),
         inst.strain,
@@ -93,8 +94,13 @@ def test_rod_equals_cable_plus_strut(inst):
 
 @SETTINGS
 @given(
-    st.integers(2, 6), st.integers(0, 2**32 - 1), st.floats(0, 1), st.floats(0, 1),
-    st.floats(0, 1), st.floats(0, 1), st.floats(0, np.pi),
+    st.integers(2, 6),
+    st.integers(0, 2**32 - 1),
+    st.floats(0, 1),
+    st.floats(0, 1),
+    st.floats(0, 1),
+    st.floats(0, 1),
+    st.floats(0, np.pi),
 )
 def test_adding_elements_never_lowers_energy(n, seed, a, b, c, f_c, phi):
     """Raise p_r and p_t with the same site uniforms: E and rigidity can only grow."""
@@ -136,4 +142,6 @@ def test_displacements_are_minimisers(inst):
     res = solve(inst)
     e_u = energy(inst, res.displacements)
     assert abs(e_u - res.energy) <= 1e-8 * max(res.energy, 1e-10 * res.affine_energy)
-    np.testing.assert_allclose(res.displacements.mean(axis=0), 0, atol=1e-12 + 1e-9 * np.abs(res.displacements).max())
+    np.testing.assert_allclose(
+        res.displacements.mean(axis=0), 0, atol=1e-12 + 1e-9 * np.abs(res.displacements).max()
+    )

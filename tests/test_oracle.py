@@ -19,7 +19,8 @@ def test_verdicts_and_energies_agree_with_lp_and_qp(kind):
     """Zero verdict disagreements with the LP; energies equal to 1e-6 relative where E* > 0.
 
     Where the LP says floppy, E* = 0: our floppiness certificate is a displacement of energy
-    below floppy_tol^2 E_ref = 1e-18 E_ref (E_ref = energy if every element were a rod), far below the QP's own
+    below floppy_tol^2 E_ref = 1e-18 E_ref (E_ref = energy if every element were a rod), far
+    below the QP's own
     accuracy, so there we only check that the QP's energy is small on its scale.
     """
     rng = np.random.default_rng(2024 if kind == "lattice" else 7)
@@ -41,7 +42,7 @@ def test_verdicts_and_energies_agree_with_lp_and_qp(kind):
             worst = max(worst, err)
             assert err <= 1e-6, (i, res.energy, qp.value)
         else:
-            assert res.energy <= SolverOptions().floppy_tol**2 * e_ref
+            assert res.energy <= SolverOptions().floppy_tol ** 2 * e_ref
             assert qp.value <= 1e-7 * e_ref, (i, qp.value, e_ref)
     assert disagreements == []
     # the sample must exercise both verdicts
@@ -84,12 +85,38 @@ def test_larger_lattices_agree_with_lp_and_qp():
     for i in range(60):
         n = int(rng.integers(8, 13))
         p_t = rng.uniform(0, 0.4)
-        inst = lattice_instance(n, 0.66 - p_t / 2 + rng.normal(0, 0.03), p_t,
-                                float(rng.choice([0.0, 0.5, 1.0])), phi=rng.uniform(0, np.pi),
-                                theta=rng.uniform(0, 6.3), seed=i)
+        inst = lattice_instance(
+            n,
+            0.66 - p_t / 2 + rng.normal(0, 0.03),
+            p_t,
+            float(rng.choice([0.0, 0.5, 1.0])),
+            phi=rng.uniform(0, np.pi),
+            theta=rng.uniform(0, 6.3),
+            seed=i,
+        )
         res, lp, qp = solve(inst), lp_verdict(inst), qp_solve(inst)
         if not res.decided:
             continue
         assert res.rigid == lp.rigid, i
         if lp.rigid:
             assert abs(res.energy - qp.value) <= 1e-6 * qp.value, i
+
+
+@pytest.mark.parametrize("kind", ["lattice", "random"])
+def test_interior_point_path_alone_agrees(kind):
+    """With no Newton budget every sample goes through the interior point + crossover path."""
+    rng = np.random.default_rng(31 if kind == "lattice" else 32)
+    opts = SolverOptions(newton_budget=0, fallback=False, min_norm=False)
+    decided = 0
+    for i in range(60):
+        inst = random_instance(rng, kind)
+        res = solve(inst, opts)
+        if not res.decided:
+            continue
+        decided += 1
+        lp = lp_verdict(inst)
+        assert res.rigid == lp.rigid, i
+        if lp.rigid:
+            qp = qp_solve(inst)
+            assert abs(res.energy - qp.value) <= 1e-6 * qp.value, i
+    assert decided >= 57

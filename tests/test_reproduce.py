@@ -14,8 +14,10 @@ FIGURES = ["1A", "1B", "1C", "2A", "2B", "2C", "2D", "3B", "4A", "4B", "4C"]
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
     out = tmp_path_factory.mktemp("repro")
-    assert main(["reproduce", "--scale", "tiny", "--out", str(out), "--workers", "2",
-                 "--no-progress"]) == 0
+    assert (
+        main(["reproduce", "--scale", "tiny", "--out", str(out), "--workers", "2", "--no-progress"])
+        == 0
+    )
     return out
 
 
@@ -45,7 +47,11 @@ def test_report_is_self_contained(tiny):
 
 def test_rerun_resumes_without_new_samples(tiny):
     before = sorted(p.stat().st_mtime_ns for p in (tiny / "studies").rglob("part-*.parquet"))
-    assert main(["reproduce", "--scale", "tiny", "--out", str(tiny), "--workers", "1",
-                 "--no-progress"]) == 0
+    assert (
+        main(
+            ["reproduce", "--scale", "tiny", "--out", str(tiny), "--workers", "1", "--no-progress"]
+        )
+        == 0
+    )
     after = sorted(p.stat().st_mtime_ns for p in (tiny / "studies").rglob("part-*.parquet"))
     assert before == after

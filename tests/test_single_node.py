@@ -13,9 +13,18 @@ from tensegrity_rigidity.errors import InputError
 from tensegrity_rigidity.single_node import class_weights, qbar_table, simulate_single_node
 
 # the supplement's table (columns A = mixed, B = same-sign), used only to check the derivation
-SUPPLEMENT = {(1, 1, 1): (2 / 3, 0), (0, 1, 2): (1 / 3, 0), (0, 2, 1): (1 / 3, 0),
-              (1, 0, 2): (1 / 3, 1), (1, 2, 0): (1 / 3, 1), (2, 0, 1): (1, 1), (2, 1, 0): (1, 1),
-              (3, 0, 0): (1, 1), (0, 3, 0): (0, 1), (0, 0, 3): (0, 1)}
+SUPPLEMENT = {
+    (1, 1, 1): (2 / 3, 0),
+    (0, 1, 2): (1 / 3, 0),
+    (0, 2, 1): (1 / 3, 0),
+    (1, 0, 2): (1 / 3, 1),
+    (1, 2, 0): (1 / 3, 1),
+    (2, 0, 1): (1, 1),
+    (2, 1, 0): (1, 1),
+    (3, 0, 0): (1, 1),
+    (0, 3, 0): (0, 1),
+    (0, 0, 3): (0, 1),
+}
 
 
 def test_derived_table_and_weights_match_the_supplement():
@@ -35,8 +44,13 @@ def _brute_force(p_r, p_c, p_s):
     for elems in itertools.product("rcs", repeat=3):
         w = np.prod([probs[e] / total for e in elems])
         for pat, pw in patterns:
-            ok = any(all(e == "r" or (e == "c" and sg * s > 0) or (e == "s" and sg * s < 0)
-                         for e, s in zip(elems, pat)) for sg in (1, -1))
+            ok = any(
+                all(
+                    e == "r" or (e == "c" and sg * s > 0) or (e == "s" and sg * s < 0)
+                    for e, s in zip(elems, pat, strict=False)
+                )
+                for sg in (1, -1)
+            )
             out += w * pw * ok
     return out
 
@@ -51,7 +65,9 @@ def test_formula_equals_brute_force(p_r, f_c):
 @pytest.mark.parametrize("p_r,f_c", [(0.2, 0.0), (0.2, 0.5), (0.5, 0.25), (0.7, 1.0)])
 def test_simulation_within_wilson_interval(p_r, f_c):
     p_c, p_s = f_c * (1 - p_r), (1 - f_c) * (1 - p_r)
-    k, n = simulate_single_node(p_r, p_c, p_s, 6000, np.random.default_rng(int(100 * p_r + 10 * f_c)))
+    k, n = simulate_single_node(
+        p_r, p_c, p_s, 6000, np.random.default_rng(int(100 * p_r + 10 * f_c))
+    )
     _, lo, hi = wilson(k, n, z=3.0)
     assert lo <= single_node_probability(p_r, p_c, p_s) <= hi
 

@@ -38,6 +38,22 @@ def _write(tmp_path, text=SPEC, name="spec.toml"):
     return path
 
 
+def _sweep_cmd(spec, out):
+    """The CLI sweep on 2 workers, as a subprocess command line."""
+    return [
+        sys.executable,
+        "-m",
+        "tensegrity_rigidity",
+        "sweep",
+        str(spec),
+        "--out",
+        str(out),
+        "--workers",
+        "2",
+        "--no-progress",
+    ]
+
+
 def _frame(out):
     df = load_results(out).drop(columns=["solve_seconds"])
     return df.reset_index(drop=True)
@@ -88,8 +104,7 @@ def test_different_spec_into_same_dir_is_refused(tmp_path, capsys):
 def test_sigkill_then_resume_equals_uninterrupted(tmp_path):
     spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
     out = tmp_path / "killed"
-    cmd = [sys.executable, "-m", "tensegrity_rigidity", "sweep", str(spec), "--out", str(out),
-           "--workers", "2", "--no-progress"]
+    cmd = _sweep_cmd(spec, out)
     proc = subprocess.Popen(cmd, start_new_session=True)
     deadline = time.time() + 60
     while time.time() < deadline and len(list(out.glob("part-*.parquet"))) < 3:
@@ -108,8 +123,9 @@ def test_dask_local_cluster_equals_local(tmp_path):
     distributed = pytest.importorskip("distributed")
     spec = _write(tmp_path)
     run_sweep(spec, tmp_path / "local", executor="serial", progress=False)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
         run_sweep(spec, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False)
     pd.testing.assert_frame_equal(_frame(tmp_path / "local"), _frame(tmp_path / "dask"))
 
@@ -134,33 +150,40 @@ def test_thresholds_derive_the_grid_probability_exactly(tmp_path):
     th = load_results(tmp_path / "t")
     grid = [0.3, 0.45, 0.55, 0.62, 0.7]  # p_r + p_t <= 1 at every point
     grid_spec = THRESHOLD_SPEC.replace('[threshold]\npath = "p_r"', "").replace(
-        "n = 6", f"n = 6\np_r = {grid}")
+        "n = 6", f"n = 6\np_r = {grid}"
+    )
     spec_g = parse_spec(tomllib.loads(grid_spec))
     run_sweep(spec_g, tmp_path / "g", executor="serial", progress=False)
     g = load_results(tmp_path / "g")
     for (p_t, phi), sub in th.groupby(["p_t", "phi"]):
         derived = probability_from_thresholds(sub.sort_values("sample").threshold_p_r.values, grid)
-        direct = [g[(g.p_t == p_t) & (g.phi == phi) & (g.p_r == p)].sort_values("sample").rigid.mean()
-                  for p in grid]
+        direct = [
+            g[(g.p_t == p_t) & (g.phi == phi) & (g.p_r == p)].sort_values("sample").rigid.mean()
+            for p in grid
+        ]
         np.testing.assert_array_equal(derived, direct)
         # per sample too: rigid at p exactly when its threshold lies below p
         for p in grid:
             rows = g[(g.p_t == p_t) & (g.phi == phi) & (g.p_r == p)].sort_values("sample")
-            np.testing.assert_array_equal(rows.rigid.values,
-                                          sub.sort_values("sample").threshold_p_r.fillna(np.inf).values < p)
+            np.testing.assert_array_equal(
+                rows.rigid.values, sub.sort_values("sample").threshold_p_r.fillna(np.inf).values < p
+            )
 
 
-@pytest.mark.parametrize("text,needle", [
-    ("n = 6\np_r = 0.5\nsamples = 2\nbogus = 1\n", "unknown key"),
-    ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nspeed = 9\n", "unknown key"),
-    ("n = 6\np_r = [0.5, 0.9]\np_t = 0.2\nsamples = 2\n", "exceeds 1"),
-    ("n = 6\np_r = []\nsamples = 2\n", "empty list"),
-    ("n = 6\np_r = 0.5\nsamples = 0\n", "at least 1"),
-    ("n = 1\np_r = 0.5\nsamples = 2\n", "at least 2"),
-    ("n = 6\np_r = 0.5\nphi = 'twist'\nsamples = 2\n", "phi must be"),
-    ("n = 6\np_r = 0.5\nsamples = 2\n[threshold]\npath = 'p_r'\n", "remove the 'p_r'"),
-    ("n = [6\n", "not valid TOML"),
-])
+@pytest.mark.parametrize(
+    "text,needle",
+    [
+        ("n = 6\np_r = 0.5\nsamples = 2\nbogus = 1\n", "unknown key"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nspeed = 9\n", "unknown key"),
+        ("n = 6\np_r = [0.5, 0.9]\np_t = 0.2\nsamples = 2\n", "exceeds 1"),
+        ("n = 6\np_r = []\nsamples = 2\n", "empty list"),
+        ("n = 6\np_r = 0.5\nsamples = 0\n", "at least 1"),
+        ("n = 1\np_r = 0.5\nsamples = 2\n", "at least 2"),
+        ("n = 6\np_r = 0.5\nphi = 'twist'\nsamples = 2\n", "phi must be"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[threshold]\npath = 'p_r'\n", "remove the 'p_r'"),
+        ("n = [6\n", "not valid TOML"),
+    ],
+)
 def test_bad_specs_fail_before_any_work(tmp_path, capsys, text, needle):
     spec = _write(tmp_path, text)
     with pytest.raises(SpecError):
@@ -184,8 +207,7 @@ def test_unreachable_scheduler_fails_before_any_work(tmp_path, capsys):
 def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
     spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
     out = tmp_path / "int"
-    cmd = [sys.executable, "-m", "tensegrity_rigidity", "sweep", str(spec), "--out", str(out),
-           "--workers", "2", "--no-progress"]
+    cmd = _sweep_cmd(spec, out)
     proc = subprocess.Popen(cmd, start_new_session=True, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 60
     while time.time() < deadline and len(list(out.glob("part-*.parquet"))) < 2:

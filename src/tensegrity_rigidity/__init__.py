@@ -11,8 +11,8 @@ from .io import load_instance, save_instance
 from .lattice import DEFAULT_DELTA, random_periodic_network, square_lattice, triangular_lattice
 from .network import Element, Instance, PeriodicNetwork
 from .sample import lattice_instance
-from .solver import SolveResult, SolverOptions, solve
 from .single_node import single_node_probability
+from .solver import SolveResult, SolverOptions, solve
 from .strain import strain_tensor
 
 __all__ = [

@@ -63,13 +63,23 @@ def _nll(params, x_r, x_t, k, n):
 
 
 def _fit_counts(x_r, x_t, k, n, start):
-    res = optimize.minimize(_nll, start, args=(x_r, x_t, k, n), method="Nelder-Mead",
-                            options={"xatol": 1e-7, "fatol": 1e-9, "maxiter": 4000})
+    res = optimize.minimize(
+        _nll,
+        start,
+        args=(x_r, x_t, k, n),
+        method="Nelder-Mead",
+        options={"xatol": 1e-7, "fatol": 1e-9, "maxiter": 4000},
+    )
     return res.x
 
 
-def fit_collapse(outcomes: np.ndarray, p_r: np.ndarray, p_t: np.ndarray,
-                 n_boot: int = 200, rng: np.random.Generator | None = None) -> CollapseFit:
+def fit_collapse(
+    outcomes: np.ndarray,
+    p_r: np.ndarray,
+    p_t: np.ndarray,
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+) -> CollapseFit:
     """Binomial-likelihood fit of P = F(p_r + lam p_t) to per-sample outcomes.
 
     Parameters
@@ -104,13 +114,20 @@ def fit_collapse(outcomes: np.ndarray, p_r: np.ndarray, p_t: np.ndarray,
     boots = np.array(boots) if boots else np.full((1, 3), np.nan)
     sd = boots.std(axis=0, ddof=1) if len(boots) > 1 else np.full(3, np.nan)
     w_samples = np.exp(boots[:, 2])
-    return CollapseFit(float(best[0]), float(best[1]), float(np.exp(best[2])), float(sd[0]),
-                       float(sd[1]), float(w_samples.std(ddof=1)) if len(boots) > 1 else np.nan,
-                       int(y.shape[0]))
+    return CollapseFit(
+        float(best[0]),
+        float(best[1]),
+        float(np.exp(best[2])),
+        float(sd[0]),
+        float(sd[1]),
+        float(w_samples.std(ddof=1)) if len(boots) > 1 else np.nan,
+        int(y.shape[0]),
+    )
 
 
-def outcomes_from_thresholds(thresholds: pd.DataFrame, p_r_grid: np.ndarray,
-                             p_t_col: str = "p_t") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def outcomes_from_thresholds(
+    thresholds: pd.DataFrame, p_r_grid: np.ndarray, p_t_col: str = "p_t"
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Expand per-sample thresholds (path "p_r", several p_t) into outcome matrices.
 
     Returns (outcomes (S, G), p_r (G,), p_t (G,)) with G = len(p_t values) * len(p_r_grid);
@@ -173,8 +190,9 @@ class PowerLawFit:
     n_points: int
 
 
-def fit_energy_power_law(p_r: np.ndarray, energy: np.ndarray, p_crit: float,
-                         max_distance: float = 0.25) -> PowerLawFit:
+def fit_energy_power_law(
+    p_r: np.ndarray, energy: np.ndarray, p_crit: float, max_distance: float = 0.25
+) -> PowerLawFit:
     """Fit mean energies above p_crit (within max_distance of it) to a power law.
 
     ``p_crit`` is given (see :func:`critical_point`); points with E <= 0 or p_r <= p_crit are
@@ -186,8 +204,14 @@ def fit_energy_power_law(p_r: np.ndarray, energy: np.ndarray, p_crit: float,
         return PowerLawFit(p_crit, np.nan, np.nan, np.nan, np.nan, int(m.sum()))
     x, y = np.log(p_r[m] - p_crit), np.log(energy[m])
     res = stats.linregress(x, y)
-    return PowerLawFit(p_crit, float(res.slope), float(res.stderr), float(res.intercept),
-                       float(res.intercept_stderr), int(m.sum()))
+    return PowerLawFit(
+        p_crit,
+        float(res.slope),
+        float(res.stderr),
+        float(res.intercept),
+        float(res.intercept_stderr),
+        int(m.sum()),
+    )
 
 
 def critical_point(thresholds: np.ndarray) -> tuple[float, float]:

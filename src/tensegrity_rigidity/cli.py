@@ -19,16 +19,22 @@ from .errors import InputError, TensegrityError
 
 
 def _add_sample(sub) -> None:
-    p = sub.add_parser("sample", help="write a random lattice instance (.npz)",
-                       description="Draw a random strained lattice sample and save it as .npz.")
+    p = sub.add_parser(
+        "sample",
+        help="write a random lattice instance (.npz)",
+        description="Draw a random strained lattice sample and save it as .npz.",
+    )
     p.add_argument("out", help="output file (.npz)")
     p.add_argument("--n", type=int, default=16, help="linear size: n x n nodes (default 16)")
     p.add_argument("--delta", type=float, default=None, help="node disorder (default 0.2)")
     p.add_argument("--p-r", type=float, required=True, help="rod probability")
     p.add_argument("--p-t", type=float, default=0.0, help="one-sided element probability")
     p.add_argument("--f-c", type=float, default=0.5, help="cable fraction of one-sided elements")
-    p.add_argument("--phi", default="shear",
-                   help="strain type: angle or dilation|shear|compression (default shear)")
+    p.add_argument(
+        "--phi",
+        default="shear",
+        help="strain type: angle or dilation|shear|compression (default shear)",
+    )
     p.add_argument("--theta", type=float, default=0.0, help="principal-axis angle (radians)")
     p.add_argument("--gamma", type=float, default=1.0, help="strain magnitude (default 1)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -36,9 +42,12 @@ def _add_sample(sub) -> None:
 
 
 def _add_solve(sub) -> None:
-    p = sub.add_parser("solve", help="relax an instance and print the verdict",
-                       description="Find the exact relaxed state of an instance file and "
-                       "print energy, verdict and certificate residuals.")
+    p = sub.add_parser(
+        "solve",
+        help="relax an instance and print the verdict",
+        description="Find the exact relaxed state of an instance file and "
+        "print energy, verdict and certificate residuals.",
+    )
     p.add_argument("file", help="instance file (.npz)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
 
@@ -49,14 +58,23 @@ def _cmd_sample(args) -> int:
     from .sample import lattice_instance
 
     inst = lattice_instance(
-        args.n, args.p_r, args.p_t, args.f_c, phi=args.phi, theta=args.theta, gamma=args.gamma,
-        delta=DEFAULT_DELTA if args.delta is None else args.delta, seed=args.seed,
+        args.n,
+        args.p_r,
+        args.p_t,
+        args.f_c,
+        phi=args.phi,
+        theta=args.theta,
+        gamma=args.gamma,
+        delta=DEFAULT_DELTA if args.delta is None else args.delta,
+        seed=args.seed,
         lattice=args.lattice,
     )
     save_instance(args.out, inst)
     net = inst.network
-    print(f"wrote {args.out}: {net.n_nodes} nodes, {net.n_sites} sites "
-          f"({net.count(1)} rods, {net.count(2)} cables, {net.count(3)} struts)")
+    print(
+        f"wrote {args.out}: {net.n_nodes} nodes, {net.n_sites} sites "
+        f"({net.count(1)} rods, {net.count(2)} cables, {net.count(3)} struts)"
+    )
     return 0
 
 

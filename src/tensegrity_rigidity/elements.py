@@ -33,7 +33,9 @@ def check_probabilities(p_r: float, p_t: float, f_c: float) -> tuple[float, floa
             raise InputError(f"{name} must lie in [0, 1], got {v}")
         out.append(v)
     if out[0] + out[1] > 1.0 + 1e-12:
-        raise InputError(f"p_r + p_t must not exceed 1, got {out[0]} + {out[1]} = {out[0] + out[1]}")
+        raise InputError(
+            f"p_r + p_t must not exceed 1, got {out[0]} + {out[1]} = {out[0] + out[1]}"
+        )
     return out[0], out[1], out[2]
 
 
@@ -44,9 +46,7 @@ def site_uniforms(m: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndar
     return u, v
 
 
-def place_elements(
-    u: np.ndarray, v: np.ndarray, p_r: float, p_t: float, f_c: float
-) -> np.ndarray:
+def place_elements(u: np.ndarray, v: np.ndarray, p_r: float, p_t: float, f_c: float) -> np.ndarray:
     """Element kinds from site uniforms.
 
     Parameters

@@ -34,8 +34,13 @@ class _LazyFuture:
 class Pool:
     """Uniform face of an executor."""
 
-    def __init__(self, submit: Callable, as_completed: Callable, close: Callable | None = None,
-                 description: str = ""):
+    def __init__(
+        self,
+        submit: Callable,
+        as_completed: Callable,
+        close: Callable | None = None,
+        description: str = "",
+    ):
         self._submit, self._as_completed, self._close = submit, as_completed, close
         self.description = description
 

@@ -15,8 +15,12 @@ from matplotlib.colors import LinearSegmentedColormap, TwoSlopeNorm  # noqa: E40
 
 from .network import Element  # noqa: E402
 
-STRAIN_COLOURS = {"dilation": "tab:red", "shear": "tab:green", "compression": "tab:blue",
-                  "average": "black"}
+STRAIN_COLOURS = {
+    "dilation": "tab:red",
+    "shear": "tab:green",
+    "compression": "tab:blue",
+    "average": "black",
+}
 
 
 def _yerr(P, lo, hi):
@@ -51,9 +55,11 @@ def fig1a(field: dict, figdir: Path):
     norm = TwoSlopeNorm(vmin=-scale, vcenter=0.0, vmax=scale)
     cmap = LinearSegmentedColormap.from_list("tension", ["blue", "limegreen", "red"])
     fig, ax = plt.subplots(figsize=(6, 5.2))
-    styles = {Element.ROD: dict(linestyles="solid", linewidths=2.2),
-              Element.CABLE: dict(linestyles=(0, (3, 2)), linewidths=1.8),
-              Element.STRUT: dict(linestyles="solid", linewidths=4.0)}
+    styles = {
+        Element.ROD: dict(linestyles="solid", linewidths=2.2),
+        Element.CABLE: dict(linestyles=(0, (3, 2)), linewidths=1.8),
+        Element.STRUT: dict(linestyles="solid", linewidths=4.0),
+    }
     for kind, style in styles.items():
         m = kinds == kind
         if not m.any():
@@ -72,10 +78,16 @@ def fig1a(field: dict, figdir: Path):
     ax.set_title("1A  rigid sample under shear (red pulls, blue pushes)", fontsize=9)
     from matplotlib.lines import Line2D
 
-    ax.legend(handles=[Line2D([], [], color="k", lw=2, label="rod"),
-                       Line2D([], [], color="k", lw=1.8, ls="--", label="cable"),
-                       Line2D([], [], color="k", lw=4, label="strut (hollow)")],
-              loc="upper left", fontsize=7, framealpha=0.9)
+    ax.legend(
+        handles=[
+            Line2D([], [], color="k", lw=2, label="rod"),
+            Line2D([], [], color="k", lw=1.8, ls="--", label="cable"),
+            Line2D([], [], color="k", lw=4, label="strut (hollow)"),
+        ],
+        loc="upper left",
+        fontsize=7,
+        framealpha=0.9,
+    )
     return _save(fig, figdir, "1A")
 
 
@@ -101,8 +113,15 @@ def fig1c(r: dict, figdir: Path):
     fits = r["fits"]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for strain, sub in fits.groupby("strain"):
-        ax.errorbar(sub.f_c, sub.lam, yerr=sub.lam_err, marker="o", capsize=3,
-                    color=STRAIN_COLOURS.get(strain, "grey"), label=strain)
+        ax.errorbar(
+            sub.f_c,
+            sub.lam,
+            yerr=sub.lam_err,
+            marker="o",
+            capsize=3,
+            color=STRAIN_COLOURS.get(strain, "grey"),
+            label=strain,
+        )
     ax.axhline(0.5, color="grey", ls=":", lw=1)
     ax.set_xlabel("f_c (cable fraction)")
     ax.set_ylabel("S_t / S_r")
@@ -123,14 +142,19 @@ def fig2a(r: dict, figdir: Path):
     seg = _segments(inst)
     kinds = inst.network.kinds
     ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=1))
-    ax.add_collection(LineCollection(seg[kinds == Element.CABLE], colors="tab:red",
-                                     linewidths=1, linestyles=(0, (3, 2))))
+    ax.add_collection(
+        LineCollection(
+            seg[kinds == Element.CABLE], colors="tab:red", linewidths=1, linestyles=(0, (3, 2))
+        )
+    )
     ax.quiver(pos[:, 0], pos[:, 1], u[:, 0], u[:, 1], color="tab:blue", angles="xy")
     ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
-    ax.set_title(f"2A  rods + cables, compression, p_r = {field['p_r']:.2f}, "
-                 f"p_t = {field['p_t']}", fontsize=9)
+    ax.set_title(
+        f"2A  rods + cables, compression, p_r = {field['p_r']:.2f}, p_t = {field['p_t']}",
+        fontsize=9,
+    )
     return _save(fig, figdir, "2A")
 
 
@@ -139,8 +163,9 @@ def fig2b(r: dict, figdir: Path):
     sub = c[np.isclose(c.phi, math.pi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for p_t, s in sub.groupby("p_t"):
-        line = ax.errorbar(s.p_r, s.gamma, yerr=s.gamma_sem, marker="o", ms=3, capsize=2,
-                           label=f"p_t = {p_t:.1f}")
+        line = ax.errorbar(
+            s.p_r, s.gamma, yerr=s.gamma_sem, marker="o", ms=3, capsize=2, label=f"p_t = {p_t:.1f}"
+        )
         pc = r["crit"]
         pc = pc[np.isclose(pc.phi, math.pi) & np.isclose(pc.p_t, p_t)].p_crit
         if len(pc):
@@ -149,8 +174,7 @@ def fig2b(r: dict, figdir: Path):
     ax.set_xlabel("p_r")
     ax.set_ylabel("nonaffinity Gamma")
     ax.legend(fontsize=8)
-    ax.set_title(f"2B  rods + cables under compression, n = {r['n']} (dashed: p_crit)",
-                 fontsize=9)
+    ax.set_title(f"2B  rods + cables under compression, n = {r['n']} (dashed: p_crit)", fontsize=9)
     return _save(fig, figdir, "2B")
 
 
@@ -161,8 +185,15 @@ def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     inset = ax.inset_axes([0.12, 0.5, 0.35, 0.4])
     for p_t, s in sub.groupby("p_t"):
-        line = ax.errorbar(s.p_r, s.energy, yerr=s.energy_sem, marker="o", ms=3, capsize=2,
-                           label=f"p_t = {p_t:.1f}")
+        line = ax.errorbar(
+            s.p_r,
+            s.energy,
+            yerr=s.energy_sem,
+            marker="o",
+            ms=3,
+            capsize=2,
+            label=f"p_t = {p_t:.1f}",
+        )
         f = fits[np.isclose(fits.phi, phi) & np.isclose(fits.p_t, p_t)].iloc[0]
         m = (s.p_r > f.p_crit) & (s.energy > 0)
         inset.loglog(s.p_r[m] - f.p_crit, s.energy[m], "o", ms=2, color=line[0].get_color())
@@ -194,8 +225,15 @@ def fig3b(r: dict, figdir: Path):
     for p_r, curve in r["analytic"].items():
         line = ax.plot(r["f_c"], curve, label=f"p_r = {p_r}")
         s = sim[np.isclose(sim.p_r, p_r)]
-        ax.errorbar(s.f_c, s.P, yerr=_yerr(s.P, s.lo, s.hi), fmt="o", ms=3, capsize=2,
-                    color=line[0].get_color())
+        ax.errorbar(
+            s.f_c,
+            s.P,
+            yerr=_yerr(s.P, s.lo, s.hi),
+            fmt="o",
+            ms=3,
+            capsize=2,
+            color=line[0].get_color(),
+        )
     ax.set_xlabel("f_c")
     ax.set_ylabel("P_N")
     ax.legend(fontsize=8)
@@ -211,13 +249,20 @@ def fig4a(r: dict, figdir: Path):
         from .analysis import wilson
 
         P, lo, hi = wilson(s.P * s.N, s.N)
-        ax.errorbar(s.f_c, P, yerr=_yerr(P, lo, hi), marker="o", ms=3, capsize=2,
-                    color=cmap(phi / math.pi), label=f"phi = {phi / math.pi:.3g} pi")
+        ax.errorbar(
+            s.f_c,
+            P,
+            yerr=_yerr(P, lo, hi),
+            marker="o",
+            ms=3,
+            capsize=2,
+            color=cmap(phi / math.pi),
+            label=f"phi = {phi / math.pi:.3g} pi",
+        )
     ax.set_xlabel("f_c")
     ax.set_ylabel("P")
     ax.legend(fontsize=6, ncol=2)
-    ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r['n']}, {r['samples']} samples",
-                 fontsize=9)
+    ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r['n']}, {r['samples']} samples", fontsize=9)
     return _save(fig, figdir, "4A")
 
 
@@ -238,8 +283,15 @@ def fig4c(r: dict, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for name in ("average", "dilation", "compression"):
         s = r[name]
-        ax.errorbar(s.f_c, s.sum_rel, yerr=s.sum_rel_err, marker="o", capsize=3,
-                    color=STRAIN_COLOURS[name], label=name)
+        ax.errorbar(
+            s.f_c,
+            s.sum_rel,
+            yerr=s.sum_rel_err,
+            marker="o",
+            capsize=3,
+            color=STRAIN_COLOURS[name],
+            label=name,
+        )
     ax.axhline(1.0, color="grey", ls=":", lw=1)
     ax.set_xlabel("f_c")
     ax.set_ylabel("(S_c + S_s) / S_r")

@@ -58,27 +58,19 @@ def interior_point(p, max_iter: int = 60, tol: float = 1e-10):
         ktil[os_] = k * ratio / D
         solver = p.factor(ktil)
 
-        def direction(tau):
-            q = -r_w - lam + tau / w
-            rhs_full = np.zeros_like(k_all)
-            rhs_full[os_] = k * sig * q / D
-            du = solver.solve(-r_u - p.RT @ rhs_full)
-            s = p.R @ du
-            dw = (q - sig * k * s[os_]) / D
-            dlam = -lam + tau / w - ratio * dw
-            return du, dw, dlam
-
         def max_step(x, dx):
             neg = dx < 0
             return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
 
         # predictor (affine scaling)
-        du, dw, dlam = direction(np.zeros_like(w))
+        du, dw, dlam = _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, 0.0)
         a_p, a_d = max_step(w, dw), max_step(lam, dlam)
         mu_aff = float((w + a_p * dw) @ (lam + a_d * dlam)) / m_os if w.size else 0.0
         sigma_c = (mu_aff / mu) ** 3 if mu > 0 else 0.0
         # corrector
-        du, dw, dlam = direction(sigma_c * mu - dw * dlam)
+        du, dw, dlam = _direction(
+            p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, sigma_c * mu - dw * dlam
+        )
         a_p = min(1.0, 0.99 * max_step(w, dw))
         a_d = min(1.0, 0.99 * max_step(lam, dlam))
         # u and w move together (primal), lambda separately (dual)
@@ -87,3 +79,16 @@ def interior_point(p, max_iter: int = 60, tol: float = 1e-10):
         lam = lam + a_d * dlam
         e = e0 + p.R @ u
     return u * scale, w * scale, lam * scale, it
+
+
+def _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, tau):
+    """Newton direction of the perturbed KKT system (complementarity target tau), eliminating
+    the slacks and multipliers down to the Schur complement already factorised in ``solver``."""
+    q = -r_w - lam + tau / w
+    rhs_full = np.zeros(p.k.size)
+    rhs_full[os_] = k * sig * q / D
+    du = solver.solve(-r_u - p.RT @ rhs_full)
+    s = p.R @ du
+    dw = (q - sig * k * s[os_]) / D
+    dlam = -lam + tau / w - ratio * dw
+    return du, dw, dlam

@@ -1,6 +1,7 @@
 """Linear mechanics of a strained periodic network: rigidity matrix, extensions, energy, tensions.
 
-Notation (MODEL.md): node displacements ``u`` (N, 2), flattened to 2N as ``(u_0x, u_0y, u_1x, ...)``.
+Notation (MODEL.md): node displacements ``u`` (N, 2), flattened to 2N as
+``(u_0x, u_0y, u_1x, ...)``.
 Bond extensions ``e = e0 + R u`` with ``R`` the (m, 2N) rigidity matrix (row b: ``-dhat_b`` at
 node i, ``+dhat_b`` at node j) and ``e0_b = dhat_b . eps . d_b`` the affine extension. The energy
 is ``E(u) = 1/2 sum_b k_b h_b(e_b) e_b^2`` with ``h = 1`` (rod), ``Theta(e)`` (cable),
@@ -74,7 +75,9 @@ def extensions(instance: Instance, displacements: np.ndarray | None = None) -> n
 def energy(instance: Instance, displacements: np.ndarray | None = None) -> float:
     """Energy E(u) of the instance for displacements (N, 2); the affine energy when None."""
     net = instance.network
-    return energy_from_extensions(net.kinds, net.stiffness_or_ones(), extensions(instance, displacements))
+    return energy_from_extensions(
+        net.kinds, net.stiffness_or_ones(), extensions(instance, displacements)
+    )
 
 
 def tensions(instance: Instance, displacements: np.ndarray | None = None) -> np.ndarray:

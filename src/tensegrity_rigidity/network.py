@@ -62,7 +62,9 @@ def _as_int_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray
 
 
 def _check_shape(name: str, arr: np.ndarray, shape: tuple[int | None, ...]) -> None:
-    ok = arr.ndim == len(shape) and all(s is None or s == a for s, a in zip(shape, arr.shape))
+    ok = arr.ndim == len(shape) and all(
+        s is None or s == a for s, a in zip(shape, arr.shape, strict=True)
+    )
     if not ok:
         want = "(" + ", ".join("*" if s is None else str(s) for s in shape) + ")"
         raise InputError(f"{name} must have shape {want}, got {arr.shape}")
@@ -155,7 +157,11 @@ class PeriodicNetwork:
 
     def bond_vectors(self) -> np.ndarray:
         """Bond vectors d_b, shape (m, 2)."""
-        return self.positions[self.bonds[:, 1]] + self.shifts @ self.box - self.positions[self.bonds[:, 0]]
+        return (
+            self.positions[self.bonds[:, 1]]
+            + self.shifts @ self.box
+            - self.positions[self.bonds[:, 0]]
+        )
 
     def bond_lengths(self) -> np.ndarray:
         """Bond lengths |d_b|, shape (m,)."""
@@ -210,10 +216,8 @@ class Instance:
         object.__setattr__(self, "strain", eps)
 
     @classmethod
-    def from_arrays(
-        cls, box, positions, bonds, shifts, kinds, strain, stiffness=None
-    ) -> Instance:
-        """Build and validate an instance from raw arrays (shapes as in :class:`PeriodicNetwork`)."""
+    def from_arrays(cls, box, positions, bonds, shifts, kinds, strain, stiffness=None) -> Instance:
+        """Build and validate an instance from raw arrays (shapes as in PeriodicNetwork)."""
         return cls(PeriodicNetwork(box, positions, bonds, shifts, kinds, stiffness), strain)
 
     def with_kinds(self, kinds) -> Instance:

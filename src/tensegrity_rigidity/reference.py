@@ -59,7 +59,9 @@ def _nonempty(instance: Instance):
     return net, sites, kinds, R, e0, k
 
 
-def lp_verdict(instance: Instance, tol: float = 1e-9) -> ReferenceResult:
+def lp_verdict(
+    instance: Instance, tol: float = 1e-9, time_limit: float | None = None
+) -> ReferenceResult:
     """Rigidity verdict from the Farkas linear program, solved by HiGHS.
 
     ``rigid`` is True when the maximal work of an admissible self-stress with ``|t_b| <= 1``
@@ -80,8 +82,11 @@ def lp_verdict(instance: Instance, tol: float = 1e-9) -> ReferenceResult:
         b_eq=np.zeros(n2),
         bounds=np.c_[lo, hi],
         method="highs",
-        options={"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10},
+        options={"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+        | ({"time_limit": float(time_limit)} if time_limit is not None else {}),
     )
+    if res.status == 1 and time_limit is not None:  # iteration or time limit reached
+        return ReferenceResult(np.nan, False, t_full, np.zeros((net.n_nodes, 2)), "time limit")
     if res.status != 0:
         raise RuntimeError(f"HiGHS failed on the verdict LP: {res.message}")
     value = float(-res.fun)
@@ -128,15 +133,19 @@ def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
 
     blocks_eq = [rows(rod, -1.0, 1.0)]
     b_eq = [e0[rod]]
-    blocks_in = [rows(cab, 1.0, -1.0), rows(cab, 0.0, -1.0), rows(stru, -1.0, 1.0),
-                 rows(stru, 0.0, 1.0)]
+    blocks_in = [
+        rows(cab, 1.0, -1.0),
+        rows(cab, 0.0, -1.0),
+        rows(stru, -1.0, 1.0),
+        rows(stru, 0.0, 1.0),
+    ]
     b_in = [-e0[cab], np.zeros(cab.size), e0[stru], np.zeros(stru.size)]
     A_parts, b_parts, cones = [], [], []
     if rod.size:
         A_parts.append(blocks_eq[0])
         b_parts.append(b_eq[0])
         cones.append(clarabel.ZeroConeT(rod.size))
-    ins = [(blk, bb) for blk, bb in zip(blocks_in, b_in) if blk is not None]
+    ins = [(blk, bb) for blk, bb in zip(blocks_in, b_in, strict=False) if blk is not None]
     if ins:
         A_parts += [blk for blk, _ in ins]
         b_parts += [bb for _, bb in ins]
@@ -194,5 +203,7 @@ def min_norm_minimizer(instance: Instance, tensions: np.ndarray) -> tuple[np.nda
     cones = [clarabel.ZeroConeT(int(eq.sum()))]
     if ineq.any():
         cones.append(clarabel.NonnegativeConeT(int(ineq.sum())))
-    sol = clarabel.DefaultSolver(sp.eye(n2, format="csc"), np.zeros(n2), A, b, cones, settings).solve()
+    sol = clarabel.DefaultSolver(
+        sp.eye(n2, format="csc"), np.zeros(n2), A, b, cones, settings
+    ).solve()
     return np.asarray(sol.x).reshape(-1, 2) * scale, str(sol.status)

@@ -7,13 +7,19 @@ def add_parser(sub) -> None:
     from .reproduce import EXPECTED
 
     p = sub.add_parser(
-        "reproduce", help="run every study of the paper and write the report",
+        "reproduce",
+        help="run every study of the paper and write the report",
         description="Run the paper's studies through the sweep engine and write report.html, "
         "report.md, figures (PNG, SVG) and tables (CSV) into DIR. Expected run times on 2 cores: "
-        + "; ".join(f"{k}: {v}" for k, v in EXPECTED.items()) + ". Re-running resumes.",
+        + "; ".join(f"{k}: {v}" for k, v in EXPECTED.items())
+        + ". Re-running resumes.",
     )
-    p.add_argument("--scale", default="quick", choices=sorted(EXPECTED),
-                   help="system sizes and sample counts (default quick)")
+    p.add_argument(
+        "--scale",
+        default="quick",
+        choices=sorted(EXPECTED),
+        help="system sizes and sample counts (default quick)",
+    )
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address")
@@ -26,13 +32,21 @@ def _run(args) -> int:
     from .sweep import SweepInterrupted
 
     try:
-        res = reproduce(args.out, args.scale, workers=args.workers, scheduler=args.scheduler,
-                        progress=False if args.no_progress else None)
+        res = reproduce(
+            args.out,
+            args.scale,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=False if args.no_progress else None,
+        )
     except SweepInterrupted:
         import sys
 
-        print(f"interrupted; finished samples are kept in {args.out}/studies: run the same "
-              "command again to resume", file=sys.stderr)
+        print(
+            f"interrupted; finished samples are kept in {args.out}/studies: run the same "
+            "command again to resume",
+            file=sys.stderr,
+        )
         return 130
     print(f"wrote {res['report']['html']} and {res['report']['md']}")
     return 0

@@ -16,12 +16,16 @@ from .report import write_report
 from .studies import SCALES, STUDIES, UNDECIDED
 
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
-EXPECTED = {"tiny": "under a minute", "quick": "about 10 minutes (measured 12 min)",
-            "paper": "several hours (see BENCHMARKS.md for solve rates at n = 32)"}
+EXPECTED = {
+    "tiny": "under a minute",
+    "quick": "about 10 minutes (measured 12 min)",
+    "paper": "several hours (see BENCHMARKS.md for solve rates at n = 32)",
+}
 
 
-def reproduce(out, scale: str = "quick", workers=None, scheduler=None, progress=None,
-              studies=None) -> dict:
+def reproduce(
+    out, scale: str = "quick", workers=None, scheduler=None, progress=None, studies=None
+) -> dict:
     """Run the studies of ``scale`` into ``out`` and write report.md / report.html there."""
     from .errors import InputError
 
@@ -35,8 +39,9 @@ def reproduce(out, scale: str = "quick", workers=None, scheduler=None, progress=
     for i, name in enumerate(names, 1):
         print(f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True)
         start = time.perf_counter()
-        results[name] = STUDIES[name](out, sc, workers=workers, scheduler=scheduler,
-                                      progress=progress)
+        results[name] = STUDIES[name](
+            out, sc, workers=workers, scheduler=scheduler, progress=progress
+        )
         timings[name] = time.perf_counter() - start
     print("drawing figures and writing the report", file=sys.stderr, flush=True)
     figures = all_figures(results, out / "figures")

@@ -36,8 +36,15 @@ def sample_geometry(spec: Spec, point: GridPoint, k: int):
 
 def _base(point: GridPoint, k: int, theta: float) -> dict:
     return {
-        "n": point.n, "delta": point.delta, "p_r": point.p_r, "p_t": point.p_t,
-        "f_c": point.f_c, "phi": point.phi, "seed": point.seed, "theta": theta, "sample": k,
+        "n": point.n,
+        "delta": point.delta,
+        "p_r": point.p_r,
+        "p_t": point.p_t,
+        "f_c": point.f_c,
+        "phi": point.phi,
+        "seed": point.seed,
+        "theta": theta,
+        "sample": k,
     }
 
 
@@ -62,13 +69,20 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
     for k in samples:
         net, u, v, theta = sample_geometry(spec, point, k)
         start = time.perf_counter()
-        th = find_threshold(net, u, v, strain_tensor(point.phi, theta, spec.gamma),
-                            point.p_t, point.f_c, path, opts)
-        rows.append(_base(point, k, theta) | {
-            "path": path, "threshold_p_r": th.s, "threshold_p_t": th.p_t, "solves": th.solves,
-            "decided": th.decided,
-            "solve_seconds": time.perf_counter() - start,
-        })
+        th = find_threshold(
+            net, u, v, strain_tensor(point.phi, theta, spec.gamma), point.p_t, point.f_c, path, opts
+        )
+        rows.append(
+            _base(point, k, theta)
+            | {
+                "path": path,
+                "threshold_p_r": th.s,
+                "threshold_p_t": th.p_t,
+                "solves": th.solves,
+                "decided": th.decided,
+                "solve_seconds": time.perf_counter() - start,
+            }
+        )
     return pd.DataFrame(rows)
 
 

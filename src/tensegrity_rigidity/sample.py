@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from .elements import check_probabilities, place_elements, site_uniforms
-from .lattice import DEFAULT_DELTA, square_lattice, triangular_lattice
 from .errors import InputError
+from .lattice import DEFAULT_DELTA, square_lattice, triangular_lattice
 from .network import Instance, PeriodicNetwork
 from .strain import strain_tensor
 
@@ -27,7 +27,9 @@ def lattice_geometry(
     try:
         builder = LATTICES[lattice]
     except KeyError:
-        raise InputError(f"unknown lattice {lattice!r}; choose from {', '.join(LATTICES)}") from None
+        raise InputError(
+            f"unknown lattice {lattice!r}; choose from {', '.join(LATTICES)}"
+        ) from None
     net = builder(n, delta, rng)
     u, v = site_uniforms(net.n_sites, rng)
     return net, u, v

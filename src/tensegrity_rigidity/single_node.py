@@ -29,8 +29,10 @@ ROD, CABLE, STRUT = "r", "c", "s"
 
 def _admissible(pattern: tuple[int, ...], elements: tuple[str, ...]) -> bool:
     for sigma in (1, -1):
-        if all(e == ROD or (e == CABLE and sigma * s > 0) or (e == STRUT and sigma * s < 0)
-               for s, e in zip(pattern, elements)):
+        if all(
+            e == ROD or (e == CABLE and sigma * s > 0) or (e == STRUT and sigma * s < 0)
+            for s, e in zip(pattern, elements, strict=False)
+        ):
             return True
     return False
 
@@ -80,8 +82,16 @@ def configurations() -> list[tuple[int, int, int]]:
 
 def qbar_table() -> list[dict]:
     """The supplement's table, computed: one row per configuration."""
-    return [{"n_r": r, "n_c": c, "n_s": s, "qbar_mixed": qbar("mixed", r, c, s),
-             "qbar_same": qbar("same", r, c, s)} for r, c, s in configurations()]
+    return [
+        {
+            "n_r": r,
+            "n_c": c,
+            "n_s": s,
+            "qbar_mixed": qbar("mixed", r, c, s),
+            "qbar_same": qbar("same", r, c, s),
+        }
+        for r, c, s in configurations()
+    ]
 
 
 def single_node_probability(p_r: float, p_c: float, p_s: float) -> float:

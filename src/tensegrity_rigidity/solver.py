@@ -77,6 +77,9 @@ class SolverOptions:
         Compute the minimum-norm minimiser (needed for the nonaffinity).
     fallback : bool
         Use the general path (Clarabel, HiGHS) when the fast path cannot certify.
+    lp_time_limit : float
+        Seconds allowed to the HiGHS verdict LP, the last resort; past it the sample is
+        reported undecided (the simplex can take minutes at n >= 64).
     """
 
     regularization: float = 1e-12
@@ -88,6 +91,7 @@ class SolverOptions:
     floppy_tol: float = 1e-9
     min_norm: bool = True
     fallback: bool = True
+    lp_time_limit: float = 120.0
 
 
 @dataclass(frozen=True)
@@ -146,7 +150,7 @@ class SolveResult:
 
     @property
     def status(self) -> str:
-        """"rigid", "floppy" or "undecided"."""
+        """ "rigid", "floppy" or "undecided"."""
         if not self.decided:
             return "undecided"
         return "rigid" if self.rigid else "floppy"
@@ -181,7 +185,9 @@ class _Problem:
         self.k = net.stiffness_or_ones()[self.sites]
         self.rod = kinds == Element.ROD
         # sigma = +1 for cables, -1 for struts: a one-sided element is engaged when sigma e > 0
-        self.sigma = np.where(kinds == Element.CABLE, 1.0, np.where(kinds == Element.STRUT, -1.0, 0.0))
+        self.sigma = np.where(
+            kinds == Element.CABLE, 1.0, np.where(kinds == Element.STRUT, -1.0, 0.0)
+        )
         self.one_sided = ~self.rod
         self.R = rigidity_matrix(net, self.sites)
         self.RT = self.R.T.tocsr()
@@ -327,13 +333,15 @@ def _min_norm(p: _Problem, act: np.ndarray, t: np.ndarray, u_fallback: np.ndarra
     return u_fallback, False
 
 
-def _newton(p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions,
-            max_iter: int | None = None):
+def _newton(
+    p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions, max_iter: int | None = None
+):
     """Semismooth Newton with exact line search from u; returns (u, E, iterations)."""
     e, act, t = p.state(u)
     E = 0.5 * float(np.dot(t, e))
     best_g, stalled, E_prev, it = np.inf, 0, np.inf, 0
-    for it in range(1, (max_iter or opts.max_iter) + 1):  # noqa: B007 (it is reported)
+    budget = opts.max_iter if max_iter is None else max_iter
+    for it in range(1, budget + 1):  # noqa: B007 (it is reported)
         if E <= opts.floppy_tol**2 * e_ref:
             break
         g = p.RT @ t
@@ -363,15 +371,17 @@ def _newton(p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions,
     return u, E, it
 
 
-def _crossover(p: _Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 8):
+def _crossover(p: _Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 12):
     """Exact solve on a guessed active set, corrected by KKT signs (primal-dual active set).
 
     The guess is rods plus every one-sided element within ``tau * max|e0|`` of engaging. On a
     fixed set the energy is a quadratic; proximal iterations on one factorisation minimise it
-    exactly (to round-off) even when the set is floppy. Engaged elements whose tension has the
-    wrong sign are released and slack elements that end up stretched are added, for a few
-    rounds. Returns displacements (or None if the rounds do not settle). The caller judges the
-    result by its certificates, so a wrong guess costs time, never a wrong verdict.
+    exactly (to round-off) even when the set is floppy; the iterate with the smallest gradient
+    is kept, since on very floppy sets round-off along the floppy modes grows once the gradient
+    has stalled. Engaged elements whose tension has the wrong sign are released and slack
+    elements that end up stretched are added, for a few rounds. Returns displacements (or None
+    if the rounds do not settle). The caller judges the result by its certificates, so a wrong
+    guess costs time, never a wrong verdict.
     """
     scale = float(np.abs(p.e0).max())
     e = p.e0 + p.R @ u
@@ -380,20 +390,22 @@ def _crossover(p: _Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 8):
     for _ in range(rounds):
         w = p.k * A
         solver = p.factor(w)
-        x = u.copy()
+        x, best_x, best_g = u.copy(), u, np.inf
         g0 = None
-        for _ in range(60):
+        for _ in range(100):
             g = p.RT @ (w * (p.e0 + p.R @ x))
             gn = float(np.linalg.norm(g))
             g0 = gn if g0 is None else g0
+            if gn < best_g:
+                best_x, best_g = x, gn
             if gn <= 1e-14 * max(g0, 1e-300) or gn == 0.0:
                 break
             x = x - solver.solve(g)
-        e = p.e0 + p.R @ x
+        e = p.e0 + p.R @ best_x
         release = A & p.one_sided & (p.sigma * e < -tol)
         add = ~A & (p.sigma * e > tol)
         if not (release.any() or add.any()):
-            return x
+            return best_x
         A = (A & ~release) | add
     return None
 
@@ -460,7 +472,10 @@ def solve(
         t, force, work, floppy, floppy_ok, rigid_ok = _verdict(p, u, E, e_ref, opts)
         stages = [("crossover", lambda: u), ("ipm", lambda: _ipm_start(p))]
         if opts.fallback:
-            stages += [("qp", lambda: _qp_start(instance)), ("lp", lambda: _lp_start(p))]
+            stages += [
+                ("qp", lambda: _qp_start(instance)),
+                ("lp", lambda: _lp_start(p, opts.lp_time_limit)),
+            ]
         for name, starting_point in stages:
             if floppy_ok or rigid_ok:
                 break
@@ -475,7 +490,9 @@ def solve(
                 method = f"newton+{name}"
         if not (floppy_ok or rigid_ok) and opts.fallback:
             method = "newton+lp-certificate"
-            u, E, t, force, work, floppy, floppy_ok, rigid_ok = _lp_fallback(p, e_ref, opts, u, E, t)
+            u, E, t, force, work, floppy, floppy_ok, rigid_ok = _lp_fallback(
+                p, e_ref, opts, u, E, t
+            )
     decided = floppy_ok or rigid_ok
     if not decided:
         warnings.warn(
@@ -548,21 +565,32 @@ def _qp_start(instance: Instance) -> np.ndarray:
     return qp_solve(instance).displacements.ravel()
 
 
-def _lp_start(p: _Problem) -> np.ndarray:
+def _lp(p: _Problem, time_limit: float):
+    """The verdict LP of this problem, solved at most once."""
     from .reference import lp_verdict
 
-    return lp_verdict(p.instance).displacements.ravel()
+    if getattr(p, "lp_result", None) is None:
+        p.lp_result = lp_verdict(p.instance, time_limit=time_limit)
+    return p.lp_result
+
+
+def _lp_start(p: _Problem, time_limit: float) -> np.ndarray:
+    return _lp(p, time_limit).displacements.ravel()
 
 
 def _lp_fallback(p: _Problem, e_ref: float, opts: SolverOptions, u, E, t):
     """Last resort: the verdict LP (HiGHS) and its certificate; the energy stays the best found."""
     from .reference import lp_verdict
 
-    lp = lp_verdict(p.instance)
+    lp = _lp(p, opts.lp_time_limit)
+    if lp.status == "time limit":
+        return u, E, t, 0.0, 0.0, float(np.sqrt(max(E, 0.0) / e_ref)), False, False
     if lp.rigid:
         tl = lp.tensions[p.sites]
         force = float(np.linalg.norm(p.RT @ tl)) / max(float(np.linalg.norm(tl)), 1e-300)
-        work = float(np.dot(tl, p.e0)) / max(float(np.linalg.norm(tl) * np.linalg.norm(p.e0)), 1e-300)
+        work = float(np.dot(tl, p.e0)) / max(
+            float(np.linalg.norm(tl) * np.linalg.norm(p.e0)), 1e-300
+        )
         rigid_ok = force <= max(opts.stationarity_tol, 1e-9) and work >= opts.work_tol
         return u, E, t, force, work, float(np.sqrt(E / e_ref)), False, rigid_ok
     # The LP's dual displacement is floppy only to HiGHS's tolerance: polish it with Newton.

@@ -154,16 +154,20 @@ def parse_spec(data: dict) -> Spec:
         raise SpecError("a spec must be a table of keys")
     unknown = sorted(k for k in data if k not in FLAT_KEYS and k not in SECTIONS)
     if unknown:
-        raise SpecError(f"unknown key(s) {', '.join(map(repr, unknown))}; known: "
-                        f"{', '.join(FLAT_KEYS + tuple(SECTIONS))}")
+        raise SpecError(
+            f"unknown key(s) {', '.join(map(repr, unknown))}; known: "
+            f"{', '.join(FLAT_KEYS + tuple(SECTIONS))}"
+        )
     for sec, allowed in SECTIONS.items():
         if sec in data:
             if not isinstance(data[sec], dict):
                 raise SpecError(f"[{sec}] must be a section")
             bad = sorted(set(data[sec]) - allowed)
             if bad:
-                raise SpecError(f"unknown key(s) {', '.join(map(repr, bad))} in [{sec}]; "
-                                f"known: {', '.join(sorted(allowed))}")
+                raise SpecError(
+                    f"unknown key(s) {', '.join(map(repr, bad))} in [{sec}]; "
+                    f"known: {', '.join(sorted(allowed))}"
+                )
     threshold = None
     if "threshold" in data:
         path = data["threshold"].get("path", "p_r")
@@ -201,8 +205,10 @@ def parse_spec(data: dict) -> Spec:
     if threshold is None:
         worst = max(grid["p_r"]) + max(grid["p_t"])
         if worst > 1 + 1e-12:
-            raise SpecError(f"p_r + p_t exceeds 1 at a grid point ({max(grid['p_r'])} + "
-                            f"{max(grid['p_t'])} = {worst})")
+            raise SpecError(
+                f"p_r + p_t exceeds 1 at a grid point ({max(grid['p_r'])} + "
+                f"{max(grid['p_t'])} = {worst})"
+            )
     samples = _number("samples", data.get("samples", 1), integer=True)
     if samples < 1:
         raise SpecError(f"'samples' must be at least 1, got {samples}")

@@ -43,7 +43,9 @@ class ResultStore:
             try:
                 old = json.loads(meta.read_text())
             except (OSError, ValueError):
-                raise SpecError(f"{meta} is unreadable; remove it or choose another --out") from None
+                raise SpecError(
+                    f"{meta} is unreadable; remove it or choose another --out"
+                ) from None
             if old.get("digest") != canonical["digest"]:
                 raise SpecError(
                     f"{self.root} holds results of a different sweep; choose another --out "

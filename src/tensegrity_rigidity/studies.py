@@ -12,7 +12,8 @@ Estimators (documented in :mod:`~tensegrity_rigidity.analysis`):
   pools the samples of five strains phi in {0, pi/4, pi/2, 3pi/4, pi}.
 * S_r, S_t, dP/df_c (Fig. 4): paired central differences on common random numbers at
   (p_r, p_t) = (0.3, 0.6), with steps matched in x = p_r + p_t/2 (h_r = 0.025, h_t = 0.05) and
-  the strain average over phi in {0, pi/4, pi/2, 3pi/4, pi}; S_c = S_t + (1 - f_c) dP/df_c / p_t and S_s = S_t - f_c dP/df_c / p_t
+  the strain average over phi in {0, pi/4, pi/2, 3pi/4, pi};
+  S_c = S_t + (1 - f_c) dP/df_c / p_t and S_s = S_t - f_c dP/df_c / p_t
   (from S_t = f_c S_c + (1 - f_c) S_s and dP/df_c = p_t (S_c - S_s)).
 * p_crit (Fig. 2): the median per-sample threshold (P = 1/2), bootstrap error.
 """
@@ -82,26 +83,52 @@ def _p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
 def study_fig1b(out, scale: Scale, **kw) -> dict:
     """P(p_r, p_t) at f_c = 0.5 under shear, from per-sample thresholds along p_r."""
     p_t = [round(x, 3) for x in np.arange(0.0, 0.81, 0.1)]
-    df = _run(out, "fig1b", {
-        "n": scale.n_threshold, "p_t": p_t, "f_c": 0.5, "phi": "shear",
-        "samples": scale.samples_threshold, "seed": 11, "threshold": {"path": "p_r"},
-    }, **kw)
+    df = _run(
+        out,
+        "fig1b",
+        {
+            "n": scale.n_threshold,
+            "p_t": p_t,
+            "f_c": 0.5,
+            "phi": "shear",
+            "samples": scale.samples_threshold,
+            "seed": 11,
+            "threshold": {"path": "p_r"},
+        },
+        **kw,
+    )
     p_r = np.linspace(0, 1, 101)
     P = np.full((len(p_t), p_r.size), np.nan)
     for i, pt in enumerate(p_t):
         t = df[np.isclose(df.p_t, pt)].threshold_p_r.to_numpy()
         ok = p_r + pt <= 1 + 1e-12
         P[i, ok] = an.probability_from_thresholds(t, p_r[ok])
-    return {"p_r": p_r, "p_t": np.array(p_t), "P": P, "rows": df, "n": scale.n_threshold,
-            "samples": scale.samples_threshold}
+    return {
+        "p_r": p_r,
+        "p_t": np.array(p_t),
+        "P": P,
+        "rows": df,
+        "n": scale.n_threshold,
+        "samples": scale.samples_threshold,
+    }
 
 
 def study_fig1c(out, scale: Scale, **kw) -> dict:
     """S_t/S_r versus f_c for each strain and the strain average (collapse fits)."""
-    df = _run(out, "fig1c", {
-        "n": scale.n_threshold, "p_t": PT4, "f_c": FC5, "phi": PHI5,
-        "samples": scale.samples_threshold, "seed": 12, "threshold": {"path": "p_r"},
-    }, **kw)
+    df = _run(
+        out,
+        "fig1c",
+        {
+            "n": scale.n_threshold,
+            "p_t": PT4,
+            "f_c": FC5,
+            "phi": PHI5,
+            "samples": scale.samples_threshold,
+            "seed": 12,
+            "threshold": {"path": "p_r"},
+        },
+        **kw,
+    )
     grid = np.arange(0.3, 0.9001, 0.01)
     fits = []
     for f_c in FC5:
@@ -116,10 +143,14 @@ def study_fig1c(out, scale: Scale, **kw) -> dict:
         fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap)
         fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
     rods_only = df[np.isclose(df.p_t, 0.0)].drop_duplicates(["phi", "sample"])
-    return {"fits": pd.DataFrame(fits), "rows": df, "n": scale.n_threshold,
-            "samples": scale.samples_threshold,
-            "rods_only_pc": an.critical_point(rods_only.threshold_p_r.to_numpy()),
-            "rods_only_samples": len(rods_only)}
+    return {
+        "fits": pd.DataFrame(fits),
+        "rows": df,
+        "n": scale.n_threshold,
+        "samples": scale.samples_threshold,
+        "rods_only_pc": an.critical_point(rods_only.threshold_p_r.to_numpy()),
+        "rods_only_samples": len(rods_only),
+    }
 
 
 def _strain_name(phi: float) -> str:
@@ -135,34 +166,81 @@ def study_fig2(out, scale: Scale, **kw) -> dict:
     grids = []
     for p_t in PT4:
         pr = [p for p in p_r if p + p_t <= 1 + 1e-12]
-        grids.append(_run(out, f"fig2_pt{p_t:.1f}", {
-            "n": scale.n_grid, "p_r": pr, "p_t": p_t, "f_c": 1.0,
-            "phi": ["compression", "dilation"], "samples": scale.samples_grid, "seed": 21,
-        }, **kw))
+        grids.append(
+            _run(
+                out,
+                f"fig2_pt{p_t:.1f}",
+                {
+                    "n": scale.n_grid,
+                    "p_r": pr,
+                    "p_t": p_t,
+                    "f_c": 1.0,
+                    "phi": ["compression", "dilation"],
+                    "samples": scale.samples_grid,
+                    "seed": 21,
+                },
+                **kw,
+            )
+        )
     rows = pd.concat(grids, ignore_index=True)
-    th = _run(out, "fig2_thresholds", {
-        "n": scale.n_grid, "p_t": PT4, "f_c": 1.0, "phi": ["compression", "dilation"],
-        "samples": scale.samples_threshold, "seed": 21, "threshold": {"path": "p_r"},
-    }, **kw)
-    curves = (rows.groupby(["phi", "p_t", "p_r"])
-              .agg(energy=("energy", "mean"), energy_sem=("energy", "sem"),
-                   gamma=("nonaffinity", "mean"), gamma_sem=("nonaffinity", "sem"),
-                   P=("rigid", "mean"), N=("rigid", "size"))
-              .reset_index())
-    taut = (rows[rows.rigid].groupby(["phi", "p_t", "p_r"]).frac_cables_taut
-            .agg(["mean", "sem", "size"]).reset_index())
+    th = _run(
+        out,
+        "fig2_thresholds",
+        {
+            "n": scale.n_grid,
+            "p_t": PT4,
+            "f_c": 1.0,
+            "phi": ["compression", "dilation"],
+            "samples": scale.samples_threshold,
+            "seed": 21,
+            "threshold": {"path": "p_r"},
+        },
+        **kw,
+    )
+    curves = (
+        rows.groupby(["phi", "p_t", "p_r"])
+        .agg(
+            energy=("energy", "mean"),
+            energy_sem=("energy", "sem"),
+            gamma=("nonaffinity", "mean"),
+            gamma_sem=("nonaffinity", "sem"),
+            P=("rigid", "mean"),
+            N=("rigid", "size"),
+        )
+        .reset_index()
+    )
+    taut = (
+        rows[rows.rigid]
+        .groupby(["phi", "p_t", "p_r"])
+        .frac_cables_taut.agg(["mean", "sem", "size"])
+        .reset_index()
+    )
     fits, crit = [], []
     for (phi, p_t), sub in curves.groupby(["phi", "p_t"]):
         tsub = th[np.isclose(th.phi, phi) & np.isclose(th.p_t, p_t)].threshold_p_r.to_numpy()
         pc, pc_err = an.critical_point(tsub)
         fit = an.fit_energy_power_law(sub.p_r.to_numpy(), sub.energy.to_numpy(), pc)
-        fits.append({"phi": phi, "strain": _strain_name(phi), "p_t": p_t, "p_crit_err": pc_err,
-                     **fit.__dict__})
+        fits.append(
+            {
+                "phi": phi,
+                "strain": _strain_name(phi),
+                "p_t": p_t,
+                "p_crit_err": pc_err,
+                **fit.__dict__,
+            }
+        )
         g = sub.set_index("p_r").gamma
         crit.append({"phi": phi, "p_t": p_t, "p_crit": pc, "gamma_peak_p_r": float(g.idxmax())})
-    return {"curves": curves, "taut": taut, "fits": pd.DataFrame(fits), "crit": pd.DataFrame(crit),
-            "rows": rows, "n": scale.n_grid, "samples": scale.samples_grid,
-            "field": _displacement_field(scale)}
+    return {
+        "curves": curves,
+        "taut": taut,
+        "fits": pd.DataFrame(fits),
+        "crit": pd.DataFrame(crit),
+        "rows": rows,
+        "n": scale.n_grid,
+        "samples": scale.samples_grid,
+        "field": _displacement_field(scale),
+    }
 
 
 def _displacement_field(scale: Scale) -> dict:
@@ -190,13 +268,20 @@ def _displacement_field(scale: Scale) -> dict:
     for seed in range(50):
         rng = np.random.default_rng(2000 + seed)
         net2, u2, v2 = lattice_geometry(n, 0.2, rng)
-        inst2 = Instance(net2.with_kinds(place_elements(u2, v2, 0.55, 0.4, 0.5)),
-                         strain_tensor("shear"))
+        inst2 = Instance(
+            net2.with_kinds(place_elements(u2, v2, 0.55, 0.4, 0.5)), strain_tensor("shear")
+        )
         res2 = solve(inst2)
         if res2.rigid:
             break
-    return {"instance": inst, "result": res, "p_r": p_r, "p_t": 0.2,
-            "mixed_instance": inst2, "mixed_result": res2}
+    return {
+        "instance": inst,
+        "result": res,
+        "p_r": p_r,
+        "p_t": 0.2,
+        "mixed_instance": inst2,
+        "mixed_result": res2,
+    }
 
 
 # --------------------------------------------------------------------------- Fig. 3
@@ -207,17 +292,26 @@ def study_fig3(out, scale: Scale, **kw) -> dict:
     rng = np.random.default_rng(31)
     f_c = np.linspace(0, 1, 41)
     p_rs = [0.1, 0.3, 0.5, 0.7]
-    analytic = {p: np.array([single_node_probability(p, f * (1 - p), (1 - f) * (1 - p))
-                             for f in f_c]) for p in p_rs}
+    analytic = {
+        p: np.array([single_node_probability(p, f * (1 - p), (1 - f) * (1 - p)) for f in f_c])
+        for p in p_rs
+    }
     sim = []
     for p in p_rs:
         for f in np.linspace(0, 1, 9):
             k, n = simulate_single_node(p, f * (1 - p), (1 - f) * (1 - p), scale.node_trials, rng)
             P, lo, hi = an.wilson(k, n)
-            sim.append({"p_r": p, "f_c": f, "P": float(P), "lo": float(lo), "hi": float(hi),
-                        "analytic": single_node_probability(p, f * (1 - p), (1 - f) * (1 - p))})
-    return {"f_c": f_c, "analytic": analytic, "sim": pd.DataFrame(sim),
-            "trials": scale.node_trials}
+            sim.append(
+                {
+                    "p_r": p,
+                    "f_c": f,
+                    "P": float(P),
+                    "lo": float(lo),
+                    "hi": float(hi),
+                    "analytic": single_node_probability(p, f * (1 - p), (1 - f) * (1 - p)),
+                }
+            )
+    return {"f_c": f_c, "analytic": analytic, "sim": pd.DataFrame(sim), "trials": scale.node_trials}
 
 
 # --------------------------------------------------------------------------- Fig. 4
@@ -233,8 +327,13 @@ H_R, H_T = 0.025, 0.05
 def study_fig4(out, scale: Scale, **kw) -> dict:
     """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies S_c, S_s from paired
     differences on common random numbers."""
-    base = {"n": scale.n_grid, "f_c": FIG4_FC, "phi": FIG4_PHI, "samples": scale.samples_fig4,
-            "seed": 41}
+    base = {
+        "n": scale.n_grid,
+        "f_c": FIG4_FC,
+        "phi": FIG4_PHI,
+        "samples": scale.samples_fig4,
+        "seed": 41,
+    }
     centre = _run(out, "fig4_centre", base | {"p_r": 0.3, "p_t": 0.6}, **kw)
     d_r = _run(out, "fig4_dpr", base | {"p_r": [0.3 - H_R, 0.3 + H_R], "p_t": 0.6}, **kw)
     d_t = _run(out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H_T, 0.6 + H_T]}, **kw)
@@ -251,10 +350,16 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
     per_phi = []
     for phi in FIG4_PHI:
         for i, f in enumerate(FIG4_FC):
-            S_r = an.paired_derivative(outcomes(d_r, phi=phi, f_c=f, p_r=0.3 - H_R),
-                                       outcomes(d_r, phi=phi, f_c=f, p_r=0.3 + H_R), H_R)
-            S_t = an.paired_derivative(outcomes(d_t, phi=phi, f_c=f, p_t=0.6 - H_T),
-                                       outcomes(d_t, phi=phi, f_c=f, p_t=0.6 + H_T), H_T)
+            S_r = an.paired_derivative(
+                outcomes(d_r, phi=phi, f_c=f, p_r=0.3 - H_R),
+                outcomes(d_r, phi=phi, f_c=f, p_r=0.3 + H_R),
+                H_R,
+            )
+            S_t = an.paired_derivative(
+                outcomes(d_t, phi=phi, f_c=f, p_t=0.6 - H_T),
+                outcomes(d_t, phi=phi, f_c=f, p_t=0.6 + H_T),
+                H_T,
+            )
             # dP/df_c: central difference inside, second-order one-sided at f_c = 0 and 1
             last = len(FIG4_FC) - 1
             if 0 < i < last:
@@ -271,9 +376,20 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
             D_f_err = float(diff.std(ddof=1) / np.sqrt(diff.size) / step)
             P = outcomes(centre, phi=phi, f_c=f)
             P = P[np.isfinite(P)]
-            per_phi.append({"phi": phi, "f_c": f, "P": P.mean(), "N": P.size, "S_r": S_r.value,
-                            "S_r_err": S_r.err, "S_t": S_t.value, "S_t_err": S_t.err,
-                            "D_f": D_f, "D_f_err": D_f_err})
+            per_phi.append(
+                {
+                    "phi": phi,
+                    "f_c": f,
+                    "P": P.mean(),
+                    "N": P.size,
+                    "S_r": S_r.value,
+                    "S_r_err": S_r.err,
+                    "S_t": S_t.value,
+                    "S_t_err": S_t.err,
+                    "D_f": D_f,
+                    "D_f_err": D_f_err,
+                }
+            )
     per_phi = pd.DataFrame(per_phi)
     p_t = 0.6
     per_phi["S_c"] = per_phi.S_t + (1 - per_phi.f_c) * per_phi.D_f / p_t
@@ -292,21 +408,34 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
             S_c_e = np.hypot(S_t_e, (1 - f) * D_e / p_t)
             S_s_e = np.hypot(S_t_e, f * D_e / p_t)
             rc, rs = S_c / S_r, S_s / S_r
-            out_rows.append({
-                "f_c": f, "S_r": S_r, "S_c_rel": rc, "S_s_rel": rs,
-                "S_c_rel_err": abs(rc) * np.hypot(S_c_e / S_c if S_c else 0, S_r_e / S_r),
-                "S_s_rel_err": abs(rs) * np.hypot(S_s_e / S_s if S_s else 0, S_r_e / S_r),
-                "sum_rel": (S_c + S_s) / S_r,
-                "sum_rel_err": abs((S_c + S_s) / S_r) * np.hypot(
-                    np.hypot(S_c_e, S_s_e) / abs(S_c + S_s) if S_c + S_s else 0, S_r_e / S_r),
-            })
+            out_rows.append(
+                {
+                    "f_c": f,
+                    "S_r": S_r,
+                    "S_c_rel": rc,
+                    "S_s_rel": rs,
+                    "S_c_rel_err": abs(rc) * np.hypot(S_c_e / S_c if S_c else 0, S_r_e / S_r),
+                    "S_s_rel_err": abs(rs) * np.hypot(S_s_e / S_s if S_s else 0, S_r_e / S_r),
+                    "sum_rel": (S_c + S_s) / S_r,
+                    "sum_rel_err": abs((S_c + S_s) / S_r)
+                    * np.hypot(
+                        np.hypot(S_c_e, S_s_e) / abs(S_c + S_s) if S_c + S_s else 0, S_r_e / S_r
+                    ),
+                }
+            )
         return pd.DataFrame(out_rows)
 
     average = summarise(per_phi)
     dil = summarise(per_phi[np.isclose(per_phi.phi, 0.0)])
     comp = summarise(per_phi[np.isclose(per_phi.phi, math.pi)])
-    return {"per_phi": per_phi, "average": average, "dilation": dil, "compression": comp,
-            "n": scale.n_grid, "samples": scale.samples_fig4}
+    return {
+        "per_phi": per_phi,
+        "average": average,
+        "dilation": dil,
+        "compression": comp,
+        "n": scale.n_grid,
+        "samples": scale.samples_fig4,
+    }
 
 
 STUDIES = {

@@ -46,7 +46,7 @@ def plan_chunks(spec: Spec) -> list[tuple[GridPoint, int, list[int]]]:
     ks = list(range(1, spec.samples + 1))
     for point in spec.points():
         for c, start in enumerate(range(0, len(ks), spec.chunk_size)):
-            out.append((point, c, ks[start:start + spec.chunk_size]))
+            out.append((point, c, ks[start : start + spec.chunk_size]))
     return out
 
 
@@ -85,8 +85,13 @@ def run_sweep(
             return SweepReport(len(chunks), len(chunks), 0, 0, 0.0)
         n_todo = sum(len(ks) for _, _, ks in todo)
         show = sys.stderr.isatty() if progress is None else progress
-        bar = tqdm(total=n_todo, unit="sample", disable=not show, dynamic_ncols=True,
-                   desc=f"sweep {os.fspath(out)}")
+        bar = tqdm(
+            total=n_todo,
+            unit="sample",
+            disable=not show,
+            dynamic_ncols=True,
+            desc=f"sweep {os.fspath(out)}",
+        )
         done_chunks = done_samples = 0
         futures = {pool.submit(run_chunk, spec, p, ks): (p, c, ks) for p, c, ks in todo}
         try:
@@ -99,12 +104,20 @@ def run_sweep(
         except KeyboardInterrupt:
             pool.cancel(futures)
             bar.close()
-            raise SweepInterrupted(SweepReport(
-                len(chunks), len(chunks) - len(todo), done_chunks, done_samples,
-                time.perf_counter() - start, interrupted=True)) from None
+            raise SweepInterrupted(
+                SweepReport(
+                    len(chunks),
+                    len(chunks) - len(todo),
+                    done_chunks,
+                    done_samples,
+                    time.perf_counter() - start,
+                    interrupted=True,
+                )
+            ) from None
     bar.close()
-    return SweepReport(len(chunks), len(chunks) - len(todo), done_chunks, done_samples,
-                       time.perf_counter() - start)
+    return SweepReport(
+        len(chunks), len(chunks) - len(todo), done_chunks, done_samples, time.perf_counter() - start
+    )
 
 
 def load_results(out: str | os.PathLike) -> pd.DataFrame:

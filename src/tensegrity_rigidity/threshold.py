@@ -139,8 +139,11 @@ def find_threshold(
     try:
         return _bisect(rigid, n_ev, ev_pos, p_t, path, cache)
     except _Undecided:
-        warnings.warn("threshold undecided: a configuration on the path has no certificate "
-                      "to tolerance", UndecidedWarning, stacklevel=2)
+        warnings.warn(
+            "threshold undecided: a configuration on the path has no certificate to tolerance",
+            UndecidedWarning,
+            stacklevel=2,
+        )
         return Threshold(float("nan"), float("nan"), len(cache) + 1, decided=False)
 
 
