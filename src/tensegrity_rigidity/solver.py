@@ -580,7 +580,6 @@ def _lp_start(p: _Problem, time_limit: float) -> np.ndarray:
 
 def _lp_fallback(p: _Problem, e_ref: float, opts: SolverOptions, u, E, t):
     """Last resort: the verdict LP (HiGHS) and its certificate; the energy stays the best found."""
-    from .reference import lp_verdict
 
     lp = _lp(p, opts.lp_time_limit)
     if lp.status == "time limit":
