@@ -18,14 +18,20 @@ them with a semismooth Newton method specialised to this structure:
 3. **Certificates** (never an energy threshold alone). *Rigid*: the final tensions ``t`` are an
    admissible self-stress (signs hold exactly by construction) with a relative force-balance
    residual ``|R^T t| / |t|`` below ``stationarity_tol`` and a normalised work
-   ``t . e0 / (|t| |e0|)`` above ``work_tol``; by Farkas' lemma no zero-energy displacement
-   can then exist. *Floppy*: a displacement ``u`` whose violation
+   ``t . e0 / (|t| |e0|)`` above ``work_tol`` (a residual up to ``stationarity_ratio`` times
+   the work is also accepted, see :class:`SolverOptions`); by Farkas' lemma no zero-energy
+   displacement can then exist. *Floppy*: a displacement ``u`` whose violation
    ``sqrt(E(u) / E_ref)`` is below ``floppy_tol``, where ``E_ref = 1/2 sum k e0^2`` over
    non-empty sites. At the exact optimum the normalised work equals ``sqrt(E*/E_ref)``, so the
-   two tests exclude each other as long as ``floppy_tol < work_tol``; a sample that passes
-   neither is handed to the general path (Clarabel QP for the energy, HiGHS LP for the verdict)
-   and, should that fail too, reported as undecided with a warning.
-4. **Displacements.** The minimiser ``u`` is not unique on floppy networks. We report the
+   two tests exclude each other as long as ``floppy_tol < work_tol``.
+4. **Stages.** Newton runs for at most ``newton_budget`` iterations. A sample it cannot certify
+   goes through polishing stages, each a starting point followed by a *crossover* (the
+   quadratic solved exactly on the near-tight set, corrected by KKT signs) and Newton: the
+   Newton point itself, then the specialised interior-point method of :mod:`.ipm` (robust to
+   the combinatorics near the transition), then Clarabel's QP and HiGHS's LP. As a last resort
+   the LP's own certificate decides; a sample that passes neither test is reported undecided
+   with a warning, never guessed.
+5. **Displacements.** The minimiser ``u`` is not unique on floppy networks. We report the
    minimum-norm minimiser (the limit of a vanishing background stiffness). The minimisers form a
    polyhedron ``U*`` fixed by the unique tensions. First, proximal iterations
    ``x <- x - (H + mu I)^-1 grad q(x)`` from ``x = 0`` give the minimum-norm solution of the final
@@ -125,7 +131,8 @@ class SolveResult:
     factorizations : int
         Numeric LDL^T factorisations.
     method : str
-        "newton", or "newton+fallback" when the general path was needed.
+        "newton", or "newton+<stage>" for the stage that certified (crossover, ipm, qp, lp),
+        or "newton+lp-certificate" when the LP's own certificate decided.
     min_norm_ok : bool
         Whether the displacements are the verified minimum-norm minimiser.
     seconds : float
