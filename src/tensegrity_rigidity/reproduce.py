@@ -19,7 +19,8 @@ from .studies import SCALES, STUDIES, UNDECIDED
 EXPECTED = {
     "tiny": "under a minute",
     "quick": "about 10 minutes (measured 12 min)",
-    "paper": "several hours (see BENCHMARKS.md for solve rates at n = 32)",
+    "paper": "about 10-20 hours (estimated from the n = 32 solve times in BENCHMARKS.md; "
+    "spread it over a Dask cluster with --scheduler)",
 }
 
 
