@@ -169,12 +169,6 @@ def paired_derivative(minus: np.ndarray, plus: np.ndarray, h: float) -> Derivati
     return Derivative(float(d.mean() / (2 * h)), float(err / (2 * h)))
 
 
-def ratio_with_error(a: Derivative, b: Derivative) -> tuple[float, float]:
-    """a/b with first-order error propagation (independent errors assumed)."""
-    r = a.value / b.value
-    return r, abs(r) * float(np.hypot(a.err / a.value if a.value else np.inf, b.err / b.value))
-
-
 # --------------------------------------------------------------------------- energy scaling
 
 
