@@ -23,12 +23,22 @@ from __future__ import annotations
 import numpy as np
 
 
-def interior_point(p, max_iter: int = 60, tol: float = 1e-10):
+def interior_point(
+    p,
+    max_iter: int = 60,
+    tol: float = 1e-10,
+    checkpoints: tuple[float, ...] = (),
+    callback=None,
+):
     """Approximately minimise the energy of problem ``p`` (a solver._Problem).
 
     Returns (u, w, lam, iterations): displacements (2N,), slacks and multipliers on the
-    one-sided sites. Stops when the scaled residuals and the duality measure are below ``tol``.
+    one-sided sites. Stops when the scaled residuals and the duality measure are below ``tol``,
+    or when ``callback(u)`` returns True; the callback is offered the displacements each time
+    the larger of the two measures first falls below the next of the decreasing
+    ``checkpoints`` (the caller tries to finish exactly from there).
     """
+    pending = sorted((c for c in checkpoints if c > tol), reverse=True)
     os_ = p.one_sided
     sig = p.sigma[os_]
     k_all = p.k
@@ -52,6 +62,11 @@ def interior_point(p, max_iter: int = 60, tol: float = 1e-10):
         res = max(float(np.abs(r_u).max(initial=0.0)), float(np.abs(r_w).max(initial=0.0)))
         if res <= tol and mu <= tol:
             break
+        if pending and max(res, mu) <= pending[0]:
+            while pending and max(res, mu) <= pending[0]:
+                pending.pop(0)
+            if callback is not None and callback(u * scale):
+                break
         ratio = lam / w
         D = k + ratio
         ktil = k_all.copy()

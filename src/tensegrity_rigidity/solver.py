@@ -24,13 +24,16 @@ them with a semismooth Newton method specialised to this structure:
    ``sqrt(E(u) / E_ref)`` is below ``floppy_tol``, where ``E_ref = 1/2 sum k e0^2`` over
    non-empty sites. At the exact optimum the normalised work equals ``sqrt(E*/E_ref)``, so the
    two tests exclude each other as long as ``floppy_tol < work_tol``.
-4. **Stages.** Newton runs for at most ``newton_budget`` iterations. A sample it cannot certify
-   goes through polishing stages, each a starting point followed by a *crossover* (the
-   quadratic solved exactly on the near-tight set, corrected by KKT signs) and Newton: the
-   Newton point itself, then the specialised interior-point method of :mod:`.ipm` (robust to
-   the combinatorics near the transition), then Clarabel's QP and HiGHS's LP. As a last resort
-   the LP's own certificate decides; a sample that passes neither test is reported undecided
-   with a warning, never guessed.
+4. **Stages.** Newton runs for at most ``newton_budget`` iterations, and stops early once
+   ``max_truncated_steps`` consecutive steps were cut short by the line search (the active set
+   is crawling, as near the transition). A sample it cannot certify goes through *crossovers*
+   (the quadratic solved exactly on a guessed near-tight set, corrected by KKT signs) from a
+   sequence of starting points: the Newton point; the iterates of the specialised
+   interior-point method of :mod:`.ipm` (robust to the combinatorics near the transition) at
+   accuracies 1e-3, 1e-5, 1e-7 and at its end; then Newton from the lowest energy found. With
+   ``fallback`` the general path follows: HiGHS's LP vertex and Clarabel's QP minimiser, each
+   crossed over and polished, and as a last resort the LP's own certificate. A sample that
+   passes neither test is reported undecided with a warning, never guessed.
 5. **Displacements.** The minimiser ``u`` is not unique on floppy networks. We report the
    minimum-norm minimiser (the limit of a vanishing background stiffness). The minimisers form a
    polyhedron ``U*`` fixed by the unique tensions. First, proximal iterations
@@ -68,6 +71,10 @@ class SolverOptions:
         Newton iterations of a polishing run.
     newton_budget : int
         Newton iterations from the start before switching to the interior-point path.
+    max_truncated_steps : int
+        Switch to the interior-point path earlier, after this many consecutive Newton steps cut
+        short by the line search (the active set then changes a few elements per step, as near
+        the transition).
     stationarity_tol : float
         Relative force-balance residual ``|R^T t| / |t|`` always accepted in a rigidity
         certificate.
@@ -91,6 +98,7 @@ class SolverOptions:
     regularization: float = 1e-12
     max_iter: int = 40
     newton_budget: int = 15
+    max_truncated_steps: int = 4
     stationarity_tol: float = 1e-11
     stationarity_ratio: float = 1e-7
     work_tol: float = 1e-7
@@ -131,8 +139,8 @@ class SolveResult:
     factorizations : int
         Numeric LDL^T factorisations.
     method : str
-        "newton", or "newton+<stage>" for the stage that certified (crossover, ipm, qp, lp),
-        or "newton+lp-certificate" when the LP's own certificate decided.
+        "newton", or "newton+<stage>" for the stage that certified (crossover, ipm, polish,
+        lp, qp), or "newton+lp-certificate" when the LP's own certificate decided.
     min_norm_ok : bool
         Whether the displacements are the verified minimum-norm minimiser.
     seconds : float
@@ -310,19 +318,33 @@ def _certificates(p: _Problem, t: np.ndarray, E: float, e_ref: float):
     return force, work, floppy
 
 
-def _min_norm(p: _Problem, act: np.ndarray, t: np.ndarray, u_fallback: np.ndarray):
-    """Minimum-norm minimiser (see module docstring); returns (u, verified)."""
-    w = p.k * act
+def _prox_minimize(p: _Problem, w: np.ndarray, x: np.ndarray, max_iter: int = 100):
+    """Minimise ``1/2 sum_b w_b (e0 + R x)_b^2`` by proximal iterations from x.
+
+    ``x <- x - (R^T W R + mu I)^-1 grad`` on one factorisation converges to the minimiser
+    closest to the start (floppy directions of W are left alone). Stops when the gradient has
+    not halved for three iterations (round-off reached): on very floppy sets round-off along the
+    floppy modes then grows, so the iterate with the smallest gradient is returned.
+    Returns (x, gradient norm at x).
+    """
     solver = p.factor(w)
-    x = np.zeros(p.n2)
-    g0 = None
-    for _ in range(50):
+    best_x, best_g, g0, since = x, np.inf, None, 0
+    for _ in range(max_iter):
         g = p.RT @ (w * (p.e0 + p.R @ x))
         gn = float(np.linalg.norm(g))
         g0 = gn if g0 is None else g0
-        if gn <= 1e-13 * max(g0, 1e-300):
+        since = 0 if gn < 0.5 * best_g else since + 1
+        if gn < best_g:
+            best_x, best_g = x, gn
+        if gn <= 1e-14 * max(g0, 1e-300) or gn == 0.0 or since >= 3:
             break
         x = x - solver.solve(g)
+    return best_x, best_g
+
+
+def _min_norm(p: _Problem, act: np.ndarray, t: np.ndarray, u_fallback: np.ndarray):
+    """Minimum-norm minimiser (see module docstring); returns (u, verified)."""
+    x, _ = _prox_minimize(p, p.k * act, np.zeros(p.n2))
     e = p.e0 + p.R @ x
     tol = 1e-9 * (float(np.abs(p.e0).max()) if p.e0.size else 1.0)
     # x is the minimum-norm point of a superset of U*; if it lies in U*, it is the answer.
@@ -341,12 +363,23 @@ def _min_norm(p: _Problem, act: np.ndarray, t: np.ndarray, u_fallback: np.ndarra
 
 
 def _newton(
-    p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions, max_iter: int | None = None
+    p: _Problem,
+    u: np.ndarray,
+    e_ref: float,
+    opts: SolverOptions,
+    max_iter: int | None = None,
+    max_truncated: int | None = None,
 ):
-    """Semismooth Newton with exact line search from u; returns (u, E, iterations)."""
+    """Semismooth Newton with exact line search from u; returns (u, E, iterations).
+
+    Stops after ``max_iter`` iterations, or after ``max_truncated`` consecutive steps that the
+    line search cut short at a breakpoint (a sign that the active set changes a few elements per
+    step, which the interior-point path handles better).
+    """
+    max_truncated = np.inf if max_truncated is None else max_truncated
     e, act, t = p.state(u)
     E = 0.5 * float(np.dot(t, e))
-    best_g, stalled, E_prev, it = np.inf, 0, np.inf, 0
+    best_g, stalled, E_prev, it, truncated = np.inf, 0, np.inf, 0, 0
     budget = opts.max_iter if max_iter is None else max_iter
     for it in range(1, budget + 1):  # noqa: B007 (it is reported)
         if E <= opts.floppy_tol**2 * e_ref:
@@ -375,6 +408,9 @@ def _newton(
         u = u + alpha * d
         e, act, t = p.state(u)
         E = 0.5 * float(np.dot(t, e))
+        truncated = truncated + 1 if abs(alpha - 1.0) > 1e-6 else 0
+        if truncated >= max_truncated:
+            break  # steps keep stopping at breakpoints: the active set crawls
     return u, E, it
 
 
@@ -386,33 +422,27 @@ def _crossover(p: _Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 12):
     exactly (to round-off) even when the set is floppy; the iterate with the smallest gradient
     is kept, since on very floppy sets round-off along the floppy modes grows once the gradient
     has stalled. Engaged elements whose tension has the wrong sign are released and slack
-    elements that end up stretched are added, for a few rounds. Returns displacements (or None
-    if the rounds do not settle). The caller judges the result by its certificates, so a wrong
+    elements that end up stretched are added, for a few rounds. Returns displacements, or None
+    if the rounds do not settle or the number of corrections grows from one round to the next
+    (the guess was too far off; this cuts the cost of a failed crossover to a few
+    factorisations). The caller judges the result by its certificates, so a wrong
     guess costs time, never a wrong verdict.
     """
     scale = float(np.abs(p.e0).max())
     e = p.e0 + p.R @ u
     A = p.rod | (p.sigma * e > -tau * scale)
     tol = 1e-12 * scale
+    changes = np.inf
     for _ in range(rounds):
-        w = p.k * A
-        solver = p.factor(w)
-        x, best_x, best_g = u.copy(), u, np.inf
-        g0 = None
-        for _ in range(100):
-            g = p.RT @ (w * (p.e0 + p.R @ x))
-            gn = float(np.linalg.norm(g))
-            g0 = gn if g0 is None else g0
-            if gn < best_g:
-                best_x, best_g = x, gn
-            if gn <= 1e-14 * max(g0, 1e-300) or gn == 0.0:
-                break
-            x = x - solver.solve(g)
+        best_x, _ = _prox_minimize(p, p.k * A, u.copy())
         e = p.e0 + p.R @ best_x
         release = A & p.one_sided & (p.sigma * e < -tol)
         add = ~A & (p.sigma * e > tol)
         if not (release.any() or add.any()):
             return best_x
+        if release.sum() + add.sum() > changes:
+            return None  # the corrections grow: the guess was too far off to settle
+        changes = release.sum() + add.sum()
         A = (A & ~release) | add
     return None
 
@@ -475,26 +505,32 @@ def solve(
         force = work = floppy = 0.0
         floppy_ok, rigid_ok = True, False
     else:
-        u, E, iterations = _newton(p, u, e_ref, opts, max_iter=opts.newton_budget)
-        t, force, work, floppy, floppy_ok, rigid_ok = _verdict(p, u, E, e_ref, opts)
-        stages = [("crossover", lambda: u), ("ipm", lambda: _ipm_start(p))]
-        if opts.fallback:
-            stages += [
-                ("qp", lambda: _qp_start(instance)),
-                ("lp", lambda: _lp_start(p, opts.lp_time_limit)),
-            ]
-        for name, starting_point in stages:
-            if floppy_ok or rigid_ok:
-                break
-            # Polish a starting point: crossover (exact solve on its near-tight set), then
-            # Newton; the certificates decide whether it worked.
-            u_try, E_try, more = _polish(p, starting_point(), e_ref, opts)
+        u, E, iterations = _newton(
+            p, u, e_ref, opts, max_iter=opts.newton_budget, max_truncated=opts.max_truncated_steps
+        )
+        best = _Best(p, e_ref, opts, u, E, "newton")
+        if not best.decided:
+            best.crossovers(u, "crossover")
+        if not best.decided:
+            _ipm(p, best)
+        if not best.decided:  # Newton from the lowest-energy point found so far
+            u_n, E_n, more = _newton(p, best.u, e_ref, opts)
             iterations += more
-            cand = _verdict(p, u_try, E_try, e_ref, opts)
-            if cand[4] or cand[5] or E_try < E:
-                u, E = u_try, E_try
-                t, force, work, floppy, floppy_ok, rigid_ok = cand
-                method = f"newton+{name}"
+            best.offer(u_n, E_n, "polish")
+        if opts.fallback:
+            for name, starting_point in (
+                ("lp", lambda: _lp_start(p, opts.lp_time_limit)),
+                ("qp", lambda: _qp_start(instance)),
+            ):
+                if best.decided:
+                    break
+                x = starting_point()
+                if x is not None and not best.crossovers(x, name):
+                    u_n, E_n, more = _newton(p, x, e_ref, opts)
+                    iterations += more
+                    best.offer(u_n, E_n, name)
+        u, E, method = best.u, best.E, best.method
+        t, force, work, floppy, floppy_ok, rigid_ok = best.verdict
         if not (floppy_ok or rigid_ok) and opts.fallback:
             method = "newton+lp-certificate"
             u, E, t, force, work, floppy, floppy_ok, rigid_ok = _lp_fallback(
@@ -538,32 +574,54 @@ def solve(
     )
 
 
-def _polish(p: _Problem, u: np.ndarray, e_ref: float, opts: SolverOptions):
-    """Crossover from u, then Newton; returns (u, E, Newton iterations).
+class _Best:
+    """The best point found so far: certified if possible, else the lowest energy."""
 
-    The near-tight set is guessed at widening thresholds: an approximate solution (an interior
-    point, an LP vertex) resolves extensions only to its own accuracy, so a tight element can
-    look slack by ~1e-7 of the strain scale. The first guess that certifies wins.
-    """
-    best = None
-    for tau in (1e-7, 1e-5, 1e-3):
-        x = _crossover(p, u, tau=tau)
-        if x is None:
-            continue
-        e, _, t = p.state(x)
-        E = 0.5 * float(np.dot(t, e))
-        cand = _verdict(p, x, E, e_ref, opts)
-        if cand[4] or cand[5]:
-            return x, E, 0
-        if best is None or E < best[1]:
-            best = (x, E)
-    return _newton(p, u if best is None else best[0], e_ref, opts)
+    def __init__(self, p: _Problem, e_ref: float, opts: SolverOptions, u, E, method):
+        self.p, self.e_ref, self.opts = p, e_ref, opts
+        self.u, self.E, self.method = u, E, method
+        self.verdict = _verdict(p, u, E, e_ref, opts)
+
+    @property
+    def decided(self) -> bool:
+        return bool(self.verdict[4] or self.verdict[5])
+
+    def offer(self, u: np.ndarray, E: float, stage: str) -> bool:
+        """Keep u if it is certified, or lower in energy while nothing is; True if certified."""
+        if self.decided:
+            return True
+        cand = _verdict(self.p, u, E, self.e_ref, self.opts)
+        if cand[4] or cand[5] or E < self.E:
+            self.u, self.E, self.verdict = u, E, cand
+            self.method = f"newton+{stage}"
+        return self.decided
+
+    def crossovers(self, u: np.ndarray, stage: str) -> bool:
+        """Crossover from u with the near-tight set guessed at widening thresholds.
+
+        An approximate solution (an interior point, an LP vertex) resolves extensions only to its
+        own accuracy, so a tight element can look slack by ~1e-7 of the strain scale. The first
+        guess that certifies wins; True if one did.
+        """
+        for tau in (1e-7, 1e-5, 1e-3):
+            x = _crossover(self.p, u, tau=tau)
+            if x is None:
+                continue
+            e, _, t = self.p.state(x)
+            if self.offer(x, 0.5 * float(np.dot(t, e)), stage):
+                return True
+        return False
 
 
-def _ipm_start(p: _Problem) -> np.ndarray:
+def _ipm(p: _Problem, best: _Best) -> None:
+    """Interior-point path: try crossovers at a few accuracies on the way, and at its end."""
     from .ipm import interior_point
 
-    return interior_point(p, tol=1e-8)[0]
+    u = interior_point(
+        p, tol=1e-9, checkpoints=(1e-3, 1e-5, 1e-7), callback=lambda x: best.crossovers(x, "ipm")
+    )[0]
+    if not best.decided:
+        best.crossovers(u, "ipm")
 
 
 def _qp_start(instance: Instance) -> np.ndarray:
@@ -581,8 +639,9 @@ def _lp(p: _Problem, time_limit: float):
     return p.lp_result
 
 
-def _lp_start(p: _Problem, time_limit: float) -> np.ndarray:
-    return _lp(p, time_limit).displacements.ravel()
+def _lp_start(p: _Problem, time_limit: float) -> np.ndarray | None:
+    lp = _lp(p, time_limit)
+    return None if lp.status == "time limit" else lp.displacements.ravel()
 
 
 def _lp_fallback(p: _Problem, e_ref: float, opts: SolverOptions, u, E, t):
