@@ -120,3 +120,36 @@ def test_interior_point_path_alone_agrees(kind):
             qp = qp_solve(inst)
             assert abs(res.energy - qp.value) <= 1e-6 * qp.value, i
     assert decided >= 57
+
+
+def test_every_stage_order_gives_the_lp_verdict():
+    """Handing over to the interior point after one cut-short Newton step, or never, changes the
+    path through the stages but not the verdict or the energy (n = 8, near the transition)."""
+    rng = np.random.default_rng(41)
+    for i in range(25):
+        inst = random_instance(rng, "lattice")
+        eager = solve(inst, SolverOptions(max_truncated_steps=1, min_norm=False))
+        patient = solve(inst, SolverOptions(max_truncated_steps=10**6, min_norm=False))
+        if not (eager.decided and patient.decided):
+            continue
+        lp = lp_verdict(inst)
+        assert eager.rigid == patient.rigid == lp.rigid, i
+        if lp.rigid:
+            assert abs(eager.energy - patient.energy) <= 1e-9 * patient.energy, i
+
+
+def test_proximal_solve_reaches_the_fixed_set_minimum_on_a_floppy_set():
+    """The crossover's inner solve stops on stalled progress, not early: on a floppy active set
+    its gradient must reach round-off (~1e-16) relative to the start, where a single proximal
+    step leaves ~1e-12."""
+    from tensegrity_rigidity.solver import _Problem, _prox_minimize
+
+    from .conftest import random_instance as make
+
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        p = _Problem(make(rng, "lattice"), 1e-12)
+        w = p.k * p.rod  # rods only: floppy in general
+        g0 = float(np.linalg.norm(p.RT @ (w * p.e0)))
+        x, g = _prox_minimize(p, w, np.zeros(p.n2))
+        assert g <= 1e-14 * max(g0, 1e-300)  # one step leaves ~1e-12
