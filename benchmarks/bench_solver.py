@@ -112,12 +112,13 @@ def main():
             for k in ("ours", "ours+u", "clarabel", "highs-lp", "l-bfgs-b", "factor", "refactor")
         }
         wrong = {"ours": 0, "clarabel": 0, "l-bfgs-b": 0}
-        fallbacks, facts, general = 0, [], 0
+        fallbacks, facts, general, undecided = 0, [], 0, 0
         for _, inst in cases:
             r, t = timed(solve, inst, SolverOptions(min_norm=False))
             T["ours"].append(t)
             fallbacks += r.method != "newton"
             general += r.method.split("+")[-1] in ("lp", "qp", "lp-certificate")
+            undecided += not r.decided
             facts.append(r.factorizations)
             if n <= args.max_baseline:
                 _, t = timed(solve, inst)
@@ -141,13 +142,20 @@ def main():
                 rows.append([n, k, len(ts), *stats(ts)])
         ours = np.asarray(T["ours"])
         per_refactor = np.median(ours / np.asarray(T["refactor"]))
-        common = [n, len(cases), fallbacks, general, f"{np.median(facts):.0f} / {max(facts)}"]
+        common = [
+            n,
+            len(cases),
+            undecided,
+            fallbacks,
+            general,
+            f"{np.median(facts):.0f} / {max(facts)}",
+        ]
         if n <= args.max_baseline:
             q = np.asarray(T["clarabel"])
             agree_rows.append(
-                common[:2]
+                common[:3]
                 + [wrong["ours"], wrong["clarabel"], wrong["l-bfgs-b"]]
-                + common[2:]
+                + common[3:]
                 + [
                     f"{np.median(q) / np.median(ours):.1f}x",
                     f"{np.median(q / ours):.1f}x",
@@ -157,9 +165,9 @@ def main():
             )
         else:
             agree_rows.append(
-                common[:2]
+                common[:3]
                 + ["-", "-", "-"]
-                + common[2:]
+                + common[3:]
                 + ["-", "-", f"{np.median(ours) / np.median(T['refactor']):.1f}"]
                 + [f"{per_refactor:.1f}"]
             )
@@ -177,6 +185,7 @@ def main():
             [
                 "n",
                 "instances",
+                "ours undecided",
                 "ours wrong",
                 "clarabel wrong",
                 "l-bfgs-b wrong",
