@@ -514,9 +514,7 @@ def solve(
         if not best.decided:
             _ipm(p, best)
         if not best.decided:  # Newton from the lowest-energy point found so far
-            u_n, E_n, more = _newton(p, best.u, e_ref, opts)
-            iterations += more
-            best.offer(u_n, E_n, "polish")
+            best.newton(best.u, "polish")
         if opts.fallback:
             for name, starting_point in (
                 ("lp", lambda: _lp_start(p, opts.lp_time_limit)),
@@ -526,10 +524,9 @@ def solve(
                     break
                 x = starting_point()
                 if x is not None and not best.crossovers(x, name):
-                    u_n, E_n, more = _newton(p, x, e_ref, opts)
-                    iterations += more
-                    best.offer(u_n, E_n, name)
+                    best.newton(x, name)
         u, E, method = best.u, best.E, best.method
+        iterations += best.iterations
         t, force, work, floppy, floppy_ok, rigid_ok = best.verdict
         if not (floppy_ok or rigid_ok) and opts.fallback:
             method = "newton+lp-certificate"
@@ -581,6 +578,13 @@ class _Best:
         self.p, self.e_ref, self.opts = p, e_ref, opts
         self.u, self.E, self.method = u, E, method
         self.verdict = _verdict(p, u, E, e_ref, opts)
+        self.iterations = 0  # Newton iterations spent in polishing
+
+    def newton(self, u: np.ndarray, stage: str) -> bool:
+        """Polish u by Newton and offer the result; True if certified."""
+        u_n, E_n, more = _newton(self.p, u, self.e_ref, self.opts)
+        self.iterations += more
+        return self.offer(u_n, E_n, stage)
 
     @property
     def decided(self) -> bool:
