@@ -48,13 +48,13 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 import qdldl
 import scipy.sparse as sp
 
-from .errors import UndecidedWarning
+from .errors import InputError, UndecidedWarning
 from .mechanics import affine_extensions, rigidity_matrix
 from .network import Element, Instance
 
@@ -106,6 +106,23 @@ class SolverOptions:
     min_norm: bool = True
     fallback: bool = True
     lp_time_limit: float = 120.0
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            kind = {"int": int, "float": float, "bool": bool}[str(f.type)]
+            ok = (
+                isinstance(value, bool)
+                if kind is bool
+                else (
+                    isinstance(value, (int, float) if kind is float else int)
+                    and not isinstance(value, bool)
+                )
+            )
+            if not ok:
+                raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {value!r}")
+            if kind is not bool and value < 0:
+                raise InputError(f"SolverOptions.{f.name} must be non-negative, got {value!r}")
 
 
 @dataclass(frozen=True)

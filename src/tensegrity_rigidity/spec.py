@@ -48,7 +48,7 @@ import tomllib
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
-from .errors import SpecError
+from .errors import InputError, SpecError
 from .solver import SolverOptions
 from .strain import parse_phi
 
@@ -221,7 +221,7 @@ def parse_spec(data: dict) -> Spec:
     solver = dict(data.get("solver", {}))
     try:
         SolverOptions(**solver)
-    except TypeError as exc:
+    except (TypeError, InputError) as exc:
         raise SpecError(f"[solver]: {exc}") from None
     chunk = _number("chunk_size", data.get("output", {}).get("chunk_size", 32), integer=True)
     if chunk < 1:
