@@ -9,8 +9,9 @@ them with a semismooth Newton method specialised to this structure:
    ``(R^T D_A R + mu I) d = -R^T t`` with ``D_A = diag(k_b [b in A])`` and a tiny regularisation
    ``mu`` (relative to the stiffness) that keeps the factorisation positive definite on floppy
    networks. The matrix is assembled into a *fixed* sparsity pattern (every non-empty site), so
-   the fill-reducing ordering and symbolic analysis of the sparse LDL^T (QDLDL) are computed once
-   per instance and only the numeric factorisation is redone.
+   the fill-reducing ordering and symbolic analysis of the sparse factorisation are computed once
+   per instance and only the numeric factorisation is redone (supernodal Cholesky by CHOLMOD,
+   LDL^T by QDLDL where Cholesky meets a non-positive pivot; :mod:`.linalg`).
 2. **Exact line search.** Along ``d`` the energy is a one-dimensional convex piecewise
    quadratic whose breakpoints are where one-sided elements engage or slacken; its minimiser is
    found exactly by sorting the breakpoints. The energy decreases monotonically, and once the
@@ -51,10 +52,10 @@ import warnings
 from dataclasses import dataclass, field, fields
 
 import numpy as np
-import qdldl
 import scipy.sparse as sp
 
 from .errors import InputError, UndecidedWarning
+from .linalg import PatternFactor
 from .mechanics import affine_extensions, rigidity_matrix
 from .network import Element, Instance
 
@@ -93,6 +94,10 @@ class SolverOptions:
     lp_time_limit : float
         Seconds allowed to the HiGHS verdict LP, the last resort; past it the sample is
         reported undecided (the simplex can take minutes at n >= 64).
+    factorization : str
+        Sparse factorisation backend: "auto" (CHOLMOD, QDLDL where Cholesky fails), "cholmod"
+        (CHOLMOD only; a non-positive pivot raises ArithmeticError) or "qdldl"; see
+        :mod:`tensegrity_rigidity.linalg`.
     """
 
     regularization: float = 1e-12
@@ -106,10 +111,18 @@ class SolverOptions:
     min_norm: bool = True
     fallback: bool = True
     lp_time_limit: float = 120.0
+    factorization: str = "auto"
 
     def __post_init__(self):
+        if self.factorization not in ("auto", "cholmod", "qdldl"):
+            raise InputError(
+                "SolverOptions.factorization must be 'auto', 'cholmod' or 'qdldl', "
+                f"got {self.factorization!r}"
+            )
         for f in fields(self):
             value = getattr(self, f.name)
+            if str(f.type) == "str":
+                continue
             kind = {"int": int, "float": float, "bool": bool}[str(f.type)]
             ok = (
                 isinstance(value, bool)
@@ -154,7 +167,7 @@ class SolveResult:
     iterations : int
         Newton iterations.
     factorizations : int
-        Numeric LDL^T factorisations.
+        Numeric factorisations of the Newton (or interior-point) matrix.
     method : str
         "newton", or "newton+<stage>" for the stage that certified (crossover, ipm, polish,
         lp, qp), or "newton+lp-certificate" when the LP's own certificate decided.
@@ -207,9 +220,9 @@ class SolveResult:
 
 
 class _Problem:
-    """The non-empty part of an instance with a reusable LDL^T of the Newton matrix."""
+    """The non-empty part of an instance with a reusable factorisation of the Newton matrix."""
 
-    def __init__(self, instance: Instance, regularization: float):
+    def __init__(self, instance: Instance, regularization: float, backend: str = "auto"):
         net = instance.network
         self.instance = instance
         self.sites = np.flatnonzero(net.kinds != Element.EMPTY)
@@ -227,7 +240,7 @@ class _Problem:
         self.n2 = 2 * net.n_nodes
         self.mu = regularization * (float(self.k.mean()) if self.k.size else 1.0)
         self._pattern()
-        self._solver: qdldl.Solver | None = None
+        self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend)
         self._weights: np.ndarray | None = None
         self.factorizations = 0
 
@@ -258,22 +271,23 @@ class _Problem:
 
     def matrix(self, weights: np.ndarray) -> sp.csc_matrix:
         """Upper triangle of R^T diag(weights) R + mu I in the fixed pattern."""
-        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, self.mu)]
-        data = np.bincount(self._inverse, weights=w, minlength=self._nnz)
+        data = self.values(weights)
         return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n2, self.n2))
 
-    def factor(self, weights: np.ndarray) -> qdldl.Solver:
-        """LDL^T of R^T diag(weights) R + mu I; reused when the weights did not change."""
-        if self._solver is not None and np.array_equal(weights, self._weights):
-            return self._solver
-        self._weights = weights.copy()
-        H = self.matrix(weights)
-        if self._solver is None:
-            self._solver = qdldl.Solver(H, upper=True)
-        else:
-            self._solver.update(H, upper=True)
+    def values(self, weights: np.ndarray, shift: float = 0.0) -> np.ndarray:
+        """Entries of R^T diag(weights) R + (mu + shift) I in the fixed upper-triangular pattern."""
+        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, self.mu + shift)]
+        return np.bincount(self._inverse, weights=w, minlength=self._nnz)
+
+    def factor(self, weights: np.ndarray, shift: float = 0.0) -> PatternFactor:
+        """Factorisation of R^T diag(weights) R + (mu + shift) I; reused when nothing changed."""
+        key = np.r_[weights, shift]
+        if self._weights is not None and np.array_equal(key, self._weights):
+            return self._factor
+        self._weights = key
+        self._factor.factor(self.values(weights, shift))
         self.factorizations += 1
-        return self._solver
+        return self._factor
 
     def active(self, e: np.ndarray) -> np.ndarray:
         return self.rod | (self.sigma * e > 0)
@@ -507,7 +521,7 @@ def solve(
     """
     opts = options or SolverOptions()
     start = time.perf_counter()
-    p = _Problem(instance, opts.regularization)
+    p = _Problem(instance, opts.regularization, opts.factorization)
     net = instance.network
     e_ref = 0.5 * float(np.dot(p.k, p.e0**2))
     affine_energy = 0.5 * float(np.dot(np.where(p.active(p.e0), p.k * p.e0, 0.0), p.e0))
