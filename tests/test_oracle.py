@@ -76,6 +76,25 @@ def test_lp_certificates_are_valid(rng):
             assert energy(inst, lp.displacements) <= 1e-12 * max(e_aff, 1e-300) + 1e-300
 
 
+def test_feasibility_lp_finds_zero_energy_exactly_on_floppy_samples(rng):
+    """The feasibility LP (the floppy side of Farkas) returns a zero-energy displacement on every
+    sample the verdict LP calls floppy, and none on the rigid ones."""
+    from tensegrity_rigidity.mechanics import energy
+    from tensegrity_rigidity.reference import lp_zero_energy_displacement
+
+    floppy = 0
+    for _ in range(30):
+        inst = random_instance(rng)
+        u, status = lp_zero_energy_displacement(inst)
+        if lp_verdict(inst).rigid:
+            assert u is None and status != "feasible"
+        else:
+            floppy += 1
+            assert status == "feasible"
+            assert energy(inst, u) <= 1e-18 * max(energy(inst), 1e-300) + 1e-300
+    assert floppy >= 5
+
+
 @pytest.mark.slow
 def test_larger_lattices_agree_with_lp_and_qp():
     """n = 8..12 lattices near the transition (slow: the generic solvers dominate)."""
@@ -153,3 +172,24 @@ def test_proximal_solve_reaches_the_fixed_set_minimum_on_a_floppy_set():
         g0 = float(np.linalg.norm(p.RT @ (w * p.e0)))
         x, g = _prox_minimize(p, w, np.zeros(p.n2))
         assert g <= 1e-14 * max(g0, 1e-300)  # one step leaves ~1e-12
+
+
+def test_general_path_alone_decides_like_the_lp(monkeypatch):
+    """With the fast stages switched off, the general path (feasibility LP, verdict LP, QP) still
+    certifies every sample, floppy ones through the feasibility LP's vertex."""
+    from tensegrity_rigidity import solver
+
+    monkeypatch.setattr(solver, "_ipm", lambda p, best: None)
+    monkeypatch.setattr(solver._Best, "crossovers", lambda self, u, stage: False)
+    monkeypatch.setattr(solver._Best, "newton", lambda self, u, stage: False)
+    rng = np.random.default_rng(8)
+    stages = set()
+    for i in range(20):
+        inst = random_instance(rng, "lattice")
+        res = solve(inst, SolverOptions(newton_budget=0, min_norm=False))
+        assert res.decided, i
+        assert res.rigid == lp_verdict(inst).rigid, i
+        stages.add(res.method)
+        if not res.rigid:
+            assert res.method == "newton+lp-feasibility", i
+    assert "newton+lp-feasibility" in stages

@@ -98,6 +98,64 @@ def lp_verdict(
     return ReferenceResult(value, value > tol * scale, t_full, u, res.message)
 
 
+def lp_zero_energy_displacement(
+    instance: Instance, time_limit: float | None = None
+) -> tuple[np.ndarray | None, str]:
+    """A displacement of zero energy from the feasibility LP over displacements (HiGHS).
+
+    Finds ``u`` with ``e0 + R u`` admissible (rods unstretched, cables slack or tight, struts
+    slack or tight): ``R_rod u = -e0_rod``, ``R_cable u <= -e0_cable``, ``R_strut u >= -e0_strut``,
+    solved in units of ``max |e0|``. This is the floppy side of Farkas' lemma on its own; on the
+    hard floppy samples near the transition, whose zero-energy displacements are 1e4 to 1e7
+    times the affine ones, HiGHS's simplex solves it 3 to 15 times faster than the verdict LP of
+    :func:`lp_verdict` (n = 64: 0.6-1 s against 3-9 s; n = 128: 27 s against more than 120 s).
+
+    Returns
+    -------
+    u : (N, 2) float or None
+        The displacements, unverified (the caller checks the energy), or None when the LP is
+        infeasible (the network is rigid), hit the time limit or failed.
+    status : str
+        "feasible", "infeasible", "time limit" or HiGHS's message.
+    """
+    import highspy
+
+    net, _, kinds, R, e0, _ = _nonempty(instance)
+    scale = float(np.abs(e0).max()) if e0.size else 0.0
+    if scale == 0.0:
+        return np.zeros((net.n_nodes, 2)), "feasible"
+    e0 = e0 / scale
+    A = sp.csc_matrix(R)
+    inf = highspy.kHighsInf
+    # one row per element, in site order: rods R u = -e0, cables R u <= -e0, struts R u >= -e0
+    row_lo = np.where(kinds == Element.CABLE, -inf, -e0)
+    row_hi = np.where(kinds == Element.STRUT, inf, -e0)
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
+    lp.col_cost_ = np.zeros(A.shape[1])
+    lp.col_lower_ = np.full(A.shape[1], -inf)
+    lp.col_upper_ = np.full(A.shape[1], inf)
+    lp.row_lower_, lp.row_upper_ = row_lo, row_hi
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
+    h = highspy.Highs()
+    h.setOptionValue("output_flag", False)
+    h.setOptionValue("solver", "simplex")
+    if time_limit is not None:
+        h.setOptionValue("time_limit", float(time_limit))
+    h.passModel(lp)
+    h.run()
+    status = h.getModelStatus()
+    if status == highspy.HighsModelStatus.kOptimal:
+        u = np.asarray(h.getSolution().col_value, dtype=float) * scale
+        return u.reshape(-1, 2), "feasible"
+    if status == highspy.HighsModelStatus.kInfeasible:
+        return None, "infeasible"
+    if status == highspy.HighsModelStatus.kTimeLimit:
+        return None, "time limit"
+    return None, h.modelStatusToString(status)
+
+
 def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
     """Exact energy, tensions and a minimiser from a generic QP, solved by Clarabel.
 

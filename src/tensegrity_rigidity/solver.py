@@ -32,9 +32,15 @@ them with a semismooth Newton method specialised to this structure:
    sequence of starting points: the Newton point; the iterates of the specialised
    interior-point method of :mod:`.ipm` (robust to the combinatorics near the transition) at
    accuracies 1e-3, 1e-5, 1e-7 and at its end; then Newton from the lowest energy found. With
-   ``fallback`` the general path follows: HiGHS's LP vertex and Clarabel's QP minimiser, each
-   crossed over and polished, and as a last resort the LP's own certificate. A sample that
-   passes neither test is reported undecided with a warning, never guessed.
+   ``fallback`` the general path follows. First HiGHS solves the feasibility LP for a
+   zero-energy displacement (the floppy side of Farkas' lemma), then the verdict LP, then
+   Clarabel's QP. Each point is checked as it is, then crossed over and polished. As a last
+   resort the verdict LP's own certificate decides. The samples that reach this path are floppy
+   samples near the transition whose zero-energy displacements are 1e4 to 1e7 times the affine
+   ones. There the interior point stalls at ``E / E_ref ~ 1e-14``: the gradient left to follow
+   is as small as the round-off of ``e0 + R u`` at such ``|u|``. A simplex vertex still lands on
+   ``E / E_ref <= 1e-18``. A sample that passes neither test is reported undecided with a
+   warning, never guessed.
 5. **Displacements.** The minimiser ``u`` is not unique on floppy networks. We report the
    minimum-norm minimiser (the limit of a vanishing background stiffness). The minimisers form a
    polyhedron ``U*`` fixed by the unique tensions. First, proximal iterations
@@ -170,7 +176,8 @@ class SolveResult:
         Numeric factorisations of the Newton (or interior-point) matrix.
     method : str
         "newton", or "newton+<stage>" for the stage that certified (crossover, ipm, polish,
-        lp, qp), or "newton+lp-certificate" when the LP's own certificate decided.
+        lp-feasibility, lp, qp), or "newton+lp-certificate" when the LP's own certificate
+        decided.
     min_norm_ok : bool
         Whether the displacements are the verified minimum-norm minimiser.
     seconds : float
@@ -548,14 +555,19 @@ def solve(
             best.newton(best.u, "polish")
         if opts.fallback:
             for name, starting_point in (
+                ("lp-feasibility", lambda: _lp_feasibility_start(p, opts.lp_time_limit)),
                 ("lp", lambda: _lp_start(p, opts.lp_time_limit)),
                 ("qp", lambda: _qp_start(instance)),
             ):
                 if best.decided:
                     break
                 x = starting_point()
-                if x is not None and not best.crossovers(x, name):
-                    best.newton(x, name)
+                if x is None:
+                    continue
+                e, _, t = p.state(x)  # an LP vertex may be certified as it is
+                if not best.offer(x, 0.5 * float(np.dot(t, e)), name):
+                    if not best.crossovers(x, name):
+                        best.newton(x, name)
         u, E, method = best.u, best.E, best.method
         iterations += best.iterations
         t, force, work, floppy, floppy_ok, rigid_ok = best.verdict
@@ -672,6 +684,13 @@ def _lp(p: _Problem, time_limit: float):
     if getattr(p, "lp_result", None) is None:
         p.lp_result = lp_verdict(p.instance, time_limit=time_limit)
     return p.lp_result
+
+
+def _lp_feasibility_start(p: _Problem, time_limit: float) -> np.ndarray | None:
+    from .reference import lp_zero_energy_displacement
+
+    u, _ = lp_zero_energy_displacement(p.instance, time_limit=time_limit)
+    return None if u is None else u.ravel()
 
 
 def _lp_start(p: _Problem, time_limit: float) -> np.ndarray | None:
