@@ -67,15 +67,18 @@ class PatternFactor:
         """Factorise the matrix with values ``data`` (in pattern order); returns self."""
         if self._use_cholmod:
             if self._cvx is None:
-                cols = np.repeat(np.arange(self.n), np.diff(self._indptr))
+                cols = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(self._indptr))
                 self._cvx = _cvx_spmatrix(
-                    data.tolist(), self._indices.tolist(), cols.tolist(), (self.n, self.n)
+                    _cvx_matrix(np.ascontiguousarray(data, dtype=float)),
+                    _cvx_matrix(self._indices.astype(np.int64)),
+                    _cvx_matrix(cols),
+                    (self.n, self.n),
                 )
                 _cholmod.options["supernodal"] = 2
                 _cholmod.options["print"] = 0
                 self._symbolic = _cholmod.symbolic(self._cvx, uplo="U")
             else:
-                self._cvx.V = _cvx_matrix(data)
+                self._cvx.V = _cvx_matrix(np.ascontiguousarray(data, dtype=float))
             try:
                 _cholmod.numeric(self._cvx, self._symbolic)
                 self.backend = "cholmod"

@@ -266,14 +266,17 @@ class _Problem:
         diag = np.arange(self.n2)
         rows = np.r_[rr_rows[keep], diag]
         colsf = np.r_[rr_cols[keep], diag]
-        key = colsf.astype(np.int64) * self.n2 + rows
-        uniq, inverse = np.unique(key, return_inverse=True)
-        self._inverse = inverse
+        # distinct (col, row) entries in CSC order, and where each contribution lands: a sparse
+        # COO -> CSC conversion plus a binary search is 2x faster than np.unique's inverse
+        csc = sp.csc_matrix((np.ones(rows.size), (rows, colsf)), shape=(self.n2, self.n2))
+        csc.sum_duplicates()
+        uniq = np.repeat(np.arange(self.n2, dtype=np.int64), np.diff(csc.indptr)) * self.n2
+        uniq += csc.indices
+        self._inverse = np.searchsorted(uniq, colsf.astype(np.int64) * self.n2 + rows)
         self._rr = rr_vals[keep]  # values per kept entry, ordered like rr_rows[keep]
         self._bond_of_entry = np.nonzero(keep)[0]
-        self._indices = (uniq % self.n2).astype(np.int32)
-        counts = np.bincount(uniq // self.n2, minlength=self.n2)
-        self._indptr = np.r_[0, np.cumsum(counts)].astype(np.int32)
+        self._indices = csc.indices.astype(np.int32)
+        self._indptr = csc.indptr.astype(np.int32)
         self._nnz = len(uniq)
 
     def matrix(self, weights: np.ndarray) -> sp.csc_matrix:

@@ -101,6 +101,7 @@ def find_threshold(
     f_c: float,
     path: str = "p_r",
     options: SolverOptions | None = None,
+    warm_start: bool = True,
 ) -> Threshold:
     """Exact critical p_r of one sample along a monotone path.
 
@@ -116,11 +117,15 @@ def find_threshold(
         Fixed p_t (path "p_r") or fixed total p_r + p_t (path "total").
     f_c : float
         Cable fraction.
+    warm_start : bool
+        Start each solve from the displacements of the solved configuration nearest on the path
+        (it differs by the elements added in between).
     """
     opts = options or SolverOptions(min_norm=False)
     ev_pos, ev_kind, ev_site, initially_os = _events(u, path, p_t)
     n_ev = ev_pos.size
     cache: dict[int, bool] = {}
+    displacements: dict[int, np.ndarray] = {}
 
     class _Undecided(Exception):
         pass
@@ -128,12 +133,16 @@ def find_threshold(
     def rigid(i: int) -> bool:
         if i not in cache:
             kinds = _kinds_after(i, ev_kind, ev_site, initially_os, v, f_c)
+            start = None
+            if warm_start and displacements:
+                start = displacements[min(displacements, key=lambda j: abs(j - i))]
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", UndecidedWarning)
-                res = solve(Instance(network.with_kinds(kinds), strain), opts)
+                res = solve(Instance(network.with_kinds(kinds), strain), opts, start)
             if not res.decided:
                 raise _Undecided
             cache[i] = res.rigid
+            displacements[i] = res.displacements
         return cache[i]
 
     try:
