@@ -18,7 +18,7 @@ from .studies import SCALES, STUDIES, UNDECIDED
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
 EXPECTED = {
     "tiny": "under a minute",
-    "quick": "about 8 minutes (measured 7.7 min)",
+    "quick": "about 7 minutes (measured 6.9 min)",
     "paper": "about 10-20 hours (estimated from the n = 32 solve times in BENCHMARKS.md; "
     "spread it over a Dask cluster with --scheduler)",
 }
