@@ -59,8 +59,17 @@ class Pool:
             self._close()
 
 
-def _ignore_sigint() -> None:
-    # Workers leave Ctrl-C to the main process, which cancels the work and keeps what is saved.
+def _init_worker() -> None:
+    """Set up a local worker process: one BLAS thread, no Ctrl-C.
+
+    Each worker is one core's worth of work, so the BLAS libraries (NumPy's and CVXOPT's
+    OpenBLAS) get one thread: with one per core they spin and oversubscribe, which cost 7-11% of
+    the sweep throughput on 2 workers (BENCHMARKS.md). Dask's nanny does the same for its
+    workers. Ctrl-C is left to the main process, which cancels the work and keeps what is saved.
+    """
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
@@ -110,7 +119,7 @@ def open_pool(executor: Any = None, scheduler: str | None = None):
             pool = _serial_pool()
         else:
             pool = _futures_pool(
-                cf.ProcessPoolExecutor(max_workers=workers, initializer=_ignore_sigint), owned=True
+                cf.ProcessPoolExecutor(max_workers=workers, initializer=_init_worker), owned=True
             )
     elif executor == "serial":
         pool = _serial_pool()
