@@ -279,23 +279,17 @@ class _Problem:
         self._indptr = csc.indptr.astype(np.int32)
         self._nnz = len(uniq)
 
-    def matrix(self, weights: np.ndarray) -> sp.csc_matrix:
-        """Upper triangle of R^T diag(weights) R + mu I in the fixed pattern."""
-        data = self.values(weights)
-        return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n2, self.n2))
-
-    def values(self, weights: np.ndarray, shift: float = 0.0) -> np.ndarray:
-        """Entries of R^T diag(weights) R + (mu + shift) I in the fixed upper-triangular pattern."""
-        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, self.mu + shift)]
+    def values(self, weights: np.ndarray) -> np.ndarray:
+        """Entries of R^T diag(weights) R + mu I in the fixed upper-triangular pattern."""
+        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, self.mu)]
         return np.bincount(self._inverse, weights=w, minlength=self._nnz)
 
-    def factor(self, weights: np.ndarray, shift: float = 0.0) -> PatternFactor:
-        """Factorisation of R^T diag(weights) R + (mu + shift) I; reused when nothing changed."""
-        key = np.r_[weights, shift]
-        if self._weights is not None and np.array_equal(key, self._weights):
+    def factor(self, weights: np.ndarray) -> PatternFactor:
+        """Factorisation of R^T diag(weights) R + mu I; reused when the weights did not change."""
+        if self._weights is not None and np.array_equal(weights, self._weights):
             return self._factor
-        self._weights = key
-        self._factor.factor(self.values(weights, shift))
+        self._weights = weights.copy()
+        self._factor.factor(self.values(weights))
         self.factorizations += 1
         return self._factor
 
