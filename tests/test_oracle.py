@@ -141,6 +141,48 @@ def test_interior_point_path_alone_agrees(kind):
     assert decided >= 57
 
 
+@pytest.mark.parametrize("anchored", [False, True])
+def test_each_interior_point_path_alone_agrees(monkeypatch, anchored):
+    """Both interior-point paths (plain, and anchored by the background stiffness) certify on
+    their own: each one forced for both IPM stages, with no Newton budget and no fallback."""
+    from tensegrity_rigidity import ipm
+
+    plain = ipm.interior_point
+    monkeypatch.setattr(
+        ipm, "interior_point", lambda *a, **kw: plain(*a, **(kw | {"anchored": anchored}))
+    )
+    rng = np.random.default_rng(33)
+    opts = SolverOptions(newton_budget=0, fallback=False, min_norm=False)
+    decided = 0
+    for i in range(40):
+        inst = random_instance(rng, "lattice")
+        res = solve(inst, opts)
+        if not res.decided:
+            continue
+        decided += 1
+        assert res.rigid == lp_verdict(inst).rigid, i
+    assert decided >= 36
+
+
+def test_anchored_interior_point_minimises_the_anchored_energy():
+    """The anchored path is stationary for E(u) + mu/2 |u|^2, and the anchor term is not
+    negligible there (so a path that dropped it would fail the first check)."""
+    from tensegrity_rigidity.ipm import interior_point
+    from tensegrity_rigidity.solver import _Problem
+
+    rng = np.random.default_rng(5)
+    for i in range(10):
+        p = _Problem(random_instance(rng, "lattice"), 1e-4)  # a strong anchor, mu = 1e-4 k
+        u, w, _, _ = interior_point(p, tol=1e-13, anchored=True)
+        eps = p.e0 + p.R @ u
+        eps[p.one_sided] += p.sigma[p.one_sided] * w  # elastic extensions, as in the IPM
+        t = p.k * eps
+        scale = float(np.abs(p.e0).max())
+        anchor = p.mu * u
+        assert np.abs(p.RT @ t + anchor).max() <= 1e-9 * scale, i
+        assert np.abs(anchor).max() >= 1e-7 * scale, i
+
+
 def test_every_stage_order_gives_the_lp_verdict():
     """Handing over to the interior point after one cut-short Newton step, or never, changes the
     path through the stages but not the verdict or the energy (n = 8, near the transition)."""

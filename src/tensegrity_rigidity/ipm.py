@@ -5,7 +5,16 @@ Write the energy with one slack per one-sided element: a cable's ``1/2 k max(e, 
 
     E* = min over u, w >= 0 of  1/2 sum_b k_b (e0_b + r_b . u + sigma_b w_b)^2
 
-(``sigma`` = +1 cable, -1 strut, 0 rod), a convex QP with bound constraints only. Its multipliers
+(``sigma`` = +1 cable, -1 strut, 0 rod), a convex QP with bound constraints only. With
+``anchored=True`` the objective also gets the term ``mu/2 |u|^2``, with ``mu`` the problem's
+background stiffness (``SolverOptions.regularization`` times the mean stiffness, the shift that
+already keeps the Newton matrix definite). The QP is then strictly convex. On a floppy sample
+whose zero-energy set is unbounded, the plain central path drifts along the unbounded optimal
+face: on the hard samples near the transition it reaches ``|u| ~ 1e6`` times the affine
+displacements, where round-off stalls the energy at ~1e-14 of the affine one. The anchored path
+stays near the minimum-norm minimiser instead (``|u| ~ 1e2-1e4``), from where the crossover
+certifies some samples that the plain path leaves to the LP. Neither path dominates: on other
+samples only the plain one certifies, so the solver tries the plain path first. Its multipliers
 are ``lambda_b = sigma_b t_b >= 0`` (cables pull, struts push). Eliminating the diagonal blocks of
 the Newton system leaves the Schur complement
 
@@ -29,6 +38,7 @@ def interior_point(
     tol: float = 1e-10,
     checkpoints: tuple[float, ...] = (),
     callback=None,
+    anchored: bool = False,
 ):
     """Approximately minimise the energy of problem ``p`` (a solver._Problem).
 
@@ -36,7 +46,8 @@ def interior_point(
     one-sided sites. Stops when the scaled residuals and the duality measure are below ``tol``,
     or when ``callback(u)`` returns True; the callback is offered the displacements each time
     the larger of the two measures first falls below the next of the decreasing
-    ``checkpoints`` (the caller tries to finish exactly from there).
+    ``checkpoints`` (the caller tries to finish exactly from there). ``anchored`` adds the
+    background stiffness ``p.mu`` to the objective (see the module docstring).
     """
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
     os_ = p.one_sided
@@ -51,12 +62,13 @@ def interior_point(
     w = np.maximum(-sig * e[os_], 0.0) + 1.0
     lam = np.ones_like(w)
     m_os = max(w.size, 1)
+    anchor = p.mu if anchored else 0.0
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007 (reported)
         eps_el = e.copy()
         eps_el[os_] += sig * w  # elastic extensions
         t = k_all * eps_el
-        r_u = p.RT @ t
+        r_u = p.RT @ t + anchor * u
         r_w = sig * t[os_] - lam
         mu = float(w @ lam) / m_os if w.size else 0.0
         res = max(float(np.abs(r_u).max(initial=0.0)), float(np.abs(r_w).max(initial=0.0)))

@@ -31,7 +31,10 @@ them with a semismooth Newton method specialised to this structure:
    (the quadratic solved exactly on a guessed near-tight set, corrected by KKT signs) from a
    sequence of starting points: the Newton point; the iterates of the specialised
    interior-point method of :mod:`.ipm` (robust to the combinatorics near the transition) at
-   accuracies 1e-3, 1e-5, 1e-7 and at its end; then Newton from the lowest energy found. With
+   accuracies 1e-3, 1e-5, 1e-7 and at its end, first on the plain path, then, if that certified
+   nothing, on the path anchored by the background stiffness ``mu`` (its end point stays near the
+   minimum-norm minimiser where the plain path drifts off to ``|u| ~ 1e6``); then Newton from
+   the lowest energy found. With
    ``fallback`` the general path follows. First HiGHS solves the feasibility LP for a
    zero-energy displacement (the floppy side of Farkas' lemma), then the verdict LP, then
    Clarabel's QP. Each point is checked as it is, then crossed over and polished. As a last
@@ -175,9 +178,9 @@ class SolveResult:
     factorizations : int
         Numeric factorisations of the Newton (or interior-point) matrix.
     method : str
-        "newton", or "newton+<stage>" for the stage that certified (crossover, ipm, polish,
-        lp-feasibility, lp, qp), or "newton+lp-certificate" when the LP's own certificate
-        decided.
+        "newton", or "newton+<stage>" for the stage that certified (crossover, ipm,
+        ipm-anchored, polish, lp-feasibility, lp, qp), or "newton+lp-certificate" when the
+        LP's own certificate decided.
     min_norm_ok : bool
         Whether the displacements are the verified minimum-norm minimiser.
     seconds : float
@@ -658,14 +661,26 @@ class _Best:
 
 
 def _ipm(p: _Problem, best: _Best) -> None:
-    """Interior-point path: try crossovers at a few accuracies on the way, and at its end."""
+    """Interior-point paths: try crossovers at a few accuracies on the way, and at the end.
+
+    The plain path first; if it certifies nothing, the path anchored by the background
+    stiffness (see :mod:`~tensegrity_rigidity.ipm`), whose end point stays bounded on floppy
+    samples with an unbounded zero-energy set.
+    """
     from .ipm import interior_point
 
-    u = interior_point(
-        p, tol=1e-9, checkpoints=(1e-3, 1e-5, 1e-7), callback=lambda x: best.crossovers(x, "ipm")
-    )[0]
-    if not best.decided:
-        best.crossovers(u, "ipm")
+    for anchored, stage in ((False, "ipm"), (True, "ipm-anchored")):
+        u = interior_point(
+            p,
+            tol=1e-9,
+            checkpoints=(1e-3, 1e-5, 1e-7),
+            callback=lambda x, stage=stage: best.crossovers(x, stage),
+            anchored=anchored,
+        )[0]
+        if not best.decided:
+            best.crossovers(u, stage)
+        if best.decided:
+            return
 
 
 def _qp_start(instance: Instance) -> np.ndarray:
