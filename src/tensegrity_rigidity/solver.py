@@ -718,10 +718,7 @@ def _lp_fallback(p: _Problem, e_ref: float, opts: SolverOptions, u, E, t):
         return u, E, t, 0.0, 0.0, float(np.sqrt(max(E, 0.0) / e_ref)), False, False
     if lp.rigid:
         tl = lp.tensions[p.sites]
-        force = float(np.linalg.norm(p.RT @ tl)) / max(float(np.linalg.norm(tl)), 1e-300)
-        work = float(np.dot(tl, p.e0)) / max(
-            float(np.linalg.norm(tl) * np.linalg.norm(p.e0)), 1e-300
-        )
+        force, work, _ = _certificates(p, tl, E, e_ref)
         rigid_ok = force <= max(opts.stationarity_tol, 1e-9) and work >= opts.work_tol
         return u, E, t, force, work, float(np.sqrt(E / e_ref)), False, rigid_ok
     # The LP's dual displacement is floppy only to HiGHS's tolerance: polish it with Newton.
