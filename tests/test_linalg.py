@@ -49,6 +49,20 @@ def test_auto_falls_back_to_ldl_on_an_indefinite_matrix():
         PatternFactor(U.indptr, U.indices, 2, backend="cholmod").factor(U.data)
 
 
+@pytest.mark.parametrize("backend", ["auto", "qdldl"])
+def test_a_singular_matrix_raises_arithmetic_error_and_the_next_one_factors(backend):
+    """A zero pivot is an ArithmeticError from every backend (the proximal stage of the solver
+    relies on it), and the same PatternFactor factorises the next, regular matrix."""
+    A = sp.csc_matrix(np.array([[1.0, 1.0], [1.0, 1.0]]))  # singular: eigenvalues 2 and 0
+    U = _upper_pattern(A)
+    f = PatternFactor(U.indptr, U.indices, 2, backend=backend)
+    with pytest.raises(ArithmeticError):
+        f.factor(U.data)
+    good = U.data + np.array([1.0, 0.0, 1.0])  # [[2, 1], [1, 2]] in the same pattern
+    x = f.factor(good).solve(np.array([3.0, 3.0]))
+    np.testing.assert_allclose(x, [1.0, 1.0], atol=1e-14)
+
+
 def test_unknown_backend_is_refused():
     with pytest.raises(ValueError, match="backend"):
         PatternFactor(np.zeros(2, int), np.zeros(0, int), 1, backend="mumps")

@@ -148,9 +148,13 @@ def test_each_interior_point_path_alone_agrees(monkeypatch, anchored):
     from tensegrity_rigidity import ipm
 
     plain = ipm.interior_point
-    monkeypatch.setattr(
-        ipm, "interior_point", lambda *a, **kw: plain(*a, **(kw | {"anchored": anchored}))
-    )
+
+    def forced(*a, **kw):
+        if not anchored:
+            kw.pop("center", None)  # a proximal step becomes another plain path
+        return plain(*a, **(kw | {"anchored": anchored}))
+
+    monkeypatch.setattr(ipm, "interior_point", forced)
     rng = np.random.default_rng(33)
     opts = SolverOptions(newton_budget=0, fallback=False, min_norm=False)
     decided = 0
@@ -181,6 +185,52 @@ def test_anchored_interior_point_minimises_the_anchored_energy():
         anchor = p.mu * u
         assert np.abs(p.RT @ t + anchor).max() <= 1e-9 * scale, i
         assert np.abs(anchor).max() >= 1e-7 * scale, i
+
+
+def test_proximal_step_minimises_the_energy_anchored_at_its_center():
+    """A proximal step is stationary for E(u) + mu/2 |u - c|^2 at its center c, not at the
+    origin, and does not raise the energy of c."""
+    from tensegrity_rigidity.ipm import interior_point
+    from tensegrity_rigidity.solver import _Problem
+
+    rng = np.random.default_rng(6)
+    for i in range(10):
+        p = _Problem(random_instance(rng, "lattice"), 1e-4)
+        scale = float(np.abs(p.e0).max())
+        c = rng.normal(scale=scale, size=p.n2)
+        u, w, _, _ = interior_point(p, tol=1e-13, anchored=True, center=c)
+        eps = p.e0 + p.R @ u
+        eps[p.one_sided] += p.sigma[p.one_sided] * w
+        anchor = p.mu * (u - c)
+        assert np.abs(p.RT @ (p.k * eps) + anchor).max() <= 1e-9 * scale, i
+        assert np.abs(p.mu * c).max() >= 1e-6 * scale, i  # the center matters
+        assert p.energy(u) <= p.energy(c) * (1 + 1e-9) + 1e-20, i
+
+
+def test_proximal_stage_alone_agrees():
+    """Samples that reach the proximal-point stage (no Newton budget, the plain interior point
+    made to certify nothing) are decided like the LP."""
+    import tensegrity_rigidity.solver as solver_module
+
+    rng = np.random.default_rng(34)
+    opts = SolverOptions(newton_budget=0, fallback=False, min_norm=False)
+    original = solver_module._Best.crossovers
+
+    def no_plain(self, u, stage):
+        return False if stage in ("crossover", "ipm") else original(self, u, stage)
+
+    decided = 0
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(solver_module._Best, "crossovers", no_plain)
+        for i in range(30):
+            inst = random_instance(rng, "lattice")
+            res = solve(inst, opts)
+            if not res.decided:
+                continue
+            decided += 1
+            assert res.method in ("newton+ipm-anchored", "newton+ipm-prox"), res.method
+            assert res.rigid == lp_verdict(inst).rigid, i
+    assert decided >= 25
 
 
 def test_every_stage_order_gives_the_lp_verdict():

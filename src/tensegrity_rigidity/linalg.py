@@ -64,7 +64,11 @@ class PatternFactor:
         return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))
 
     def factor(self, data: np.ndarray) -> PatternFactor:
-        """Factorise the matrix with values ``data`` (in pattern order); returns self."""
+        """Factorise the matrix with values ``data`` (in pattern order); returns self.
+
+        Raises ArithmeticError when the matrix is numerically singular for every allowed
+        backend (a non-positive Cholesky pivot and, where allowed, a zero LDL^T pivot).
+        """
         if self._use_cholmod:
             if self._cvx is None:
                 cols = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(self._indptr))
@@ -89,10 +93,15 @@ class PatternFactor:
                 # Cholesky met a non-positive pivot: the symbolic analysis stays valid for
                 # the next matrix; this one goes to LDL^T.
         H = self._csc(data)
-        if self._qdldl is None:
-            self._qdldl = qdldl.Solver(H, upper=True)
-        else:
-            self._qdldl.update(H, upper=True)
+        self.backend = ""
+        try:
+            if self._qdldl is None:
+                self._qdldl = qdldl.Solver(H, upper=True)
+            else:
+                self._qdldl.update(H, upper=True)
+        except RuntimeError as err:  # QDLDL met a zero pivot: the matrix is numerically singular
+            self._qdldl = None
+            raise ArithmeticError(f"LDL^T factorisation failed: {err}") from err
         self.backend = "qdldl"
         return self
 

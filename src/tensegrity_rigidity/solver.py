@@ -31,10 +31,14 @@ them with a semismooth Newton method specialised to this structure:
    (the quadratic solved exactly on a guessed near-tight set, corrected by KKT signs) from a
    sequence of starting points: the Newton point; the iterates of the specialised
    interior-point method of :mod:`.ipm` (robust to the combinatorics near the transition) at
-   accuracies 1e-3, 1e-5, 1e-7 and at its end, first on the plain path, then, if that certified
-   nothing, on the path anchored by the background stiffness ``mu`` (its end point stays near the
-   minimum-norm minimiser where the plain path drifts off to ``|u| ~ 1e6``); then Newton from
-   the lowest energy found. With
+   accuracies 1e-3, 1e-5, 1e-7 and at its end; if that certified nothing, a few steps of the
+   proximal-point method ``u_j = argmin E(u) + mu_p/2 |u - u_(j-1)|^2`` (``u_(-1) = 0``), each
+   solved by the interior point anchored by the background stiffness ``mu_p = 1e-15 k``. The
+   anchored end points stay near the minimum-norm minimiser where the plain path drifts off to
+   ``|u| ~ 1e6``, and each step lowers the energy by 1e2 to 1e4 on the hard floppy samples
+   near the transition, whose energy grows only ~1e-14 k |u - U*|^2 away from the zero-energy
+   set ``U*``, until ``E / E_ref <= floppy_tol^2`` certifies a point as it is (or a crossover
+   from it certifies); then Newton from the lowest energy found. With
    ``fallback`` the general path follows. First HiGHS solves the feasibility LP for a
    zero-energy displacement (the floppy side of Farkas' lemma), then the verdict LP, then
    Clarabel's QP. Each point is checked as it is, then crossed over and polished. As a last
@@ -58,6 +62,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field, fields
 
 import numpy as np
@@ -103,6 +108,12 @@ class SolverOptions:
     lp_time_limit : float
         Seconds allowed to the HiGHS verdict LP, the last resort; past it the sample is
         reported undecided (the simplex can take minutes at n >= 64).
+    prox_regularization : float
+        Background stiffness of the proximal-point stage, relative to the mean stiffness
+        (see ``_proximal``); it must stay well below the growth of the energy on the hard
+        floppy samples and well above round-off in the Schur complement.
+    prox_steps : int
+        Most proximal-point steps after the first anchored interior point; 0 skips the stage.
     factorization : str
         Sparse factorisation backend: "auto" (CHOLMOD, QDLDL where Cholesky fails), "cholmod"
         (CHOLMOD only; a non-positive pivot raises ArithmeticError) or "qdldl"; see
@@ -121,6 +132,8 @@ class SolverOptions:
     fallback: bool = True
     lp_time_limit: float = 120.0
     factorization: str = "auto"
+    prox_regularization: float = 1e-15
+    prox_steps: int = 6
 
     def __post_init__(self):
         if self.factorization not in ("auto", "cholmod", "qdldl"):
@@ -179,7 +192,7 @@ class SolveResult:
         Numeric factorisations of the Newton (or interior-point) matrix.
     method : str
         "newton", or "newton+<stage>" for the stage that certified (crossover, ipm,
-        ipm-anchored, polish, lp-feasibility, lp, qp), or "newton+lp-certificate" when the
+        ipm-anchored, ipm-prox, polish, lp-feasibility, lp, qp), or "newton+lp-certificate" when the
         LP's own certificate decided.
     min_norm_ok : bool
         Whether the displacements are the verified minimum-norm minimiser.
@@ -291,10 +304,26 @@ class _Problem:
         """Factorisation of R^T diag(weights) R + mu I; reused when the weights did not change."""
         if self._weights is not None and np.array_equal(weights, self._weights):
             return self._factor
-        self._weights = weights.copy()
+        self._weights = None  # until the factorisation below succeeds
         self._factor.factor(self.values(weights))
+        self._weights = weights.copy()
         self.factorizations += 1
         return self._factor
+
+    @contextmanager
+    def shifted(self, mu: float):
+        """Use the diagonal shift (background stiffness) ``mu`` inside the block."""
+        saved = self.mu
+        self.mu, self._weights = mu, None
+        try:
+            yield self
+        finally:
+            self.mu, self._weights = saved, None
+
+    def energy(self, u: np.ndarray) -> float:
+        """E(u), the energy of displacements u (without any background stiffness)."""
+        e, _, t = self.state(u)
+        return 0.5 * float(np.dot(t, e))
 
     def active(self, e: np.ndarray) -> np.ndarray:
         return self.rod | (self.sigma * e > 0)
@@ -663,23 +692,62 @@ class _Best:
 def _ipm(p: _Problem, best: _Best) -> None:
     """Interior-point paths: try crossovers at a few accuracies on the way, and at the end.
 
-    The plain path first; if it certifies nothing, the path anchored by the background
-    stiffness (see :mod:`~tensegrity_rigidity.ipm`), whose end point stays bounded on floppy
-    samples with an unbounded zero-energy set.
+    The plain path first; if it certifies nothing, the proximal-point stage
+    (:func:`_proximal`).
     """
     from .ipm import interior_point
 
-    for anchored, stage in ((False, "ipm"), (True, "ipm-anchored")):
-        u = interior_point(
-            p,
-            tol=1e-9,
-            checkpoints=(1e-3, 1e-5, 1e-7),
-            callback=lambda x, stage=stage: best.crossovers(x, stage),
-            anchored=anchored,
-        )[0]
-        if not best.decided:
-            best.crossovers(u, stage)
-        if best.decided:
+    u = interior_point(
+        p,
+        tol=1e-9,
+        checkpoints=(1e-3, 1e-5, 1e-7),
+        callback=lambda x: best.crossovers(x, "ipm"),
+    )[0]
+    if not best.decided:
+        best.crossovers(u, "ipm")
+    if not best.decided and best.opts.prox_steps > 0:
+        _proximal(p, best)
+
+
+def _proximal(p: _Problem, best: _Best) -> None:
+    """Proximal-point steps on the energy, each solved by the anchored interior-point method.
+
+    With a background stiffness ``mu = prox_regularization * mean(k)`` (1e-15 k by default,
+    1000 times below the Newton matrix's shift), step 0 minimises ``E(u) + mu/2 |u|^2`` from the
+    origin and step j ``E(u) + mu/2 |u - u_(j-1)|^2`` from the previous end point. Each step
+    lowers the energy; on the hard floppy samples near the transition it falls by 1e2 to 1e4
+    per step, until ``E / E_ref <= floppy_tol^2`` certifies the point as it is or a crossover
+    from it certifies. The growth of the energy away from the zero-energy set is of the order
+    of ``mu`` there, which is why ``mu`` must be that small; a smaller one leaves the Schur
+    complement numerically singular (a failed factorisation ends the stage). The stage also
+    ends after ``prox_steps`` steps or once a step lowers the energy by less than 4x. Crossovers
+    are tried at the end of each step only (on the way they did not certify on the benchmark
+    instances), with the problem's default shift.
+    """
+    from .ipm import interior_point
+
+    default_shift = p.mu
+
+    def crossovers(x: np.ndarray, stage: str) -> bool:
+        with p.shifted(default_shift):
+            return best.crossovers(x, stage)
+
+    mu = best.opts.prox_regularization * (float(p.k.mean()) if p.k.size else 1.0)
+    with p.shifted(mu):
+        try:
+            u = interior_point(p, tol=1e-10, anchored=True)[0]
+            E = p.energy(u)
+            if best.offer(u, E, "ipm-anchored") or crossovers(u, "ipm-anchored"):
+                return
+            for _ in range(best.opts.prox_steps):
+                x = interior_point(p, tol=1e-10, anchored=True, center=u)[0]
+                E_x = p.energy(x)
+                if best.offer(x, E_x, "ipm-prox") or crossovers(x, "ipm-prox"):
+                    return
+                if not E_x < E / 4:  # the steps have stalled: leave the sample to the LP
+                    return
+                u, E = x, E_x
+        except ArithmeticError:  # mu too small for this sample's matrix: leave it to the LP
             return
 
 
