@@ -155,17 +155,24 @@ def test_each_interior_point_path_alone_agrees(monkeypatch, anchored):
         return plain(*a, **(kw | {"anchored": anchored}))
 
     monkeypatch.setattr(ipm, "interior_point", forced)
-    rng = np.random.default_rng(33)
+    assert _decided_like_the_lp(np.random.default_rng(33), 40) >= 36
+
+
+def _decided_like_the_lp(rng, count: int, methods: tuple[str, ...] | None = None) -> int:
+    """Solve ``count`` random lattice samples with no Newton budget and no fallback; every
+    decided one must agree with the LP (and certify by one of ``methods``). Returns how many
+    were decided."""
     opts = SolverOptions(newton_budget=0, fallback=False, min_norm=False)
     decided = 0
-    for i in range(40):
+    for i in range(count):
         inst = random_instance(rng, "lattice")
         res = solve(inst, opts)
         if not res.decided:
             continue
         decided += 1
+        assert methods is None or res.method in methods, (i, res.method)
         assert res.rigid == lp_verdict(inst).rigid, i
-    assert decided >= 36
+    return decided
 
 
 def test_anchored_interior_point_minimises_the_anchored_energy():
@@ -212,25 +219,15 @@ def test_proximal_stage_alone_agrees():
     made to certify nothing) are decided like the LP."""
     import tensegrity_rigidity.solver as solver_module
 
-    rng = np.random.default_rng(34)
-    opts = SolverOptions(newton_budget=0, fallback=False, min_norm=False)
     original = solver_module._Best.crossovers
 
     def no_plain(self, u, stage):
         return False if stage in ("crossover", "ipm") else original(self, u, stage)
 
-    decided = 0
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(solver_module._Best, "crossovers", no_plain)
-        for i in range(30):
-            inst = random_instance(rng, "lattice")
-            res = solve(inst, opts)
-            if not res.decided:
-                continue
-            decided += 1
-            assert res.method in ("newton+ipm-anchored", "newton+ipm-prox"), res.method
-            assert res.rigid == lp_verdict(inst).rigid, i
-    assert decided >= 25
+        stages = ("newton+ipm-anchored", "newton+ipm-prox")
+        assert _decided_like_the_lp(np.random.default_rng(34), 30, stages) >= 25
 
 
 def test_every_stage_order_gives_the_lp_verdict():
