@@ -16,9 +16,10 @@ stays near the minimum-norm minimiser instead (``|u| ~ 1e2-1e4``). With a ``cent
 pulls towards that point instead of the origin: repeated, this is the proximal-point method on
 the energy, which the solver runs from the anchored end point when the plain path certified
 nothing (see ``solver._proximal``). Neither path dominates: on other samples only the plain one
-certifies, so the solver tries the plain path first. Its multipliers
-are ``lambda_b = sigma_b t_b >= 0`` (cables pull, struts push). Eliminating the diagonal blocks of
-the Newton system leaves the Schur complement
+certifies, so the solver tries the plain path first.
+
+The QP's multipliers are ``lambda_b = sigma_b t_b >= 0`` (cables pull, struts push).
+Eliminating the diagonal blocks of the Newton system leaves the Schur complement
 
     R^T diag(k~) R,    k~_b = k_b (lambda_b / w_b) / (k_b + lambda_b / w_b)   (k~ = k for rods),
 
