@@ -282,3 +282,17 @@ def test_general_path_alone_decides_like_the_lp(monkeypatch):
         if not res.rigid:
             assert res.method == "newton+lp-feasibility", i
     assert "newton+lp-feasibility" in stages
+
+
+def test_a_floppy_verdict_reports_zero_energy_and_tension():
+    """Floppy means E* = 0 and t* = 0 exactly; how close the certificate came is
+    floppy_residual (a rod and a cable + strut pair once differed by 3e-17 here)."""
+    rng = np.random.default_rng(35)
+    floppy = 0
+    for _ in range(20):
+        res = solve(random_instance(rng, "lattice"), SolverOptions(min_norm=False))
+        if res.decided and not res.rigid:
+            floppy += 1
+            assert res.energy == 0.0 and not res.tensions.any()
+            assert res.floppy_residual <= SolverOptions().floppy_tol
+    assert floppy >= 3

@@ -166,7 +166,8 @@ class SolveResult:
     Attributes
     ----------
     energy : float
-        Minimum energy E*.
+        Minimum energy E* (exactly 0 on a floppy verdict: the certificate's own
+        ``E(u) <= floppy_tol^2 E_ref`` is reported as ``floppy_residual``).
     affine_energy : float
         Energy of the affine deformation, E(u = 0).
     rigid : bool
@@ -612,8 +613,8 @@ def solve(
             UndecidedWarning,
             stacklevel=2,
         )
-    if floppy_ok:
-        t = np.zeros_like(t)
+    if floppy_ok:  # certified floppy: E* = 0 and t* = 0; floppy_residual keeps the certificate's
+        E, t = 0.0, np.zeros_like(t)
     _, act, _ = p.state(u)
     min_norm_ok = False
     if opts.min_norm and p.sites.size and e_ref > 0:
