@@ -296,3 +296,23 @@ def test_a_floppy_verdict_reports_zero_energy_and_tension():
             assert res.energy == 0.0 and not res.tensions.any()
             assert res.floppy_residual <= SolverOptions().floppy_tol
     assert floppy >= 3
+
+
+def test_refined_proximal_stage_certifies_a_sample_that_stalls_at_a_factorisable_shift():
+    """An n = 32 sample near the transition whose energy grows so slowly away from the
+    zero-energy set that proximal steps at the smallest factorisable shift (1e-15 k) stall and
+    leave it to the LP. With the default 1e-18 k, reached by refined solves, the proximal stage
+    certifies it, with the LP's verdict."""
+    from tensegrity_rigidity import lattice_instance
+    from tensegrity_rigidity.errors import UndecidedWarning
+
+    inst = lattice_instance(32, 0.55, 0.2, 0.0, phi="compression", theta=0.4, seed=0)
+    unrefined = SolverOptions(
+        min_norm=False, fallback=False, prox_regularization=1e-15, prox_refine_iterations=0
+    )
+    with pytest.warns(UndecidedWarning):
+        assert not solve(inst, unrefined).decided  # the sample is a hard one
+    res = solve(inst, SolverOptions(min_norm=False, fallback=False))
+    assert res.decided
+    assert res.method in ("newton+ipm-anchored", "newton+ipm-prox")
+    assert res.rigid == lp_verdict(inst).rigid

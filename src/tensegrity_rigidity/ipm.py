@@ -106,8 +106,10 @@ def interior_point(
             neg = dx < 0
             return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
 
-        # predictor (affine scaling)
-        du, dw, dlam = _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, 0.0)
+        # predictor (affine scaling); it only sets the centring, so where the solves are
+        # refined iteratively (solver._RefinedSolve) the preconditioner's solution will do
+        predictor = getattr(solver, "preconditioner", solver)
+        du, dw, dlam = _direction(p, predictor, os_, sig, k, D, ratio, r_u, r_w, lam, w, 0.0)
         a_p, a_d = max_step(w, dw), max_step(lam, dlam)
         mu_aff = float((w + a_p * dw) @ (lam + a_d * dlam)) / m_os if w.size else 0.0
         sigma_c = (mu_aff / mu) ** 3 if mu > 0 else 0.0

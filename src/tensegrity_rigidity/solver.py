@@ -33,20 +33,22 @@ them with a semismooth Newton method specialised to this structure:
    interior-point method of :mod:`.ipm` (robust to the combinatorics near the transition) at
    accuracies 1e-3, 1e-5, 1e-7 and at its end; if that certified nothing, a few steps of the
    proximal-point method ``u_j = argmin E(u) + mu_p/2 |u - u_(j-1)|^2`` (``u_(-1) = 0``), each
-   solved by the interior point anchored by the background stiffness ``mu_p = 1e-15 k``. The
+   solved by the interior point anchored by the background stiffness ``mu_p = 1e-18 k``. The
    anchored end points stay near the minimum-norm minimiser where the plain path drifts off to
-   ``|u| ~ 1e6``, and each step lowers the energy by 1e2 to 1e4 on the hard floppy samples
-   near the transition, whose energy grows only ~1e-14 k |u - U*|^2 away from the zero-energy
-   set ``U*``, until ``E / E_ref <= floppy_tol^2`` certifies a point as it is (or a crossover
-   from it certifies); then Newton from the lowest energy found. With
+   ``|u| ~ 1e6``. On the hard floppy samples near the transition the energy grows only
+   ~1e-16 k |u - U*|^2 away from the zero-energy set ``U*``, so ``mu_p`` must be smaller than
+   that, and far below round-off in the assembled matrix: its matrices are factorised at
+   1e-15 k and each solve is refined by conjugate gradients through ``R`` (see
+   :func:`_proximal`). The stage ends once ``E / E_ref <= floppy_tol^2`` certifies a point as
+   it is (or a crossover from it certifies); then Newton from the lowest energy found. With
    ``fallback`` the general path follows. First HiGHS solves the feasibility LP for a
    zero-energy displacement (the floppy side of Farkas' lemma), then the verdict LP, then
    Clarabel's QP. Each point is checked as it is, then crossed over and polished. As a last
    resort the verdict LP's own certificate decides. The samples that reach this path are floppy
-   samples near the transition whose energy grows so slowly away from ``U*`` that the
-   proximal-point steps stall (at ``E / E_ref ~ 1e-16`` on the benchmark's n = 128 sample). A
-   simplex vertex still lands on ``E / E_ref <= 1e-18``. A sample that passes neither test is
-   reported undecided with a warning, never guessed.
+   samples near the transition whose zero-energy set lies very far out (``|u| ~ 3e4 max|e0|``
+   on the benchmark's n = 64 sample), where the anchored steps stall
+   at ``E / E_ref ~ 1e-15``. A simplex vertex still lands on ``E / E_ref <= 1e-18``. A sample
+   that passes neither test is reported undecided with a warning, never guessed.
 5. **Displacements.** The minimiser ``u`` is not unique on floppy networks. We report the
    minimum-norm minimiser (the limit of a vanishing background stiffness). The minimisers form a
    polyhedron ``U*`` fixed by the unique tensions. First, proximal iterations
@@ -109,8 +111,15 @@ class SolverOptions:
         reported undecided (the simplex can take minutes at n >= 64).
     prox_regularization : float
         Background stiffness of the proximal-point stage, relative to the mean stiffness
-        (see ``_proximal``); it must stay well below the growth of the energy on the hard
-        floppy samples and well above round-off in the Schur complement.
+        (see ``_proximal``); it must stay below the growth of the energy away from the
+        zero-energy set on the hard floppy samples.
+    prox_factor_shift : float
+        Shift (relative to the mean stiffness) at which the proximal stage factorises its
+        matrices; a smaller ``prox_regularization`` is reached by conjugate gradients
+        preconditioned by that factorisation. Below ~1e-15 the factorisation itself fails. A
+        value at or below ``prox_regularization`` factorises at that shift directly.
+    prox_refine_iterations : int
+        Most conjugate-gradient iterations per linear solve in the proximal stage.
     prox_steps : int
         Most proximal-point steps after the first anchored interior point; 0 skips the stage.
     factorization : str
@@ -131,7 +140,9 @@ class SolverOptions:
     fallback: bool = True
     lp_time_limit: float = 120.0
     factorization: str = "auto"
-    prox_regularization: float = 1e-15
+    prox_regularization: float = 1e-18
+    prox_factor_shift: float = 1e-15
+    prox_refine_iterations: int = 20
     prox_steps: int = 6
 
     def __post_init__(self):
@@ -266,6 +277,7 @@ class _Problem:
         self._pattern()
         self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend)
         self._weights: np.ndarray | None = None
+        self._factor_shift, self._refine_iterations = 0.0, 0  # see shifted()
         self.factorizations = 0
 
     def _pattern(self) -> None:
@@ -296,30 +308,47 @@ class _Problem:
         self._indptr = csc.indptr.astype(np.int32)
         self._nnz = len(uniq)
 
-    def values(self, weights: np.ndarray) -> np.ndarray:
-        """Entries of R^T diag(weights) R + mu I in the fixed upper-triangular pattern."""
-        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, self.mu)]
+    def values(self, weights: np.ndarray, shift: float | None = None) -> np.ndarray:
+        """Entries of R^T diag(weights) R + shift I (default shift ``mu``) in the fixed
+        upper-triangular pattern."""
+        shift = self.mu if shift is None else shift
+        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, shift)]
         return np.bincount(self._inverse, weights=w, minlength=self._nnz)
 
-    def factor(self, weights: np.ndarray) -> PatternFactor:
-        """Factorisation of R^T diag(weights) R + mu I; reused when the weights did not change."""
-        if self._weights is not None and np.array_equal(weights, self._weights):
+    def factor(self, weights: np.ndarray) -> PatternFactor | _RefinedSolve:
+        """A solver for ``R^T diag(weights) R + mu I``: its factorisation, reused while the
+        weights do not change; or, when ``mu`` is below the factorised shift (see
+        :meth:`shifted`), conjugate gradients preconditioned by the factorisation at that
+        shift."""
+        shift = max(self.mu, self._factor_shift)
+        if self._weights is None or not np.array_equal(weights, self._weights):
+            self._weights = None  # until the factorisation below succeeds
+            self._factor.factor(self.values(weights, shift))
+            self._weights = weights.copy()
+            self.factorizations += 1
+        if shift == self.mu:
             return self._factor
-        self._weights = None  # until the factorisation below succeeds
-        self._factor.factor(self.values(weights))
-        self._weights = weights.copy()
-        self.factorizations += 1
-        return self._factor
+        return _RefinedSolve(self, self._factor, weights, self._refine_iterations)
 
     @contextmanager
-    def shifted(self, mu: float):
-        """Use the diagonal shift (background stiffness) ``mu`` inside the block."""
-        saved = self.mu
+    def shifted(self, mu: float, factor_shift: float = 0.0, refine_iterations: int = 0):
+        """Use the diagonal shift (background stiffness) ``mu`` inside the block.
+
+        A shift far below round-off in the matrix (``mu < ~1e-15 k``) cannot be factorised
+        stably, and a factorisation at a larger shift leaves the solution wrong along the
+        near-floppy modes whose stiffness is below that shift. With ``factor_shift > mu`` the
+        matrix is factorised at ``factor_shift`` and each solve is refined by at most
+        ``refine_iterations`` conjugate-gradient iterations on the exact matrix, preconditioned
+        by that factorisation (:class:`_RefinedSolve`).
+        """
+        saved = self.mu, self._factor_shift, self._refine_iterations
         self.mu, self._weights = mu, None
+        self._factor_shift, self._refine_iterations = factor_shift, refine_iterations
         try:
             yield self
         finally:
-            self.mu, self._weights = saved, None
+            self.mu, self._factor_shift, self._refine_iterations = saved
+            self._weights = None
 
     def energy(self, u: np.ndarray) -> float:
         """E(u), the energy of displacements u (without any background stiffness)."""
@@ -334,6 +363,36 @@ class _Problem:
         act = self.active(e)
         t = np.where(act, self.k * e, 0.0)
         return e, act, t
+
+
+class _RefinedSolve:
+    """Solves with ``R^T diag(weights) R + mu I`` for a shift ``mu`` too small to factorise.
+
+    Conjugate gradients (SciPy) on the exact matrix, applied as ``R^T (w * (R x)) + mu x``,
+    preconditioned by the factorisation at a larger shift and started from its solution. The
+    products through ``R`` resolve near-floppy modes whose stiffness is far below round-off in
+    the assembled matrix (their singular values in ``R`` are ~1e-8, well above it), and the
+    preconditioned matrix has its spectrum in ``[mu / shift, 1]``, so a few tens of iterations
+    go a long way. The iteration count is capped (``max_iter``): an interior-point method
+    tolerates an inexact direction, and every result is checked by its certificates anyway.
+    """
+
+    def __init__(self, p: _Problem, factor: PatternFactor, weights: np.ndarray, max_iter: int):
+        from scipy.sparse.linalg import LinearOperator
+
+        n, R, RT, mu = p.n2, p.R, p.RT, p.mu
+        self.A = LinearOperator((n, n), matvec=lambda x: RT @ (weights * (R @ x)) + mu * x)
+        self.M = LinearOperator((n, n), matvec=factor.solve)
+        self.preconditioner, self.max_iter = factor, max_iter
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        from scipy.sparse.linalg import cg
+
+        x0 = self.preconditioner.solve(b)
+        if self.max_iter <= 0:
+            return x0
+        x, _ = cg(self.A, b, x0=x0, rtol=1e-10, maxiter=self.max_iter, M=self.M)
+        return x
 
 
 def _line_search(p: _Problem, e: np.ndarray, s: np.ndarray) -> float:
@@ -711,17 +770,21 @@ def _ipm(p: _Problem, best: _Best) -> None:
 def _proximal(p: _Problem, best: _Best) -> None:
     """Proximal-point steps on the energy, each solved by the anchored interior-point method.
 
-    With a background stiffness ``mu = prox_regularization * mean(k)`` (1e-15 k by default,
-    1000 times below the Newton matrix's shift), step 0 minimises ``E(u) + mu/2 |u|^2`` from the
-    origin and step j ``E(u) + mu/2 |u - u_(j-1)|^2`` from the previous end point. Each step
-    lowers the energy; on the hard floppy samples near the transition it falls by 1e2 to 1e4
-    per step, until ``E / E_ref <= floppy_tol^2`` certifies the point as it is or a crossover
-    from it certifies. The growth of the energy away from the zero-energy set is of the order
-    of ``mu`` there, which is why ``mu`` must be that small; a smaller one leaves the Schur
-    complement numerically singular (a failed factorisation ends the stage). The stage also
-    ends after ``prox_steps`` steps or once a step lowers the energy by less than 4x. Crossovers
-    are tried at the end of each step only (on the way they did not certify on the benchmark
-    instances), with the problem's default shift.
+    With a background stiffness ``mu = prox_regularization * mean(k)`` (1e-18 k by default),
+    step 0 minimises ``E(u) + mu/2 |u|^2`` from the origin and step j
+    ``E(u) + mu/2 |u - u_(j-1)|^2`` from the previous end point. Each step lowers the energy,
+    until ``E / E_ref <= floppy_tol^2`` certifies the point as it is or a crossover from it
+    certifies. On the hard floppy samples near the transition the energy grows only ~1e-16 k
+    |u - U*|^2 away from the zero-energy set ``U*`` (near-floppy modes of the engaged
+    elements, with singular values ~1e-8 in ``R``), so ``mu`` must be smaller than that; with
+    ``mu`` = 1e-15 k the steps stalled at ``E / E_ref ~ 1e-16`` on the benchmark's n = 128
+    sample. A shift that small cannot be factorised (round-off in the assembled matrix is
+    ~1e-16 k), so the matrices are factorised at ``prox_factor_shift`` (1e-15 k) and each
+    corrector solve is refined by conjugate gradients on the exact matrix
+    (:class:`_RefinedSolve`, at most ``prox_refine_iterations`` iterations). The stage ends
+    after ``prox_steps`` steps, once a step lowers the energy by less than 4x, or if a
+    factorisation fails. Crossovers are tried at the end of each step only, with the
+    problem's default shift.
     """
     from .ipm import interior_point
 
@@ -731,8 +794,10 @@ def _proximal(p: _Problem, best: _Best) -> None:
         with p.shifted(default_shift):
             return best.crossovers(x, stage)
 
-    mu = best.opts.prox_regularization * p.k_scale
-    with p.shifted(mu):
+    opts = best.opts
+    mu = opts.prox_regularization * p.k_scale
+    factor_shift = opts.prox_factor_shift * p.k_scale
+    with p.shifted(mu, factor_shift, opts.prox_refine_iterations):
         try:
             u = interior_point(p, tol=1e-10, anchored=True)[0]
             E = p.energy(u)
