@@ -221,8 +221,8 @@ def test_proximal_stage_alone_agrees():
 
     original = solver_module._Best.crossovers
 
-    def no_plain(self, u, stage):
-        return False if stage in ("crossover", "ipm") else original(self, u, stage)
+    def no_plain(self, u, stage, **kwargs):
+        return False if stage in ("crossover", "ipm") else original(self, u, stage, **kwargs)
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(solver_module._Best, "crossovers", no_plain)
@@ -269,8 +269,8 @@ def test_general_path_alone_decides_like_the_lp(monkeypatch):
     from tensegrity_rigidity import solver
 
     monkeypatch.setattr(solver, "_ipm", lambda p, best: None)
-    monkeypatch.setattr(solver._Best, "crossovers", lambda self, u, stage: False)
-    monkeypatch.setattr(solver._Best, "newton", lambda self, u, stage: False)
+    monkeypatch.setattr(solver._Best, "crossovers", lambda self, u, stage, **kwargs: False)
+    monkeypatch.setattr(solver._Best, "newton", lambda self, u, stage, **kwargs: False)
     rng = np.random.default_rng(8)
     stages = set()
     for i in range(20):
