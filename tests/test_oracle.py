@@ -316,3 +316,32 @@ def test_refined_proximal_stage_certifies_a_sample_that_stalls_at_a_factorisable
     assert res.decided
     assert res.method in ("newton+ipm-anchored", "newton+ipm-prox")
     assert res.rigid == lp_verdict(inst).rigid
+
+
+def test_a_failing_verdict_lp_leaves_the_sample_undecided_instead_of_raising(monkeypatch):
+    """HiGHS can fail on the verdict LP (status "Not Set" once in ~200 near-transition samples
+    at n = 32). The solver then treats the LP as unavailable: no starting point from it, and a
+    sample that nothing else certifies is reported undecided, never an exception or a guess."""
+    import tensegrity_rigidity.reference as reference
+    import tensegrity_rigidity.solver as solver
+    from tensegrity_rigidity.errors import UndecidedWarning
+
+    def failing(*args, **kwargs):
+        raise RuntimeError("HiGHS failed on the verdict LP: (HiGHS Status 0: Not Set)")
+
+    monkeypatch.setattr(reference, "lp_verdict", failing)
+    rng = np.random.default_rng(12)
+    inst = random_instance(rng, "lattice")
+    p = solver._Problem(inst, 1e-12)
+    assert solver._lp_start(p, 10.0) is None
+    assert p.lp_result.status.startswith("failed")
+    with pytest.warns(UndecidedWarning):  # nothing but the failing LP may decide
+        monkeypatch.setattr(solver, "_newton", lambda p, u, e_ref, opts, **kw: (u, 1.0, 0))
+        monkeypatch.setattr(solver._Best, "crossovers", lambda self, u, stage, **kw: False)
+        monkeypatch.setattr(solver, "_ipm", lambda p, best: None)
+        monkeypatch.setattr(solver, "_lp_feasibility_start", lambda p, t: None)
+        monkeypatch.setattr(solver, "_qp_start", lambda inst: None)
+        monkeypatch.setattr(solver._Best, "offer", lambda self, u, E, stage: False)
+        res = solver.solve(inst, SolverOptions(min_norm=False))
+    assert not res.decided
+    assert res.method == "newton+lp-certificate"
