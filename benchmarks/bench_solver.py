@@ -29,10 +29,10 @@ from _record import machine, record, table
 from scipy.optimize import minimize
 
 from tensegrity_rigidity import SolverOptions, lattice_instance, solve
-from tensegrity_rigidity.linalg import PatternFactor
-from tensegrity_rigidity.mechanics import affine_extensions, rigidity_matrix
-from tensegrity_rigidity.network import Element
-from tensegrity_rigidity.reference import lp_verdict, qp_solve
+from tensegrity_rigidity.model.mechanics import affine_extensions, rigidity_matrix
+from tensegrity_rigidity.model.network import Element
+from tensegrity_rigidity.solver.linalg import PatternFactor
+from tensegrity_rigidity.solver.reference import lp_verdict, qp_solve
 
 REGIMES = {"near": (0.55, 0.2), "rigid": (0.8, 0.1), "floppy": (0.4, 0.2)}
 
@@ -79,7 +79,7 @@ def lbfgs(inst):
 
 def factor_times(inst, backend):
     """Seconds of the first factorisation (symbolic + numeric) and of one more numeric one."""
-    from tensegrity_rigidity.solver import _Problem
+    from tensegrity_rigidity.solver.core import _Problem
 
     p = _Problem(inst, 1e-12, backend)
     data = p.values(p.k)

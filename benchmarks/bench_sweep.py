@@ -15,8 +15,8 @@ from pathlib import Path
 
 from _record import machine, record, table
 
-from tensegrity_rigidity.spec import parse_spec
-from tensegrity_rigidity.sweep import load_results, run_sweep
+from tensegrity_rigidity.ensemble.spec import parse_spec
+from tensegrity_rigidity.ensemble.sweep import load_results, run_sweep
 
 
 def main() -> None:

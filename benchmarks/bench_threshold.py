@@ -15,9 +15,9 @@ import time
 import numpy as np
 from _record import machine, record, table
 
-from tensegrity_rigidity.sample import lattice_geometry
-from tensegrity_rigidity.strain import strain_tensor
-from tensegrity_rigidity.threshold import find_threshold
+from tensegrity_rigidity.ensemble.thresholds import find_threshold
+from tensegrity_rigidity.model.sampling import lattice_geometry
+from tensegrity_rigidity.model.strain import strain_tensor
 
 
 def main() -> None:

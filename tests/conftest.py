@@ -1,49 +1,9 @@
-"""Shared builders of random small instances for the tests."""
+"""Shared fixtures."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from tensegrity_rigidity import (
-    Instance,
-    lattice_instance,
-    place_elements,
-    random_periodic_network,
-    site_uniforms,
-    strain_tensor,
-)
-
-
-def random_instance(rng: np.random.Generator, kind: str | None = None) -> Instance:
-    """A random small instance: a disordered triangular lattice or a random periodic network in
-    a skewed box, random elements, strain of random type, orientation and magnitude (1e-6..1e3).
-    """
-    kind = kind or ("lattice" if rng.random() < 0.5 else "random")
-    p_r = rng.uniform(0.1, 0.95)
-    p_t = rng.uniform(0.0, 1.0 - p_r)
-    f_c = float(rng.choice([0.0, 0.5, 1.0, rng.random()]))
-    phi, theta = rng.uniform(0, np.pi), rng.uniform(0, 2 * np.pi)
-    gamma = 10 ** rng.uniform(-6, 3)
-    if kind == "lattice":
-        n = int(rng.integers(2, 7))
-        return lattice_instance(
-            n,
-            p_r,
-            p_t,
-            f_c,
-            phi=phi,
-            theta=theta,
-            gamma=gamma,
-            delta=rng.uniform(0.05, 0.3),
-            seed=rng,
-        )
-    n_nodes = int(rng.integers(2, 16))
-    net = random_periodic_network(n_nodes, int(rng.integers(n_nodes, 4 * n_nodes)), rng)
-    u, v = site_uniforms(net.n_sites, rng)
-    return Instance(
-        net.with_kinds(place_elements(u, v, p_r, p_t, f_c)), strain_tensor(phi, theta, gamma)
-    )
 
 
 @pytest.fixture

@@ -1,19 +1,26 @@
 """tensegrity_rigidity: exact rigidity of random periodic tensegrity networks.
 
-Pipeline, one module per stage: :mod:`~.lattice` (geometry) -> :mod:`~.elements` (random rods,
-cables, struts) -> :mod:`~.strain` -> :mod:`~.mechanics` (rigidity matrix, energy, tensions) ->
-:mod:`~.solver` (exact relaxation and certified verdict) -> :mod:`~.io` (instance files).
+Subpackages by pipeline stage (ARCHITECTURE.md): :mod:`~.model` (networks, lattices, random
+elements, strain, linear mechanics, files) -> :mod:`~.solver` (exact relaxation and certified
+verdict) -> :mod:`~.analysis` (observables, estimators, single-node theory) -> :mod:`~.ensemble`
+(sweeps, storage, executors, thresholds) -> :mod:`~.paper` (studies, figures, report) ->
+:mod:`~.cli`.
 """
 
-from .elements import place_elements, site_uniforms
+from .analysis.single_node import single_node_probability
 from .errors import InputError, SpecError, TensegrityError, UndecidedWarning
-from .io import load_instance, save_instance
-from .lattice import DEFAULT_DELTA, random_periodic_network, square_lattice, triangular_lattice
-from .network import Element, Instance, PeriodicNetwork
-from .sample import lattice_instance
-from .single_node import single_node_probability
-from .solver import SolveResult, SolverOptions, solve
-from .strain import strain_tensor
+from .model.elements import place_elements, site_uniforms
+from .model.io import load_instance, save_instance
+from .model.lattice import (
+    DEFAULT_DELTA,
+    random_periodic_network,
+    square_lattice,
+    triangular_lattice,
+)
+from .model.network import Element, Instance, PeriodicNetwork
+from .model.sampling import lattice_instance
+from .model.strain import strain_tensor
+from .solver.core import SolveResult, SolverOptions, solve
 
 __all__ = [
     "DEFAULT_DELTA",

@@ -1,0 +1,131 @@
+"""Command line: a thin layer over the API.
+
+``tensegrity-rigidity sample``  draw a random lattice instance and write it to .npz
+``tensegrity-rigidity solve``   relax an instance file and print the certified verdict
+``tensegrity-rigidity sweep``   run a TOML parameter sweep into a Parquet dataset
+``tensegrity-rigidity reproduce``  run every study of the paper and write the report
+
+A user's mistake ends in one line on stderr (``error: ...``) and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+
+from ..errors import InputError, TensegrityError
+from . import reproduce as reproduce_cli
+from . import sweep as sweep_cli
+
+
+def _add_sample(sub) -> None:
+    p = sub.add_parser(
+        "sample",
+        help="write a random lattice instance (.npz)",
+        description="Draw a random strained lattice sample and save it as .npz.",
+    )
+    p.add_argument("out", help="output file (.npz)")
+    p.add_argument("--n", type=int, default=16, help="linear size: n x n nodes (default 16)")
+    p.add_argument("--delta", type=float, default=None, help="node disorder (default 0.2)")
+    p.add_argument("--p-r", type=float, required=True, help="rod probability")
+    p.add_argument("--p-t", type=float, default=0.0, help="one-sided element probability")
+    p.add_argument("--f-c", type=float, default=0.5, help="cable fraction of one-sided elements")
+    p.add_argument(
+        "--phi",
+        default="shear",
+        help="strain type: angle or dilation|shear|compression (default shear)",
+    )
+    p.add_argument("--theta", type=float, default=0.0, help="principal-axis angle (radians)")
+    p.add_argument("--gamma", type=float, default=1.0, help="strain magnitude (default 1)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--lattice", default="triangular", choices=["triangular", "square"])
+
+
+def _add_solve(sub) -> None:
+    p = sub.add_parser(
+        "solve",
+        help="relax an instance and print the verdict",
+        description="Find the exact relaxed state of an instance file and "
+        "print energy, verdict and certificate residuals.",
+    )
+    p.add_argument("file", help="instance file (.npz)")
+    p.add_argument("--json", action="store_true", help="print JSON instead of text")
+
+
+def _cmd_sample(args) -> int:
+    from ..model.io import save_instance
+    from ..model.lattice import DEFAULT_DELTA
+    from ..model.sampling import lattice_instance
+
+    inst = lattice_instance(
+        args.n,
+        args.p_r,
+        args.p_t,
+        args.f_c,
+        phi=args.phi,
+        theta=args.theta,
+        gamma=args.gamma,
+        delta=DEFAULT_DELTA if args.delta is None else args.delta,
+        seed=args.seed,
+        lattice=args.lattice,
+    )
+    save_instance(args.out, inst)
+    net = inst.network
+    print(
+        f"wrote {args.out}: {net.n_nodes} nodes, {net.n_sites} sites "
+        f"({net.count(1)} rods, {net.count(2)} cables, {net.count(3)} struts)"
+    )
+    return 0
+
+
+def _cmd_solve(args) -> int:
+    from ..model.io import load_instance
+    from ..solver.core import solve
+
+    result = solve(load_instance(args.file))
+    summary = result.summary()
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        width = max(map(len, summary))
+        for key, value in summary.items():
+            shown = f"{value:.6g}" if isinstance(value, float) else value
+            print(f"{key:<{width}}  {shown}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="tensegrity-rigidity",
+        description="Exact rigidity of random periodic tensegrity networks.",
+    )
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    _add_sample(sub)
+    _add_solve(sub)
+    sweep_cli.add_parser(sub)
+    reproduce_cli.add_parser(sub)
+    return parser
+
+
+COMMANDS = {"sample": _cmd_sample, "solve": _cmd_solve}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    handler = getattr(args, "handler", None) or COMMANDS[args.command]
+    try:
+        return int(handler(args) or 0)
+    except (InputError, TensegrityError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,229 @@
+"""Periodic networks and strained instances as plain, validated data.
+
+A periodic network lives in a box whose *rows* are the two lattice vectors. Node ``i`` sits at
+``positions[i]``; bond ``b`` joins node ``bonds[b, 0]`` to the periodic image of node
+``bonds[b, 1]`` shifted by ``shifts[b] @ box``, so its bond vector is::
+
+    d_b = positions[j] + shifts[b] @ box - positions[i]
+
+Each bond site holds one element kind (:class:`Element`): empty, rod (resists extension and
+compression), cable (resists only extension) or strut (resists only compression), and an
+optional stiffness (unit by default).
+
+An :class:`Instance` is a network plus a symmetric 2x2 strain tensor ``eps`` (magnitude
+included). It is exactly what an instance file stores (see :mod:`tensegrity_rigidity.io`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from enum import IntEnum
+
+import numpy as np
+
+from ..errors import InputError
+
+
+class Element(IntEnum):
+    """Element kinds, with the integer codes used in arrays and files."""
+
+    EMPTY = 0
+    ROD = 1
+    CABLE = 2
+    STRUT = 3
+
+
+def _as_float_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be a numeric array ({exc})") from None
+    _check_shape(name, arr, shape)
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} contains NaN or infinite values")
+    return arr
+
+
+def _as_int_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray:
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be an integer array ({exc})") from None
+    if raw.size and raw.dtype.kind == "f":
+        if not np.all(np.isfinite(raw)):
+            raise InputError(f"{name} contains NaN or infinite values")
+        if not np.all(raw == np.round(raw)):
+            raise InputError(f"{name} must hold integers")
+    elif raw.size and raw.dtype.kind not in "iub":
+        raise InputError(f"{name} must be an integer array, got dtype {raw.dtype}")
+    arr = raw.astype(np.int64)
+    _check_shape(name, arr, shape)
+    return arr
+
+
+def _check_shape(name: str, arr: np.ndarray, shape: tuple[int | None, ...]) -> None:
+    ok = arr.ndim == len(shape) and all(
+        s is None or s == a for s, a in zip(shape, arr.shape, strict=True)
+    )
+    if not ok:
+        want = "(" + ", ".join("*" if s is None else str(s) for s in shape) + ")"
+        raise InputError(f"{name} must have shape {want}, got {arr.shape}")
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicNetwork:
+    """A network of bond sites in a periodic box.
+
+    Parameters
+    ----------
+    box : (2, 2) float
+        Rows are the lattice vectors of the periodic box; must have positive area.
+    positions : (N, 2) float
+        Node positions.
+    bonds : (m, 2) int
+        Node indices ``(i, j)`` of each bond site.
+    shifts : (m, 2) int
+        Integer image offsets: the bond joins ``i`` to ``j``'s image at ``shifts[b] @ box``.
+    kinds : (m,) int
+        :class:`Element` code of each site (0 empty, 1 rod, 2 cable, 3 strut).
+    stiffness : (m,) float, optional
+        Positive spring constants; ``None`` means unit stiffness everywhere.
+
+    Raises
+    ------
+    InputError
+        On wrong shapes, non-finite values, indices out of range, unknown kinds, zero-length
+        bonds, non-positive stiffness or a degenerate box.
+    """
+
+    box: np.ndarray
+    positions: np.ndarray
+    bonds: np.ndarray
+    shifts: np.ndarray
+    kinds: np.ndarray
+    stiffness: np.ndarray | None = field(default=None)
+
+    def __post_init__(self) -> None:
+        box = _as_float_array("box", self.box, (2, 2))
+        if abs(np.linalg.det(box)) <= 1e-12 * max(1.0, float(np.abs(box).max()) ** 2):
+            raise InputError("box must have two independent lattice vectors (zero area)")
+        positions = _as_float_array("positions", self.positions, (None, 2))
+        n_nodes = positions.shape[0]
+        if n_nodes == 0:
+            raise InputError("positions must hold at least one node")
+        bonds = _as_int_array("bonds", self.bonds, (None, 2))
+        m = bonds.shape[0]
+        shifts = _as_int_array("shifts", self.shifts, (m, 2))
+        kinds = _as_int_array("kinds", self.kinds, (m,))
+        bad = np.flatnonzero((bonds < 0) | (bonds >= n_nodes))
+        if bad.size:
+            raise InputError(
+                f"bond {bad[0] // 2} has node index {bonds.ravel()[bad[0]]}, "
+                f"out of range for {n_nodes} nodes"
+            )
+        if m and (kinds.min() < 0 or kinds.max() > 3):
+            raise InputError("kinds must be 0 (empty), 1 (rod), 2 (cable) or 3 (strut)")
+        stiffness = None
+        if self.stiffness is not None:
+            stiffness = _as_float_array("stiffness", self.stiffness, (m,))
+            if np.any(stiffness <= 0):
+                raise InputError("stiffness must be positive on every bond site")
+        vec = positions[bonds[:, 1]] + shifts @ box - positions[bonds[:, 0]]
+        length = np.hypot(vec[:, 0], vec[:, 1])
+        scale = float(np.sqrt(abs(np.linalg.det(box))))
+        if m and np.any(length <= 1e-12 * scale):
+            raise InputError(f"bond {int(np.argmin(length))} has zero length")
+        for name, arr in (
+            ("box", box),
+            ("positions", positions),
+            ("bonds", bonds),
+            ("shifts", shifts),
+            ("kinds", kinds),
+            ("stiffness", stiffness),
+        ):
+            if arr is not None:
+                arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of nodes N."""
+        return int(self.positions.shape[0])
+
+    @property
+    def n_sites(self) -> int:
+        """Number of bond sites m (empty ones included)."""
+        return int(self.bonds.shape[0])
+
+    def bond_vectors(self) -> np.ndarray:
+        """Bond vectors d_b, shape (m, 2)."""
+        return (
+            self.positions[self.bonds[:, 1]]
+            + self.shifts @ self.box
+            - self.positions[self.bonds[:, 0]]
+        )
+
+    def bond_lengths(self) -> np.ndarray:
+        """Bond lengths |d_b|, shape (m,)."""
+        d = self.bond_vectors()
+        return np.hypot(d[:, 0], d[:, 1])
+
+    def stiffness_or_ones(self) -> np.ndarray:
+        """Stiffness per site, shape (m,); ones when none was given."""
+        return np.ones(self.n_sites) if self.stiffness is None else self.stiffness
+
+    def with_kinds(self, kinds) -> PeriodicNetwork:
+        """The same geometry with other element kinds, shape (m,)."""
+        return replace(self, kinds=kinds)
+
+    def count(self, kind: Element) -> int:
+        """Number of sites holding ``kind``."""
+        return int(np.count_nonzero(self.kinds == kind))
+
+
+def check_strain(strain) -> np.ndarray:
+    """Validate a strain tensor: finite, shape (2, 2), symmetric. Returns a float copy."""
+    eps = _as_float_array("strain", strain, (2, 2))
+    if abs(eps[0, 1] - eps[1, 0]) > 1e-12 * max(1.0, float(np.abs(eps).max())):
+        raise InputError(
+            f"strain must be symmetric, got off-diagonal entries {eps[0, 1]!r} and {eps[1, 0]!r}"
+        )
+    eps[1, 0] = eps[0, 1]
+    return eps
+
+
+@dataclass(frozen=True, eq=False)
+class Instance:
+    """A periodic network under a metric strain: the input of :func:`solve`.
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        Geometry and elements.
+    strain : (2, 2) float
+        Symmetric strain tensor eps, magnitude included. The affine extension of bond b is
+        ``e0_b = dhat_b . eps . d_b``.
+    """
+
+    network: PeriodicNetwork
+    strain: np.ndarray
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.network, PeriodicNetwork):
+            raise InputError("network must be a PeriodicNetwork")
+        eps = check_strain(self.strain)
+        eps.setflags(write=False)
+        object.__setattr__(self, "strain", eps)
+
+    @classmethod
+    def from_arrays(cls, box, positions, bonds, shifts, kinds, strain, stiffness=None) -> Instance:
+        """Build and validate an instance from raw arrays (shapes as in PeriodicNetwork)."""
+        return cls(PeriodicNetwork(box, positions, bonds, shifts, kinds, stiffness), strain)
+
+    def with_kinds(self, kinds) -> Instance:
+        """The same instance with other element kinds, shape (m,)."""
+        return Instance(self.network.with_kinds(kinds), self.strain)
+
+    def with_strain(self, strain) -> Instance:
+        """The same network under another strain tensor."""
+        return Instance(self.network, strain)

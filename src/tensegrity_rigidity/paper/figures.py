@@ -1,0 +1,323 @@
+"""The paper's figures from study results; each saved as PNG and SVG under DIR/figures."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.colors import LinearSegmentedColormap, TwoSlopeNorm  # noqa: E402
+
+from ..model.network import Element  # noqa: E402
+
+STRAIN_COLOURS = {
+    "dilation": "tab:red",
+    "shear": "tab:green",
+    "compression": "tab:blue",
+    "average": "black",
+}
+
+
+def _yerr(P, lo, hi):
+    """Asymmetric error bars from an interval, clipped at zero against round-off."""
+    P, lo, hi = (np.asarray(x, dtype=float) for x in (P, lo, hi))
+    return [np.clip(P - lo, 0, None), np.clip(hi - P, 0, None)]
+
+
+def _save(fig, figdir: Path, fid: str) -> list[Path]:
+    figdir.mkdir(parents=True, exist_ok=True)
+    paths = [figdir / f"fig{fid}.png", figdir / f"fig{fid}.svg"]
+    fig.savefig(paths[0], dpi=130, bbox_inches="tight")
+    fig.savefig(paths[1], bbox_inches="tight")
+    plt.close(fig)
+    return paths
+
+
+def _segments(inst):
+    net = inst.network
+    start = net.positions[net.bonds[:, 0]]
+    return np.stack([start, start + net.bond_vectors()], axis=1)
+
+
+def fig1a(field: dict, figdir: Path):
+    """A force-balanced configuration: rods solid, cables dashed, struts hollow; red/green/blue
+    for positive/zero/negative tension."""
+    inst, res = field["mixed_instance"], field["mixed_result"]
+    seg = _segments(inst)
+    kinds = inst.network.kinds
+    t = res.tensions
+    scale = np.abs(t).max() or 1.0
+    norm = TwoSlopeNorm(vmin=-scale, vcenter=0.0, vmax=scale)
+    cmap = LinearSegmentedColormap.from_list("tension", ["blue", "limegreen", "red"])
+    fig, ax = plt.subplots(figsize=(6, 5.2))
+    styles = {
+        Element.ROD: dict(linestyles="solid", linewidths=2.2),
+        Element.CABLE: dict(linestyles=(0, (3, 2)), linewidths=1.8),
+        Element.STRUT: dict(linestyles="solid", linewidths=4.0),
+    }
+    for kind, style in styles.items():
+        m = kinds == kind
+        if not m.any():
+            continue
+        lc = LineCollection(seg[m], colors=cmap(norm(t[m])), **style)
+        ax.add_collection(lc)
+        if kind == Element.STRUT:  # hollow: a white core inside the coloured outline
+            ax.add_collection(LineCollection(seg[m], colors="white", linewidths=1.6))
+    ax.plot(*inst.network.positions.T, "k.", ms=2)
+    sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
+    fig.colorbar(sm, ax=ax, label="tension t")
+    ax.set_aspect("equal")
+    ax.autoscale()
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title("1A  rigid sample under shear (red pulls, blue pushes)", fontsize=9)
+    from matplotlib.lines import Line2D
+
+    ax.legend(
+        handles=[
+            Line2D([], [], color="k", lw=2, label="rod"),
+            Line2D([], [], color="k", lw=1.8, ls="--", label="cable"),
+            Line2D([], [], color="k", lw=4, label="strut (hollow)"),
+        ],
+        loc="upper left",
+        fontsize=7,
+        framealpha=0.9,
+    )
+    return _save(fig, figdir, "1A")
+
+
+def fig1b(r: dict, figdir: Path):
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    P = np.ma.masked_invalid(r["P"])
+    mesh = ax.pcolormesh(r["p_r"], r["p_t"], P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
+    fig.colorbar(mesh, ax=ax, label="P (shear, f_c = 0.5)")
+    ax.contour(r["p_r"], r["p_t"], P, levels=[0.5], colors="white", linewidths=1)
+    # the mean-field line p_r + p_t / 2 = const through P = 1/2 at p_t = 0
+    x0 = float(np.interp(0.5, np.nan_to_num(r["P"][0]), r["p_r"]))
+    pt = np.linspace(0, r["p_t"].max(), 50)
+    ax.plot(x0 - pt / 2, pt, color="orange", lw=2, label=r"$p_r + p_t/2$ = const")
+    ax.set_xlim(0, 1)
+    ax.set_xlabel("p_r")
+    ax.set_ylabel("p_t")
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(f"1B  P(p_r, p_t), n = {r['n']}, {r['samples']} samples per p_t", fontsize=9)
+    return _save(fig, figdir, "1B")
+
+
+def fig1c(r: dict, figdir: Path):
+    fits = r["fits"]
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for strain, sub in fits.groupby("strain"):
+        ax.errorbar(
+            sub.f_c,
+            sub.lam,
+            yerr=sub.lam_err,
+            marker="o",
+            capsize=3,
+            color=STRAIN_COLOURS.get(strain, "grey"),
+            label=strain,
+        )
+    ax.axhline(0.5, color="grey", ls=":", lw=1)
+    ax.set_xlabel("f_c (cable fraction)")
+    ax.set_ylabel("S_t / S_r")
+    ax.legend(fontsize=8)
+    ax.set_title(f"1C  efficacy of one-sided elements, n = {r['n']}", fontsize=9)
+    return _save(fig, figdir, "1C")
+
+
+def fig2a(r: dict, figdir: Path):
+    field = r["field"]
+    inst, res = field["instance"], field["result"]
+    pos = inst.network.positions
+    u = res.displacements
+    mag = np.hypot(u[:, 0], u[:, 1])
+    fig, ax = plt.subplots(figsize=(6, 5.2))
+    tri = ax.tripcolor(pos[:, 0], pos[:, 1], mag, shading="gouraud", cmap="Greys", alpha=0.8)
+    fig.colorbar(tri, ax=ax, label="|u_na|")
+    seg = _segments(inst)
+    kinds = inst.network.kinds
+    ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=1))
+    ax.add_collection(
+        LineCollection(
+            seg[kinds == Element.CABLE], colors="tab:red", linewidths=1, linestyles=(0, (3, 2))
+        )
+    )
+    ax.quiver(pos[:, 0], pos[:, 1], u[:, 0], u[:, 1], color="tab:blue", angles="xy")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title(
+        f"2A  rods + cables, compression, p_r = {field['p_r']:.2f}, p_t = {field['p_t']}",
+        fontsize=9,
+    )
+    return _save(fig, figdir, "2A")
+
+
+def fig2b(r: dict, figdir: Path):
+    c = r["curves"]
+    sub = c[np.isclose(c.phi, math.pi)]
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for p_t, s in sub.groupby("p_t"):
+        line = ax.errorbar(
+            s.p_r, s.gamma, yerr=s.gamma_sem, marker="o", ms=3, capsize=2, label=f"p_t = {p_t:.1f}"
+        )
+        pc = r["crit"]
+        pc = pc[np.isclose(pc.phi, math.pi) & np.isclose(pc.p_t, p_t)].p_crit
+        if len(pc):
+            ax.axvline(float(pc.iloc[0]), color=line[0].get_color(), ls="--", lw=1)
+    ax.set_yscale("log")
+    ax.set_xlabel("p_r")
+    ax.set_ylabel("nonaffinity Gamma")
+    ax.legend(fontsize=8)
+    ax.set_title(f"2B  rods + cables under compression, n = {r['n']} (dashed: p_crit)", fontsize=9)
+    return _save(fig, figdir, "2B")
+
+
+def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
+    c = r["curves"]
+    fits = r["fits"]
+    sub = c[np.isclose(c.phi, phi)]
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    inset = ax.inset_axes([0.12, 0.5, 0.35, 0.4])
+    for p_t, s in sub.groupby("p_t"):
+        line = ax.errorbar(
+            s.p_r,
+            s.energy,
+            yerr=s.energy_sem,
+            marker="o",
+            ms=3,
+            capsize=2,
+            label=f"p_t = {p_t:.1f}",
+        )
+        f = fits[np.isclose(fits.phi, phi) & np.isclose(fits.p_t, p_t)].iloc[0]
+        m = (s.p_r > f.p_crit) & (s.energy > 0)
+        inset.loglog(s.p_r[m] - f.p_crit, s.energy[m], "o", ms=2, color=line[0].get_color())
+        if np.isfinite(f.alpha):
+            x = np.geomspace((s.p_r[m] - f.p_crit).min(), (s.p_r[m] - f.p_crit).max(), 20)
+            inset.loglog(x, np.exp(f.beta) * x**f.alpha, "--", lw=1, color=line[0].get_color())
+    inset.set_xlabel("p_r - p_crit", fontsize=6)
+    inset.set_ylabel("E", fontsize=6)
+    inset.tick_params(labelsize=6)
+    ax.set_xlabel("p_r")
+    ax.set_ylabel("mean energy E (gamma = 1)")
+    ax.legend(fontsize=8, loc="lower right")
+    name = "compression" if phi == math.pi else "dilation"
+    ax.set_title(f"{fid}  energy, rods + cables, {name}, n = {r['n']}", fontsize=9)
+    return _save(fig, figdir, fid)
+
+
+def fig2c(r: dict, figdir: Path):
+    return _energy_fig(r, math.pi, "2C", figdir)
+
+
+def fig2d(r: dict, figdir: Path):
+    return _energy_fig(r, 0.0, "2D", figdir)
+
+
+def fig3b(r: dict, figdir: Path):
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    sim = r["sim"]
+    for p_r, curve in r["analytic"].items():
+        line = ax.plot(r["f_c"], curve, label=f"p_r = {p_r}")
+        s = sim[np.isclose(sim.p_r, p_r)]
+        ax.errorbar(
+            s.f_c,
+            s.P,
+            yerr=_yerr(s.P, s.lo, s.hi),
+            fmt="o",
+            ms=3,
+            capsize=2,
+            color=line[0].get_color(),
+        )
+    ax.set_xlabel("f_c")
+    ax.set_ylabel("P_N")
+    ax.legend(fontsize=8)
+    ax.set_title(f"3B  single node: theory (lines), {r['trials']} trials (95%)", fontsize=9)
+    return _save(fig, figdir, "3B")
+
+
+def fig4a(r: dict, figdir: Path):
+    pp = r["per_phi"]
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    cmap = plt.get_cmap("coolwarm")
+    for phi, s in pp.groupby("phi"):
+        from ..analysis.estimators import wilson
+
+        P, lo, hi = wilson(s.P * s.N, s.N)
+        ax.errorbar(
+            s.f_c,
+            P,
+            yerr=_yerr(P, lo, hi),
+            marker="o",
+            ms=3,
+            capsize=2,
+            color=cmap(phi / math.pi),
+            label=f"phi = {phi / math.pi:.3g} pi",
+        )
+    ax.set_xlabel("f_c")
+    ax.set_ylabel("P")
+    ax.legend(fontsize=6, ncol=2)
+    ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r['n']}, {r['samples']} samples", fontsize=9)
+    return _save(fig, figdir, "4A")
+
+
+def fig4b(r: dict, figdir: Path):
+    a = r["average"]
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    ax.errorbar(a.f_c, a.S_c_rel, yerr=a.S_c_rel_err, marker="o", capsize=3, label="S_c / S_r")
+    ax.errorbar(a.f_c, a.S_s_rel, yerr=a.S_s_rel_err, marker="s", capsize=3, label="S_s / S_r")
+    ax.axhline(0.5, color="grey", ls=":", lw=1)
+    ax.set_xlabel("f_c")
+    ax.set_ylabel("efficacy relative to a rod")
+    ax.legend(fontsize=8)
+    ax.set_title("4B  cable and strut efficacies, strain average", fontsize=9)
+    return _save(fig, figdir, "4B")
+
+
+def fig4c(r: dict, figdir: Path):
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for name in ("average", "dilation", "compression"):
+        s = r[name]
+        ax.errorbar(
+            s.f_c,
+            s.sum_rel,
+            yerr=s.sum_rel_err,
+            marker="o",
+            capsize=3,
+            color=STRAIN_COLOURS[name],
+            label=name,
+        )
+    ax.axhline(1.0, color="grey", ls=":", lw=1)
+    ax.set_xlabel("f_c")
+    ax.set_ylabel("(S_c + S_s) / S_r")
+    ax.legend(fontsize=8)
+    ax.set_title("4C  combined efficacy of a cable and a strut", fontsize=9)
+    return _save(fig, figdir, "4C")
+
+
+def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
+    """Draw every figure; returns {figure id: [png, svg]}."""
+    out = {}
+    if "fig2" in results:
+        out["1A"] = fig1a(results["fig2"]["field"], figdir)
+    if "fig1b" in results:
+        out["1B"] = fig1b(results["fig1b"], figdir)
+    if "fig1c" in results:
+        out["1C"] = fig1c(results["fig1c"], figdir)
+    if "fig2" in results:
+        out["2A"] = fig2a(results["fig2"], figdir)
+        out["2B"] = fig2b(results["fig2"], figdir)
+        out["2C"] = fig2c(results["fig2"], figdir)
+        out["2D"] = fig2d(results["fig2"], figdir)
+    if "fig3" in results:
+        out["3B"] = fig3b(results["fig3"], figdir)
+    if "fig4" in results:
+        out["4A"] = fig4a(results["fig4"], figdir)
+        out["4B"] = fig4b(results["fig4"], figdir)
+        out["4C"] = fig4c(results["fig4"], figdir)
+    return out

@@ -1,0 +1,50 @@
+"""Reproduce the paper: run every study, draw every figure, write the report.
+
+``tensegrity-rigidity reproduce --scale quick --out DIR`` is the package's main job. Samples
+are stored under ``DIR/studies`` by the resumable sweep engine, so an interrupted reproduction
+picks up where it stopped.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from .figures import all_figures
+from .report import write_report
+from .studies import SCALES, STUDIES, UNDECIDED
+
+#: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
+EXPECTED = {
+    "tiny": "under a minute",
+    "quick": "about 7 minutes (measured 6.9 min)",
+    "paper": "about 10-20 hours (estimated from the n = 32 solve times in BENCHMARKS.md; "
+    "spread it over a Dask cluster with --scheduler)",
+}
+
+
+def reproduce(
+    out, scale: str = "quick", workers=None, scheduler=None, progress=None, studies=None
+) -> dict:
+    """Run the studies of ``scale`` into ``out`` and write report.md / report.html there."""
+    from ..errors import InputError
+
+    if scale not in SCALES:
+        raise InputError(f"unknown scale {scale!r}; choose from {', '.join(SCALES)}")
+    sc = SCALES[scale]
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    results, timings = {}, {}
+    names = list(studies or STUDIES)
+    for i, name in enumerate(names, 1):
+        print(f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True)
+        start = time.perf_counter()
+        results[name] = STUDIES[name](
+            out, sc, workers=workers, scheduler=scheduler, progress=progress
+        )
+        timings[name] = time.perf_counter() - start
+    print("drawing figures and writing the report", file=sys.stderr, flush=True)
+    figures = all_figures(results, out / "figures")
+    paths = write_report(out, results, figures, scale, timings, dict(UNDECIDED))
+    return {"results": results, "figures": figures, "report": paths, "timings": timings}

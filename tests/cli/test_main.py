@@ -1,0 +1,30 @@
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from tensegrity_rigidity.cli.main import main
+
+
+def test_sample_then_solve_json(tmp_path, capsys):
+    out = tmp_path / "s.npz"
+    assert main(["sample", str(out), "--n", "6", "--p-r", "0.9", "--phi", "dilation"]) == 0
+    capsys.readouterr()
+    assert main(["solve", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for key in ("energy", "rigid", "affine_energy", "force_residual", "floppy_residual", "work"):
+        assert key in data
+    assert data["rigid"] is True and data["energy"] > 0
+
+
+@pytest.mark.parametrize("cmd", [[], ["sample"], ["solve"]])
+def test_help_everywhere(cmd):
+    proc = subprocess.run(
+        [sys.executable, "-m", "tensegrity_rigidity", *cmd, "--help"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0 and "usage" in proc.stdout

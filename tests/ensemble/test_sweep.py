@@ -1,0 +1,225 @@
+"""Sweeps: determinism across executors, crash safety, resume, thresholds, bad specs."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+import tomllib
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tensegrity_rigidity.cli.main import main
+from tensegrity_rigidity.ensemble.spec import load_spec, parse_spec
+from tensegrity_rigidity.ensemble.sweep import load_results, run_sweep
+from tensegrity_rigidity.errors import SpecError
+
+SPEC = """
+n = 6
+p_r = [0.55, 0.7]
+p_t = [0.0, 0.25]
+f_c = [0.0, 1.0]
+phi = ["dilation", "compression"]
+samples = 12
+seed = 3
+[output]
+chunk_size = 4
+"""
+
+
+def _write(tmp_path, text=SPEC, name="spec.toml"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def _sweep_cmd(spec, out):
+    """The CLI sweep on 2 workers, as a subprocess command line."""
+    return [
+        sys.executable,
+        "-m",
+        "tensegrity_rigidity",
+        "sweep",
+        str(spec),
+        "--out",
+        str(out),
+        "--workers",
+        "2",
+        "--no-progress",
+    ]
+
+
+def _frame(out):
+    df = load_results(out).drop(columns=["solve_seconds"])
+    return df.reset_index(drop=True)
+
+
+def test_same_rows_on_one_and_two_workers(tmp_path):
+    spec = _write(tmp_path)
+    run_sweep(spec, tmp_path / "a", executor="serial", progress=False)
+    run_sweep(spec, tmp_path / "b", executor=2, progress=False)
+    a, b = _frame(tmp_path / "a"), _frame(tmp_path / "b")
+    assert len(a) == 2 * 2 * 2 * 2 * 12
+    pd.testing.assert_frame_equal(a, b)
+    # samples share disorder across p_r: rigidity never decreases with p_r
+    wide = a.pivot_table(index=["p_t", "f_c", "phi", "sample"], columns="p_r", values="rigid")
+    assert (wide[0.7] >= wide[0.55]).all()
+
+
+def test_rerun_does_no_work_and_corrupt_chunk_is_redone(tmp_path):
+    spec = _write(tmp_path)
+    out = tmp_path / "r"
+    first = run_sweep(spec, out, executor="serial", progress=False)
+    assert first.chunks_run == first.chunks_total
+    again = run_sweep(spec, out, executor="serial", progress=False)
+    assert again.chunks_run == 0 and again.samples_run == 0
+    parts = sorted(out.glob("part-*.parquet"))
+    parts[0].write_bytes(parts[0].read_bytes()[:100])  # truncated: a partial write
+    parts[1].unlink()
+    fixed = run_sweep(spec, out, executor="serial", progress=False)
+    assert fixed.chunks_run == 2
+    pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "fresh"))
+
+
+def _frame_of_fresh(spec, out):
+    run_sweep(spec, out, executor="serial", progress=False)
+    return _frame(out)
+
+
+def test_different_spec_into_same_dir_is_refused(tmp_path, capsys):
+    spec = _write(tmp_path)
+    out = tmp_path / "o"
+    run_sweep(spec, out, executor="serial", progress=False)
+    other = _write(tmp_path, SPEC.replace("seed = 3", "seed = 4"), "other.toml")
+    assert main(["sweep", str(other), "--out", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "different sweep" in err
+
+
+def test_sigkill_then_resume_equals_uninterrupted(tmp_path):
+    spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
+    out = tmp_path / "killed"
+    cmd = _sweep_cmd(spec, out)
+    proc = subprocess.Popen(cmd, start_new_session=True)
+    deadline = time.time() + 60
+    while time.time() < deadline and len(list(out.glob("part-*.parquet"))) < 3:
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    n_parts = len(list(out.glob("part-*.parquet")))
+    total = 2 * 2 * 2 * 2 * 10
+    assert 0 < n_parts < total, "the kill should land mid-run"
+    subprocess.run(cmd, check=True)
+    assert len(list(out.glob("part-*.parquet"))) == total
+    pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "clean"))
+
+
+def test_dask_local_cluster_equals_local(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    spec = _write(tmp_path)
+    run_sweep(spec, tmp_path / "local", executor="serial", progress=False)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        run_sweep(spec, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False)
+    pd.testing.assert_frame_equal(_frame(tmp_path / "local"), _frame(tmp_path / "dask"))
+
+
+THRESHOLD_SPEC = """
+n = 6
+p_t = [0.0, 0.3]
+f_c = 0.5
+phi = ["shear", "compression"]
+samples = 16
+seed = 9
+[threshold]
+path = "p_r"
+"""
+
+
+def test_thresholds_derive_the_grid_probability_exactly(tmp_path):
+    from tensegrity_rigidity.analysis.estimators import probability_from_thresholds
+
+    spec_t = _write(tmp_path, THRESHOLD_SPEC, "t.toml")
+    run_sweep(spec_t, tmp_path / "t", executor="serial", progress=False)
+    th = load_results(tmp_path / "t")
+    grid = [0.3, 0.45, 0.55, 0.62, 0.7]  # p_r + p_t <= 1 at every point
+    grid_spec = THRESHOLD_SPEC.replace('[threshold]\npath = "p_r"', "").replace(
+        "n = 6", f"n = 6\np_r = {grid}"
+    )
+    spec_g = parse_spec(tomllib.loads(grid_spec))
+    run_sweep(spec_g, tmp_path / "g", executor="serial", progress=False)
+    g = load_results(tmp_path / "g")
+    for (p_t, phi), sub in th.groupby(["p_t", "phi"]):
+        derived = probability_from_thresholds(sub.sort_values("sample").threshold_p_r.values, grid)
+        direct = [
+            g[(g.p_t == p_t) & (g.phi == phi) & (g.p_r == p)].sort_values("sample").rigid.mean()
+            for p in grid
+        ]
+        np.testing.assert_array_equal(derived, direct)
+        # per sample too: rigid at p exactly when its threshold lies below p
+        for p in grid:
+            rows = g[(g.p_t == p_t) & (g.phi == phi) & (g.p_r == p)].sort_values("sample")
+            np.testing.assert_array_equal(
+                rows.rigid.values, sub.sort_values("sample").threshold_p_r.fillna(np.inf).values < p
+            )
+
+
+@pytest.mark.parametrize(
+    "text,needle",
+    [
+        ("n = 6\np_r = 0.5\nsamples = 2\nbogus = 1\n", "unknown key"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nspeed = 9\n", "unknown key"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nmax_truncated_steps = 'x'\n", "must be int"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nwork_tol = -1.0\n", "non-negative"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nfactorization = 'lu'\n", "factorization"),
+        ("n = 6\np_r = [0.5, 0.9]\np_t = 0.2\nsamples = 2\n", "exceeds 1"),
+        ("n = 6\np_r = []\nsamples = 2\n", "empty list"),
+        ("n = 6\np_r = 0.5\nsamples = 0\n", "at least 1"),
+        ("n = 1\np_r = 0.5\nsamples = 2\n", "at least 2"),
+        ("n = 6\np_r = 0.5\nphi = 'twist'\nsamples = 2\n", "phi must be"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[threshold]\npath = 'p_r'\n", "remove the 'p_r'"),
+        ("n = [6\n", "not valid TOML"),
+    ],
+)
+def test_bad_specs_fail_before_any_work(tmp_path, capsys, text, needle):
+    spec = _write(tmp_path, text)
+    with pytest.raises(SpecError):
+        load_spec(spec)
+    out = tmp_path / "never"
+    assert main(["sweep", str(spec), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and needle in err, err
+    assert not out.exists()
+
+
+def test_unreachable_scheduler_fails_before_any_work(tmp_path, capsys):
+    spec = _write(tmp_path)
+    out = tmp_path / "never"
+    code = main(["sweep", str(spec), "--out", str(out), "--scheduler", "tcp://127.0.0.1:9"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "cannot reach the Dask scheduler" in err and len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
+    spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
+    out = tmp_path / "int"
+    cmd = _sweep_cmd(spec, out)
+    proc = subprocess.Popen(cmd, start_new_session=True, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    while time.time() < deadline and len(list(out.glob("part-*.parquet"))) < 2:
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole process group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert "interrupted" in err and "Traceback" not in err
+    kept = list(out.glob("part-*.parquet"))
+    assert kept and not list(out.glob(".*.tmp"))
+    subprocess.run(cmd, check=True)
+    pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "clean"))

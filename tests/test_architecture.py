@@ -1,0 +1,54 @@
+"""The layering of ARCHITECTURE.md: each subpackage imports only the stages before it."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import tensegrity_rigidity
+
+ROOT = Path(tensegrity_rigidity.__file__).parent
+ORDER = ["model", "solver", "analysis", "ensemble", "paper", "cli"]
+
+
+def _imported_subpackages(path: Path) -> set[str]:
+    """Subpackages of tensegrity_rigidity imported by a module (relative or absolute)."""
+    pkg = path.parent.relative_to(ROOT).parts
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = list(pkg[: len(pkg) - node.level + 1])
+                target = base + (node.module.split(".") if node.module else [])
+                if not node.module:  # from .. import x
+                    target = base + [a.name for a in node.names][:1]
+            elif node.module and node.module.startswith("tensegrity_rigidity."):
+                target = node.module.split(".")[1:]
+            else:
+                continue
+            if target:
+                found.add(target[0])
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.startswith("tensegrity_rigidity."):
+                    found.add(a.name.split(".")[1])
+    return found
+
+
+@pytest.mark.parametrize("sub", ORDER)
+def test_each_stage_imports_only_earlier_stages(sub):
+    allowed = set(ORDER[: ORDER.index(sub) + 1]) | {"errors"}
+    for path in (ROOT / sub).glob("*.py"):
+        bad = _imported_subpackages(path) - allowed
+        assert not bad, f"{path.relative_to(ROOT)} imports {sorted(bad)}"
+
+
+def test_the_checker_sees_a_forbidden_import(tmp_path):
+    fake = ROOT / "model" / "_probe_forbidden.py"
+    fake.write_text("from ..solver.core import solve\n")
+    try:
+        assert _imported_subpackages(fake) == {"solver"}
+    finally:
+        fake.unlink()
