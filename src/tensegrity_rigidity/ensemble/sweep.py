@@ -1,7 +1,8 @@
 """Running a sweep: split the spec into chunks, skip finished ones, run the rest, save each.
 
-:func:`run_sweep` is the API behind ``tensegrity-rigidity sweep``. Rows depend only on the spec
-(see :mod:`~tensegrity_rigidity.ensemble.spec` on randomness), never on workers, chunk order or restarts.
+:func:`run_sweep` is the API behind ``tensegrity-rigidity sweep``. Rows depend only on the
+spec (see :mod:`~tensegrity_rigidity.ensemble.spec` on randomness), never on workers, chunk
+order or restarts.
 """
 
 from __future__ import annotations
