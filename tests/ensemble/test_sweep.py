@@ -175,8 +175,8 @@ def test_thresholds_derive_the_grid_probability_exactly(tmp_path):
     [
         ("n = 6\np_r = 0.5\nsamples = 2\nbogus = 1\n", "unknown key"),
         ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nspeed = 9\n", "unknown key"),
-        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nmax_truncated_steps = 'x'\n", "must be int"),
-        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nwork_tol = -1.0\n", "non-negative"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nmax_iter = 'x'\n", "must be int"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nviolation_tol = -1.0\n", "non-negative"),
         ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nfactorization = 'lu'\n", "factorization"),
         ("n = 6\np_r = [0.5, 0.9]\np_t = 0.2\nsamples = 2\n", "exceeds 1"),
         ("n = 6\np_r = []\nsamples = 2\n", "empty list"),

@@ -93,7 +93,7 @@ def test_refined_solve_reaches_a_shift_far_below_the_factorised_one():
     """
     from types import SimpleNamespace
 
-    from tensegrity_rigidity.solver.core import _RefinedSolve
+    from tensegrity_rigidity.solver.problem import RefinedSolve as _RefinedSolve
 
     n = 200
     s = np.logspace(0.0, -8.5, n)

@@ -48,23 +48,33 @@ def engaged_fractions(instance: Instance, result: SolveResult) -> tuple[float, f
 
 
 def sample_record(instance: Instance, result: SolveResult, gamma: float | None = None) -> dict:
-    """The per-sample scalars stored by sweeps."""
+    """The per-sample scalars stored by sweeps.
+
+    ``nonaffinity`` is computed from the minimum-norm displacements and is NaN where
+    ``min_norm_ok`` is False (no wrong number in its place).
+    """
     fc, fs = engaged_fractions(instance, result)
     kinds = instance.network.kinds
+    gamma_value = nonaffinity(instance, result, gamma) if result.min_norm_ok else float("nan")
     return {
         "rigid": bool(result.rigid),
         "decided": bool(result.decided),
         "energy": float(result.energy),
+        "energy_lower": float(result.energy_lower),
         "affine_energy": float(result.affine_energy),
-        "nonaffinity": nonaffinity(instance, result, gamma),
+        "nonaffinity": gamma_value,
+        "min_norm_ok": bool(result.min_norm_ok),
         "frac_cables_taut": fc,
         "frac_struts_taut": fs,
         "n_rods": int(np.count_nonzero(kinds == Element.ROD)),
         "n_cables": int(np.count_nonzero(kinds == Element.CABLE)),
         "n_struts": int(np.count_nonzero(kinds == Element.STRUT)),
+        "work": float(result.work),
         "force_residual": float(result.force_residual),
-        "floppy_residual": float(result.floppy_residual),
+        "violation": float(result.violation),
+        "displacement_size": float(result.displacement_size),
         "iterations": int(result.iterations),
+        "factorizations": int(result.factorizations),
         "method": result.method,
         "solve_seconds": float(result.seconds),
     }

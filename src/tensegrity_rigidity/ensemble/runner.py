@@ -62,7 +62,13 @@ def grid_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame
 
 
 def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
-    """Per-sample exact thresholds along the spec's path; one row each."""
+    """Per-sample exact thresholds along the spec's path; one row each.
+
+    ``threshold_p_r`` is the estimate; the threshold lies in
+    ``[threshold_p_r_low, threshold_p_r_high]`` (equal unless ``threshold_undecided`` probes
+    on the bisection path were within resolution of the boundary). ``decided`` is True when
+    the interval is a single event.
+    """
     opts = SolverOptions(**({"min_norm": False} | spec.solver))
     path = spec.threshold["path"]
     rows = []
@@ -78,6 +84,9 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
                 "path": path,
                 "threshold_p_r": th.s,
                 "threshold_p_t": th.p_t,
+                "threshold_p_r_low": th.s_low,
+                "threshold_p_r_high": th.s_high,
+                "threshold_undecided": th.undecided,
                 "solves": th.solves,
                 "decided": th.decided,
                 "solve_seconds": time.perf_counter() - start,

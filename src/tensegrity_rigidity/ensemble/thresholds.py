@@ -1,10 +1,10 @@
-"""Exact per-sample thresholds along monotone paths in (p_r, p_t), by bisection.
+"""Exact per-sample thresholds along monotone paths in (p_r, p_t), by certified bisection.
 
-With the coupled site uniforms of :mod:`~tensegrity_rigidity.elements`, a path on which both
-``p_r`` and ``p_r + p_t`` never decrease only ever adds elements or turns one-sided elements into
-rods, so a sample's rigidity is monotone along it (MODEL.md). The configuration changes only at
-finitely many *events* (where ``p_r`` or ``p_r + p_t`` crosses a site's ``U``); bisection over the
-sorted events finds the first rigid configuration in about ``log2(#events)`` solves.
+With the coupled site uniforms of :mod:`~tensegrity_rigidity.model.elements`, a path on which
+both ``p_r`` and ``p_r + p_t`` never decrease only ever adds elements or turns one-sided
+elements into rods, so a sample's rigidity is monotone along it (MODEL.md). The configuration
+changes only at finitely many *events* (where ``p_r`` or ``p_r + p_t`` crosses a site's ``U``);
+configuration ``i`` is the one after the first ``i`` events.
 
 Paths (parameter ``s``):
 
@@ -14,18 +14,35 @@ Paths (parameter ``s``):
 The threshold ``s*`` is the event that made the sample rigid: the sample is rigid for
 ``p_r > s*`` and floppy for ``p_r <= s*`` (``s* = nan`` if it is floppy along the whole path,
 ``s* = 0`` if rigid from the start). Hence ``P(p_r) = mean(s* < p_r)`` on any grid.
+
+Search. Each probe is a certified verdict (:func:`~tensegrity_rigidity.solver.decide`), and a
+certificate says more than its own configuration:
+
+* a rigid certificate (an admissible self-stress) stays admissible for every later
+  configuration, and for every earlier one in which each element it stresses already exists
+  with a compatible kind: the search jumps the upper end of the bracket to the first such
+  configuration;
+* a floppy certificate (a displacement) stays valid for every configuration up to the first
+  event that adds a constraint it violates: the lower end jumps there.
+
+Thresholds never drop a sample. When a probe is undecided (within resolution of the
+boundary, see :mod:`tensegrity_rigidity.solver.certificates`), the search goes on bisecting
+on both sides of it, for the last certified floppy configuration below it and the first
+certified rigid one above it, and reports the threshold as the interval of events between them
+(:attr:`Threshold.s_low`, :attr:`Threshold.s_high`) with the number of undecided probes. The
+search is deterministic: the same instance and options give the same probes and the same
+result on every run.
 """
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, UndecidedWarning
+from ..errors import InputError
 from ..model.network import Element, Instance, PeriodicNetwork
-from ..solver.core import SolverOptions, solve
+from ..solver.core import SolverOptions, Verdict, decide
 
 
 @dataclass(frozen=True)
@@ -35,61 +52,109 @@ class Threshold:
     Attributes
     ----------
     s : float
-        Critical p_r (see module docstring); nan if never rigid on the path.
+        Critical p_r (see module docstring); nan if never rigid on the path. Within an
+        interval (``s_low < s_high``) the event in its middle.
     p_t : float
-        p_t at the threshold.
+        p_t at ``s``.
     solves : int
-        Number of exact solves used.
-    decided : bool
-        False when a configuration on the bisection path had no certificate to tolerance
-        (a verdict below double-precision resolution); s is then nan and the sample should be
-        excluded from statistics, and counted.
+        Certified verdicts computed (probes).
+    s_low, s_high : float
+        The threshold lies in ``[s_low, s_high]``: the event after the last certified floppy
+        configuration and the event that made the first certified rigid one rigid. Equal to
+        ``s`` when every probe was decided.
+    undecided : int
+        Probes that were undecided (within resolution of the boundary).
+    jumps : int
+        Bracket moves made by certificate transfer instead of a probe.
     """
 
     s: float
     p_t: float
     solves: int
-    decided: bool = True
+    s_low: float = float("nan")
+    s_high: float = float("nan")
+    undecided: int = 0
+    jumps: int = 0
+
+    @property
+    def decided(self) -> bool:
+        """True when the threshold is a single event (no undecided probe left it open)."""
+        return self.s_low == self.s_high or (np.isnan(self.s_low) and np.isnan(self.s_high))
 
 
-def _events(u: np.ndarray, path: str, p_t: float):
-    """Sorted event positions and, per site, the index of its rod / one-sided event."""
-    m = u.size
-    if path == "p_r":
-        s_max = 1.0 - p_t
-        rod_s = np.where(u <= s_max, u, np.inf)
-        os_s = u - p_t  # becomes one-sided when s + p_t passes U
-        os_s = np.where((os_s > 0) & (os_s <= s_max), os_s, np.where(os_s <= 0, -np.inf, np.inf))
-    elif path == "total":
-        total = p_t
-        rod_s = np.where(u < total, u, np.inf)
-        os_s = np.where(u < total, -np.inf, np.inf)
-    else:
-        raise InputError(f"unknown threshold path {path!r}; use 'p_r' or 'total'")
-    pos = np.r_[rod_s, os_s]
-    kind = np.r_[np.zeros(m, int), np.ones(m, int)]
-    site = np.r_[np.arange(m), np.arange(m)]
-    finite = np.isfinite(pos)
-    order = np.argsort(pos[finite], kind="stable")
-    ev_pos = pos[finite][order]
-    ev_kind = kind[finite][order]
-    ev_site = site[finite][order]
-    initially_os = np.isneginf(os_s)
-    return ev_pos, ev_kind, ev_site, initially_os
+class EventPath:
+    """The configurations of one sample along a monotone path.
 
+    Parameters
+    ----------
+    u, v : (m,) float
+        The sample's site uniforms.
+    path : {"p_r", "total"}
+        The path (see the module docstring).
+    p_t : float
+        Fixed p_t (path "p_r") or the fixed total (path "total").
+    f_c : float
+        Cable fraction.
+    """
 
-def _kinds_after(i, ev_kind, ev_site, initially_os, v, f_c):
-    """Element kinds after the first i events."""
-    m = v.size
-    one_sided = initially_os.copy()
-    rod = np.zeros(m, bool)
-    one_sided[ev_site[:i][ev_kind[:i] == 1]] = True
-    rod[ev_site[:i][ev_kind[:i] == 0]] = True
-    kinds = np.full(m, Element.EMPTY, dtype=np.int64)
-    kinds[one_sided & (v < f_c)] = Element.CABLE
-    kinds[one_sided & (v >= f_c)] = Element.STRUT
-    kinds[rod] = Element.ROD
-    return kinds
+    def __init__(self, u: np.ndarray, v: np.ndarray, path: str, p_t: float, f_c: float):
+        m = u.size
+        if path == "p_r":
+            s_max = 1.0 - p_t
+            rod_s = np.where(u <= s_max, u, np.inf)
+            os_s = u - p_t  # becomes one-sided when s + p_t passes U
+            os_s = np.where(
+                (os_s > 0) & (os_s <= s_max), os_s, np.where(os_s <= 0, -np.inf, np.inf)
+            )
+        elif path == "total":
+            rod_s = np.where(u < p_t, u, np.inf)
+            os_s = np.where(u < p_t, -np.inf, np.inf)
+        else:
+            raise InputError(f"unknown threshold path {path!r}; use 'p_r' or 'total'")
+        pos = np.r_[rod_s, os_s]
+        kind = np.r_[np.zeros(m, int), np.ones(m, int)]
+        site = np.r_[np.arange(m), np.arange(m)]
+        finite = np.isfinite(pos)
+        order = np.argsort(pos[finite], kind="stable")
+        self.positions = pos[finite][order]  # (n_events,)
+        ev_kind = kind[finite][order]
+        ev_site = site[finite][order]
+        self.n_events = self.positions.size
+        # per site: index of the event that makes it a rod / one-sided (-1: from the start,
+        # n_events: never); configuration i has applied the events 0 .. i-1
+        self.rod_event = np.full(m, self.n_events)
+        self.os_event = np.where(np.isneginf(os_s), -1, self.n_events)
+        idx = np.arange(self.n_events)
+        self.rod_event[ev_site[ev_kind == 0]] = idx[ev_kind == 0]
+        self.os_event[ev_site[ev_kind == 1]] = idx[ev_kind == 1]
+        self.cable = v < f_c
+
+    def kinds(self, i: int) -> np.ndarray:
+        """Element kinds of configuration ``i`` (after the first i events), shape (m,)."""
+        rod = self.rod_event < i
+        one_sided = (self.os_event < i) & ~rod
+        kinds = np.full(self.cable.size, Element.EMPTY, dtype=np.int64)
+        kinds[one_sided & self.cable] = Element.CABLE
+        kinds[one_sided & ~self.cable] = Element.STRUT
+        kinds[rod] = Element.ROD
+        return kinds
+
+    def first_admitting(self, t: np.ndarray) -> int:
+        """First configuration in which self-stress ``t`` ((m,), all sites) is admissible."""
+        on = t != 0
+        sign_ok = np.where(self.cable, t >= 0, t <= 0)  # the one-sided kind admits t
+        first = np.where(sign_ok, np.minimum(self.os_event, self.rod_event), self.rod_event)
+        return int(first[on].max(initial=-1)) + 1
+
+    def last_admitting(self, viol_rod: np.ndarray, viol_os: np.ndarray) -> int:
+        """Last configuration in which a displacement stays a floppy certificate.
+
+        ``viol_rod``, ``viol_os`` ((m,) bool): whether the displacement violates a rod, resp.
+        the site's one-sided kind, there.
+        """
+        bad = np.where(viol_os, np.minimum(self.os_event, self.rod_event), self.n_events + 1)
+        bad = np.where(viol_rod & ~viol_os, self.rod_event, bad)
+        return int(bad.min(initial=self.n_events + 1))
 
 
 def find_threshold(
@@ -101,7 +166,6 @@ def find_threshold(
     f_c: float,
     path: str = "p_r",
     options: SolverOptions | None = None,
-    warm_start: bool = True,
 ) -> Threshold:
     """Exact critical p_r of one sample along a monotone path.
 
@@ -117,61 +181,167 @@ def find_threshold(
         Fixed p_t (path "p_r") or fixed total p_r + p_t (path "total").
     f_c : float
         Cable fraction.
-    warm_start : bool
-        Start each solve from the displacements of the solved configuration nearest on the path
-        (it differs by the elements added in between).
+    path : {"p_r", "total"}
+        The path.
+    options : SolverOptions, optional
+        Options of every verdict (the resolution model in particular).
+
+    Returns
+    -------
+    Threshold
+        The threshold, its interval and the work spent.
     """
     opts = options or SolverOptions(min_norm=False)
-    ev_pos, ev_kind, ev_site, initially_os = _events(u, path, p_t)
-    n_ev = ev_pos.size
-    cache: dict[int, bool] = {}
-    displacements: dict[int, np.ndarray] = {}
+    ev = EventPath(np.asarray(u, float), np.asarray(v, float), path, p_t, f_c)
+    n_ev = ev.n_events
+    status: dict[int, str] = {}
+    jumps = 0
+    res = opts.resolution
 
-    class _Undecided(Exception):
-        pass
+    hints: dict[str, np.ndarray | None] = {"t": None, "u": None}
 
-    def rigid(i: int) -> bool:
-        if i not in cache:
-            kinds = _kinds_after(i, ev_kind, ev_site, initially_os, v, f_c)
-            start = None
-            if warm_start and displacements:
-                start = displacements[min(displacements, key=lambda j: abs(j - i))]
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", UndecidedWarning)
-                res = solve(Instance(network.with_kinds(kinds), strain), opts, start)
-            if not res.decided:
-                raise _Undecided
-            cache[i] = res.rigid
-            displacements[i] = res.displacements
-        return cache[i]
+    def probe(i: int) -> str:
+        if i not in status:
+            kinds = ev.kinds(i)
+            verdict = decide(
+                Instance(network.with_kinds(kinds), strain),
+                opts,
+                initial_displacements=hints["u"],
+                initial_tensions=hints["t"],
+            )
+            status[i] = verdict.status
+            _transfer(i, kinds, verdict)
+        return status[i]
 
-    try:
-        return _bisect(rigid, n_ev, ev_pos, p_t, path, cache)
-    except _Undecided:
-        warnings.warn(
-            "threshold undecided: a configuration on the path has no certificate to tolerance",
-            UndecidedWarning,
-            stacklevel=2,
-        )
-        return Threshold(float("nan"), float("nan"), len(cache) + 1, decided=False)
+    lo_cert, hi_cert = [-1], [n_ev + 1]  # certified floppy / rigid bounds from transfers
 
+    def _transfer(i: int, kinds: np.ndarray, verdict: Verdict) -> None:
+        nonlocal jumps
+        sites = np.flatnonzero(kinds != Element.EMPTY)
+        if verdict.status == "rigid":
+            t = np.zeros(kinds.size)
+            t[sites] = verdict.rigid.t
+            hints["t"] = t
+            j = ev.first_admitting(t)
+            if j < i:
+                jumps += 1
+            hi_cert[0] = min(hi_cert[0], j)
+        elif verdict.status == "floppy":
+            hints["u"] = verdict.floppy.u * verdict.scale
+            vr, vo = _violated(network, strain, verdict.floppy, res, ev.cable)
+            j = ev.last_admitting(vr, vo)
+            if j > i:
+                jumps += 1
+            lo_cert[0] = max(lo_cert[0], min(j, n_ev))
 
-def _bisect(rigid, n_ev, ev_pos, p_t, path, cache) -> Threshold:
-    """Smallest rigid configuration index by bisection; rigid(i) is monotone in i."""
+    def rigid_at(i: int) -> bool | None:
+        if i >= hi_cert[0]:
+            return True
+        if i <= lo_cert[0]:
+            return False
+        s = probe(i)
+        if s == "undecided":
+            return None
+        return s == "rigid"
 
-    def p_t_at(s):
+    def result(a: int, b: int) -> Threshold:
+        """Threshold in (a, b]: a certified floppy (or -1), b certified rigid (or n_ev + 1:
+        not rigid anywhere on the path, certified only if a == n_ev)."""
+        undecided = sum(1 for s in status.values() if s == "undecided")
+        if b > n_ev:
+            if a == n_ev:  # certified floppy at the end of the path: never rigid
+                return Threshold(np.nan, np.nan, len(status), np.nan, np.nan, undecided, jumps)
+            s_low = float(ev.positions[a]) if a >= 0 else 0.0
+            return Threshold(np.nan, np.nan, len(status), s_low, np.inf, undecided, jumps)
+        if b == 0:
+            return Threshold(0.0, _p_t_at(0.0), len(status), 0.0, 0.0, undecided, jumps)
+        s_low = float(ev.positions[max(a, 0)]) if a >= 0 else 0.0
+        s_high = float(ev.positions[b - 1])
+        c = (a + 1 + b) // 2
+        s = float(ev.positions[c - 1]) if c >= 1 else 0.0
+        return Threshold(s, _p_t_at(s), len(status), s_low, s_high, undecided, jumps)
+
+    def _p_t_at(s: float) -> float:
         return p_t if path == "p_r" else p_t - s
 
-    if not rigid(n_ev):
-        return Threshold(float("nan"), float("nan"), len(cache))
-    if rigid(0):
-        return Threshold(0.0, p_t_at(0.0), len(cache))
-    lo, hi = 0, n_ev  # rigid(lo) False, rigid(hi) True
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if rigid(mid):
-            hi = mid
+    # the ends of the path
+    top = rigid_at(n_ev)
+    if top is False:
+        return result(n_ev, n_ev + 1)
+    bottom = rigid_at(0)
+    if bottom is True:
+        return result(-1, 0)
+    a = 0 if bottom is False else -1  # certified floppy (or -1: unknown below)
+    b = n_ev if top else n_ev + 1  # certified rigid (or beyond the path)
+    a, b = _bisect(rigid_at, a, b, lo_cert, hi_cert)
+    return result(a, b)
+
+
+def _violated(network: PeriodicNetwork, strain: np.ndarray, cert, res, cable: np.ndarray):
+    """Where a floppy certificate would be violated as a rod, resp. as the site's one-sided
+    kind, on every site (two (m,) bool arrays), evaluated like the certificate itself."""
+    from ..model.mechanics import affine_extensions
+    from ..solver.certificates import ExactGeometry, violation_roundoff
+
+    e0 = affine_extensions(network, strain)
+    scale = float(np.abs(e0).max()) or 1.0
+    pos = network.positions.astype(np.longdouble)
+    d = (
+        pos[network.bonds[:, 1]]
+        + network.shifts.astype(np.longdouble) @ network.box.astype(np.longdouble)
+        - pos[network.bonds[:, 0]]
+    )
+    sigma = np.where(cable, 1.0, -1.0)
+    geo = ExactGeometry(network.bonds, d, e0 / scale, sigma, network.n_nodes)
+    v = geo.extensions(cert.u)
+    limit = res.violation - violation_roundoff(cert.size)
+    return np.abs(v) > limit, sigma * v > limit
+
+
+def _bisect(rigid_at, a: int, b: int, lo_cert, hi_cert) -> tuple[int, int]:
+    """Narrow (a, b] around the threshold; undecided probes split the search in two.
+
+    ``rigid_at(i)`` is True (certified rigid), False (certified floppy) or None (undecided).
+    Returns (a, b): the largest certified floppy index found and the smallest certified rigid
+    one; every index strictly between them that was probed is undecided.
+    """
+    while True:
+        a = max(a, lo_cert[0])
+        b = min(b, hi_cert[0])
+        if b - a <= 1:
+            return a, b
+        mid = (a + b) // 2
+        r = rigid_at(mid)
+        if r is True:
+            b = mid
+        elif r is False:
+            a = mid
         else:
-            lo = mid
-    s = float(ev_pos[hi - 1])
-    return Threshold(s, p_t_at(s), len(cache))
+            # undecided: the last floppy lies in [a, mid), the first rigid in (mid, b]
+            a2, _ = _bisect_side(rigid_at, a, mid, want_floppy=True, lo_cert=lo_cert)
+            _, b2 = _bisect_side(rigid_at, mid, b, want_floppy=False, hi_cert=hi_cert)
+            return max(a2, lo_cert[0]), min(b2, hi_cert[0])
+
+
+def _bisect_side(rigid_at, a, b, want_floppy, lo_cert=None, hi_cert=None):
+    """Bisect (a, b) for the last certified floppy (or first certified rigid) index."""
+    while b - a > 1:
+        if lo_cert is not None:
+            a = max(a, lo_cert[0])
+        if hi_cert is not None:
+            b = min(b, hi_cert[0])
+        if b - a <= 1:
+            break
+        mid = (a + b) // 2
+        r = rigid_at(mid)
+        if want_floppy:
+            if r is False:
+                a = mid
+            else:
+                b = mid
+        else:
+            if r is True:
+                b = mid
+            else:
+                a = mid
+    return a, b

@@ -3,6 +3,7 @@
 Imports :mod:`tensegrity_rigidity.model` only.
 """
 
-from .core import SolveResult, SolverOptions, solve
+from .certificates import Resolution
+from .core import SolveResult, SolverOptions, Verdict, decide, solve
 
-__all__ = ["SolveResult", "SolverOptions", "solve"]
+__all__ = ["Resolution", "SolveResult", "SolverOptions", "Verdict", "decide", "solve"]

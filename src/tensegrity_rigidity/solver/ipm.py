@@ -34,9 +34,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .problem import Problem
+
 
 def interior_point(
-    p,
+    p: Problem,
     max_iter: int = 60,
     tol: float = 1e-10,
     checkpoints: tuple[float, ...] = (),
@@ -44,11 +46,12 @@ def interior_point(
     anchored: bool = False,
     center: np.ndarray | None = None,
 ):
-    """Approximately minimise the energy of problem ``p`` (a solver._Problem).
+    """Approximately minimise the energy of problem ``p`` (a :class:`~.problem.Problem`).
 
     Returns (u, w, lam, iterations): displacements (2N,), slacks and multipliers on the
     one-sided sites. Stops when the scaled residuals and the duality measure are below ``tol``,
-    or when ``callback(u)`` returns True; the callback is offered the displacements each time
+    or when ``callback(u, lam)`` returns True; the callback is offered the displacements and the
+    multipliers each time
     the larger of the two measures first falls below the next of the decreasing
     ``checkpoints`` (the caller tries to finish exactly from there). ``anchored`` adds the
     background stiffness ``p.mu`` to the objective (see the module docstring).
@@ -94,7 +97,7 @@ def interior_point(
         if pending and max(res, mu) <= pending[0]:
             while pending and max(res, mu) <= pending[0]:
                 pending.pop(0)
-            if callback is not None and callback(u * scale):
+            if callback is not None and callback(u * scale, lam * scale):
                 break
         ratio = lam / w
         D = k + ratio

@@ -1,0 +1,40 @@
+"""The near-threshold sample set of issue 13, shared by the benchmarks.
+
+Triangular lattice, delta = 0.2, path "p_r" at fixed p_t; six configurations
+(p_t, f_c, strain) and a random strain angle per sample. Sample k of size n and configuration c
+draws its geometry, uniforms and angle from ``default_rng([n, c, k])``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
+from tensegrity_rigidity.model.sampling import lattice_geometry
+from tensegrity_rigidity.model.strain import strain_tensor
+
+#: (p_t, f_c, strain) of the six configurations
+CONFIGS = [
+    (0.3, 1.0, "compression"),
+    (0.3, 1.0, "dilation"),
+    (0.3, 0.5, "shear"),
+    (0.1, 0.0, "compression"),
+    (0.6, 0.5, "shear"),
+    (0.2, 0.0, "dilation"),
+]
+
+
+def sample(n: int, c: int, k: int):
+    """(network, U, V, strain, p_t, f_c) of sample k of configuration c at size n."""
+    rng = np.random.default_rng([n, c, k])
+    p_t, f_c, phi = CONFIGS[c]
+    net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
+    theta = float(rng.uniform(0, 2 * np.pi))
+    return net, u, v, strain_tensor(phi, theta), p_t, f_c
+
+
+def samples(n: int, count: int):
+    """``count`` samples cycling through the configurations: yields (c, k, sample(n, c, k))."""
+    for i in range(count):
+        c, k = i % len(CONFIGS), i // len(CONFIGS)
+        yield c, k, sample(n, c, k)

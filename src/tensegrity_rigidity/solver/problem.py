@@ -1,0 +1,196 @@
+"""The non-empty part of an instance as the solver sees it, with a reusable factorisation.
+
+:class:`Problem` holds the rigidity matrix ``R`` of the non-empty sites, the affine extensions
+``e0``, stiffnesses, element signs and the fixed sparsity pattern of ``R^T D R + mu I`` into
+which every Newton, crossover and interior-point matrix is assembled (the fill-reducing ordering
+and symbolic analysis are computed once per instance; :mod:`.linalg`). It also carries the
+extended-precision geometry on which certificates are checked (:mod:`.certificates`).
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..model.mechanics import affine_extensions, rigidity_matrix
+from ..model.network import Element, Instance
+from .certificates import ExactGeometry
+from .linalg import PatternFactor
+
+
+class Problem:
+    """The non-empty part of an instance with a reusable factorisation of the Newton matrix."""
+
+    def __init__(
+        self,
+        instance: Instance,
+        regularization: float = 1e-12,
+        backend: str = "auto",
+        unit_stiffness: bool = False,
+    ):
+        net = instance.network
+        self.instance = instance
+        self.sites = np.flatnonzero(net.kinds != Element.EMPTY)
+        kinds = net.kinds[self.sites]
+        k = np.ones(self.sites.size) if unit_stiffness else net.stiffness_or_ones()[self.sites]
+        #: mean stiffness (physical units); ``k`` below is relative to it
+        self.k_scale = float(k.mean()) if k.size else 1.0
+        self.k = k / self.k_scale
+        self.rod = kinds == Element.ROD
+        # sigma = +1 for cables, -1 for struts: a one-sided element is engaged when sigma e > 0
+        self.sigma = np.where(
+            kinds == Element.CABLE, 1.0, np.where(kinds == Element.STRUT, -1.0, 0.0)
+        )
+        self.one_sided = ~self.rod
+        self.R = rigidity_matrix(net, self.sites)
+        self.RT = self.R.T.tocsr()
+        e0_all = affine_extensions(net, instance.strain)
+        e0 = e0_all[self.sites]
+        #: largest affine extension over all bond sites (physical units). Everything
+        #: below is in units of it: extensions and displacements are divided by ``scale``,
+        #: energies by ``k_scale scale^2``, tensions by ``k_scale scale``.
+        self.scale = float(np.abs(e0_all).max()) if e0_all.size else 0.0
+        self.e0 = e0 / self.scale if self.scale > 0 else e0
+        self.n2 = 2 * net.n_nodes
+        self.mu = regularization
+        self._pattern()
+        self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend)
+        self._weights: np.ndarray | None = None
+        self._factor_shift, self._refine_iterations = 0.0, 0  # see shifted()
+        self.factorizations = 0
+        self._exact: ExactGeometry | None = None
+
+    @property
+    def exact(self) -> ExactGeometry:
+        """The extended-precision geometry of the certificates (built on first use)."""
+        if self._exact is None:
+            net = self.instance.network
+            pos = net.positions.astype(np.longdouble)
+            box = net.box.astype(np.longdouble)
+            b = net.bonds[self.sites]
+            d = pos[b[:, 1]] + net.shifts[self.sites].astype(np.longdouble) @ box - pos[b[:, 0]]
+            self._exact = ExactGeometry(b, d, self.e0, self.sigma, net.n_nodes)
+        return self._exact
+
+    def _pattern(self) -> None:
+        """Fixed upper-triangular CSC pattern of R^T D R + mu I and the scatter map into it."""
+        net = self.instance.network
+        i, j = net.bonds[self.sites, 0], net.bonds[self.sites, 1]
+        cols = np.c_[2 * i, 2 * i + 1, 2 * j, 2 * j + 1]  # (m, 4)
+        d = net.bond_vectors()[self.sites]
+        dhat = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+        vals = np.c_[-dhat, dhat]  # row b of R: -dhat at node i, +dhat at node j
+        rr_rows = np.repeat(cols, 4, axis=1)  # (m, 16): row index of entry (p, q) = cols[p]
+        rr_cols = np.tile(cols, (1, 4))  # col index = cols[q]
+        rr_vals = np.einsum("bp,bq->bpq", vals, vals).reshape(-1, 16)
+        keep = rr_rows <= rr_cols  # upper triangle
+        diag = np.arange(self.n2)
+        rows = np.r_[rr_rows[keep], diag]
+        colsf = np.r_[rr_cols[keep], diag]
+        # distinct (col, row) entries in CSC order, and where each contribution lands: a sparse
+        # COO -> CSC conversion plus a binary search is 2x faster than np.unique's inverse
+        csc = sp.csc_matrix((np.ones(rows.size), (rows, colsf)), shape=(self.n2, self.n2))
+        csc.sum_duplicates()
+        uniq = np.repeat(np.arange(self.n2, dtype=np.int64), np.diff(csc.indptr)) * self.n2
+        uniq += csc.indices
+        self._inverse = np.searchsorted(uniq, colsf.astype(np.int64) * self.n2 + rows)
+        self._rr = rr_vals[keep]  # values per kept entry, ordered like rr_rows[keep]
+        self._bond_of_entry = np.nonzero(keep)[0]
+        self._indices = csc.indices.astype(np.int32)
+        self._indptr = csc.indptr.astype(np.int32)
+        self._nnz = len(uniq)
+
+    def values(self, weights: np.ndarray, shift: float | None = None) -> np.ndarray:
+        """Entries of R^T diag(weights) R + shift I (default shift ``mu``) in the fixed
+        upper-triangular pattern."""
+        shift = self.mu if shift is None else shift
+        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, shift)]
+        return np.bincount(self._inverse, weights=w, minlength=self._nnz)
+
+    def factor(self, weights: np.ndarray) -> PatternFactor | RefinedSolve:
+        """A solver for ``R^T diag(weights) R + mu I``: its factorisation, reused while the
+        weights do not change; or, when ``mu`` is below the factorised shift (see
+        :meth:`shifted`), conjugate gradients preconditioned by the factorisation at that
+        shift."""
+        shift = max(self.mu, self._factor_shift)
+        if self._weights is None or not np.array_equal(weights, self._weights):
+            self._weights = None  # until the factorisation below succeeds
+            self._factor.factor(self.values(weights, shift))
+            self._weights = weights.copy()
+            self.factorizations += 1
+        if shift == self.mu:
+            return self._factor
+        return RefinedSolve(self, self._factor, weights, self._refine_iterations)
+
+    def factor_values(self, values: np.ndarray) -> PatternFactor:
+        """Factorise a matrix given by its values in the fixed pattern (see :meth:`values`)."""
+        self._weights = None
+        self._factor.factor(values)
+        self.factorizations += 1
+        return self._factor
+
+    @contextmanager
+    def shifted(self, mu: float, factor_shift: float = 0.0, refine_iterations: int = 0):
+        """Use the diagonal shift (background stiffness) ``mu`` inside the block.
+
+        A shift far below round-off in the matrix (``mu < ~1e-15 k``) cannot be factorised
+        stably, and a factorisation at a larger shift leaves the solution wrong along the
+        near-floppy modes whose stiffness is below that shift. With ``factor_shift > mu`` the
+        matrix is factorised at ``factor_shift`` and each solve is refined by at most
+        ``refine_iterations`` conjugate-gradient iterations on the exact matrix, preconditioned
+        by that factorisation (:class:`RefinedSolve`).
+        """
+        saved = self.mu, self._factor_shift, self._refine_iterations
+        self.mu, self._weights = mu, None
+        self._factor_shift, self._refine_iterations = factor_shift, refine_iterations
+        try:
+            yield self
+        finally:
+            self.mu, self._factor_shift, self._refine_iterations = saved
+            self._weights = None
+
+    def energy(self, u: np.ndarray) -> float:
+        """E(u), the energy of displacements u (without any background stiffness)."""
+        e, _, t = self.state(u)
+        return 0.5 * float(np.dot(t, e))
+
+    def active(self, e: np.ndarray) -> np.ndarray:
+        return self.rod | (self.sigma * e > 0)
+
+    def state(self, u: np.ndarray):
+        e = self.e0 + self.R @ u
+        act = self.active(e)
+        t = np.where(act, self.k * e, 0.0)
+        return e, act, t
+
+
+class RefinedSolve:
+    """Solves with ``R^T diag(weights) R + mu I`` for a shift ``mu`` too small to factorise.
+
+    Conjugate gradients (SciPy) on the exact matrix, applied as ``R^T (w * (R x)) + mu x``,
+    preconditioned by the factorisation at a larger shift and started from its solution. The
+    products through ``R`` resolve near-floppy modes whose stiffness is far below round-off in
+    the assembled matrix (their singular values in ``R`` are ~1e-8, well above it), and the
+    preconditioned matrix has its spectrum in ``[mu / shift, 1]``, so a few tens of iterations
+    go a long way. The iteration count is capped (``max_iter``): an interior-point method
+    tolerates an inexact direction, and every result is checked by its certificates anyway.
+    """
+
+    def __init__(self, p: Problem, factor: PatternFactor, weights: np.ndarray, max_iter: int):
+        from scipy.sparse.linalg import LinearOperator
+
+        n, R, RT, mu = p.n2, p.R, p.RT, p.mu
+        self.A = LinearOperator((n, n), matvec=lambda x: RT @ (weights * (R @ x)) + mu * x)
+        self.M = LinearOperator((n, n), matvec=factor.solve)
+        self.preconditioner, self.max_iter = factor, max_iter
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        from scipy.sparse.linalg import cg
+
+        x0 = self.preconditioner.solve(b)
+        if self.max_iter <= 0:
+            return x0
+        x, _ = cg(self.A, b, x0=x0, rtol=1e-10, maxiter=self.max_iter, M=self.M)
+        return x

@@ -1,0 +1,449 @@
+"""The verdict search: stages that propose points, one search state that checks them.
+
+A verdict is a certificate accepted by the resolution model of :mod:`.certificates`; nothing
+else decides. The stages only propose candidates:
+
+* displacements ``u`` (floppy candidates, checked as they are);
+* tensions ``t`` (rigid candidates, first moved onto an exact self-stress by
+  :func:`~.selfstress.purify`).
+
+:class:`Search` holds what all stages share: the problem, the lowest-energy point so far and
+the best candidate of each kind. Stages run in the order given by
+``SolverOptions.stages`` until one candidate is accepted. Each stage is a small object with a
+``name`` and a ``run(search)`` method and can be run on its own (the tests do). Every limit is
+a count of iterations or factorisations, never a time: the verdict is a function of the
+instance and the options only.
+
+Stages (``STAGES``; the default order is :data:`DEFAULT_STAGES`):
+
+``affine``
+    The tensions of the affine deformation, purified: deeply rigid samples end here.
+``newton``
+    Semismooth Newton on the energy with exact line search, from the origin (or a warm start).
+    Away from the transition samples end here in 4 to 10 factorisations.
+``crossover``
+    The energy minimised exactly on a guessed near-tight set from the lowest-energy point,
+    corrected by KKT signs (:func:`~.newton.crossover`).
+``ipm``
+    The specialised interior point of :mod:`.ipm`; at accuracies 1e-3, 1e-5 and 1e-7 and at
+    its end its tensions are purified and its displacements crossed over.
+``proximal``
+    Proximal-point steps on the energy, each an interior point anchored by a tiny background
+    stiffness (see :class:`Proximal`), for floppy samples whose zero-energy set lies far out.
+``lp``
+    The verdict LP over self-stresses with ``|t_b| <= 1`` (HiGHS's interior point, an iteration
+    limit, no crossover); its primal is purified, its dual displacements are checked and
+    crossed over.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .certificates import FloppyCertificate, Resolution, RigidCertificate
+from .ipm import interior_point
+from .newton import crossover, newton
+from .problem import Problem
+from .selfstress import purify
+
+#: Relative sizes below which approximate tensions are dropped before purification, tried in
+#: turn: an interior point resolves its tensions to about its accuracy, and elements it
+#: leaves at that level usually belong to no self-stress.
+SUPPORT_TOLS = (1e-6, 1e-9)
+
+
+@dataclass
+class Search:
+    """State shared by the stages of one verdict search (normalised units of the problem).
+
+    Attributes
+    ----------
+    p : Problem
+        The problem (unit stiffness for the verdict).
+    resolution : Resolution
+        Tolerances of the certificates.
+    u, E : (2N,) float, float
+        The lowest-energy point offered so far and its energy.
+    floppy : FloppyCertificate or None
+        The accepted floppy certificate, else the candidate with the smallest violation among
+        those within the displacement bound (or the smallest overall).
+    rigid : RigidCertificate or None
+        The accepted rigid certificate, else the candidate with the largest margin
+        ``work - U residual``.
+    stage : str
+        The stage whose candidate was accepted ("" while undecided).
+    iterations : int
+        Newton iterations spent.
+    """
+
+    p: Problem
+    resolution: Resolution
+    u: np.ndarray = field(default=None)  # type: ignore[assignment]
+    E: float = np.inf
+    floppy: FloppyCertificate | None = None
+    rigid: RigidCertificate | None = None
+    stage: str = ""
+    iterations: int = 0
+
+    def __post_init__(self):
+        if self.u is None:
+            self.u = np.zeros(self.p.n2)
+            self.E = self.p.energy(self.u)
+
+    @property
+    def decided(self) -> bool:
+        return bool(self.stage)
+
+    @property
+    def rigid_verdict(self) -> bool:
+        return self.rigid is not None and self.rigid.accepted
+
+    def offer_u(self, u: np.ndarray, stage: str, E: float | None = None) -> bool:
+        """Offer displacements; True once the search is decided."""
+        if self.decided:
+            return True
+        u = np.asarray(u, dtype=float)
+        if not np.all(np.isfinite(u)):
+            return False
+        E = self.p.energy(u) if E is None else E
+        if E < self.E:
+            self.u, self.E = u, E
+        cert = self.p.exact.floppy(u, self.resolution)
+        if self.floppy is None or _floppy_key(cert) < _floppy_key(self.floppy):
+            self.floppy = cert
+        if cert.accepted:
+            self.stage = stage
+        return self.decided
+
+    def offer_t(self, t: np.ndarray, stage: str) -> bool:
+        """Offer approximate tensions (purified first); True once the search is decided."""
+        if self.decided:
+            return True
+        t = np.asarray(t, dtype=float)
+        if not np.all(np.isfinite(t)) or not np.any(t):
+            return False
+        for support_tol in SUPPORT_TOLS:
+            try:
+                tp = purify(self.p, t, support_tol=support_tol)
+            except ArithmeticError:
+                continue
+            cert = self.p.exact.rigid(tp, self.resolution)
+            if self.rigid is None or _rigid_key(cert, self.resolution) > _rigid_key(
+                self.rigid, self.resolution
+            ):
+                self.rigid = cert
+            if cert.accepted:
+                self.stage = stage
+                break
+        return self.decided
+
+    def offer_point(self, u: np.ndarray, stage: str) -> bool:
+        """Offer displacements and the tensions of the energy at them."""
+        e, _, t = self.p.state(u)
+        E = 0.5 * float(np.dot(t, e))
+        return self.offer_u(u, stage, E) or (E > 0 and self.offer_t(t, stage))
+
+    def crossovers(self, u: np.ndarray, stage: str, taus=(1e-7, 1e-5, 1e-3)) -> bool:
+        """Crossovers from u with widening near-tight guesses; True once decided."""
+        for tau in taus:
+            x = crossover(self.p, u, tau=tau)
+            if x is not None and self.offer_point(x, stage):
+                return True
+        return False
+
+
+def _floppy_key(c: FloppyCertificate, bound: float = np.inf) -> tuple:
+    return (not c.accepted, c.size > bound, c.violation)
+
+
+def _rigid_key(c: RigidCertificate, res: Resolution) -> float:
+    return c.work - res.displacement * c.residual
+
+
+# --------------------------------------------------------------------------- stages
+
+
+@dataclass(frozen=True)
+class Affine:
+    """The tensions of the affine deformation, purified: decides deeply rigid samples in a
+    few factorisations."""
+
+    name: str = "affine"
+
+    def run(self, s: Search) -> None:
+        s.offer_point(np.zeros(s.p.n2), self.name)
+
+
+@dataclass(frozen=True)
+class Newton:
+    """Semismooth Newton from the search's point (see :func:`~.newton.newton`)."""
+
+    max_iter: int = 15
+    max_truncated: int = 4
+    name: str = "newton"
+
+    def run(self, s: Search) -> None:
+        # stop once the energy alone would allow a violation well below tau
+        floor = 0.5 * (0.1 * s.resolution.violation) ** 2
+        u, E, it = newton(s.p, s.u, self.max_iter, self.max_truncated, floor)
+        s.iterations += it
+        s.offer_point(u, self.name)
+
+
+@dataclass(frozen=True)
+class Crossover:
+    """Crossovers from the lowest-energy point so far."""
+
+    taus: tuple[float, ...] = (1e-7, 1e-5, 1e-3)
+    name: str = "crossover"
+
+    def run(self, s: Search) -> None:
+        s.crossovers(s.u, self.name, self.taus)
+
+
+@dataclass(frozen=True)
+class InteriorPoint:
+    """The energy interior point with purification and crossovers on the way.
+
+    At each checkpoint accuracy the multipliers are purified into a self-stress and the
+    displacements get the tightest crossover guess; at the end all three guesses.
+    """
+
+    checkpoints: tuple[float, ...] = (1e-3, 1e-5, 1e-7)
+    tol: float = 1e-9
+    max_iter: int = 60
+    name: str = "ipm"
+
+    def run(self, s: Search) -> None:
+        def tensions(u, lam):
+            e = s.p.e0 + s.p.R @ u
+            t = s.p.k * e
+            t[s.p.one_sided] = s.p.sigma[s.p.one_sided] * lam
+            return t
+
+        def on_checkpoint(u, lam):
+            return (
+                s.offer_u(u, self.name)
+                or s.offer_t(tensions(u, lam), self.name)
+                or s.crossovers(u, self.name, taus=(1e-7,))
+            )
+
+        u, _, lam, _ = interior_point(
+            s.p,
+            max_iter=self.max_iter,
+            tol=self.tol,
+            checkpoints=self.checkpoints,
+            callback=on_checkpoint,
+        )
+        if not s.decided:
+            s.offer_u(u, self.name)
+        if not s.decided:
+            s.offer_t(tensions(u, lam), self.name)
+        if not s.decided:
+            s.crossovers(u, self.name)
+
+
+@dataclass(frozen=True)
+class Proximal:
+    """Proximal-point steps on the energy, each an anchored interior point.
+
+    Step 0 minimises ``E(u) + mu/2 |u|^2`` from the origin and step j
+    ``E(u) + mu/2 |u - u_(j-1)|^2`` from the previous end point, with ``mu = regularization``
+    (relative to the mean stiffness). The end points stay near the minimum-norm minimiser
+    where the plain interior point drifts to ``|u| ~ 1e6``. A shift below ``factor_shift``
+    cannot be factorised (round-off in the assembled matrix is ~1e-16): the matrices are then
+    factorised at ``factor_shift`` and each corrector solve is refined by at most
+    ``refine_iterations`` conjugate-gradient iterations on the exact matrix
+    (:class:`~.problem.RefinedSolve`). A run ends after ``steps`` steps, once a step lowers the
+    energy by less than 4x, or when a factorisation fails; if it decided nothing, the stage
+    runs again at ``factor_shift`` with direct solves.
+    """
+
+    regularization: float = 1e-18
+    factor_shift: float = 1e-15
+    refine_iterations: int = 20
+    steps: int = 6
+    name: str = "proximal"
+
+    def run(self, s: Search) -> None:
+        p = s.p
+        runs = [(self.regularization, self.refine_iterations)]
+        if self.regularization < self.factor_shift:
+            runs.append((self.factor_shift, 0))
+        for mu, refine in runs:
+            try:
+                with p.shifted(mu, self.factor_shift, refine):
+                    if self._steps(s):
+                        return
+            except ArithmeticError:  # mu too small for this sample's matrix
+                continue
+
+    def _steps(self, s: Search) -> bool:
+        p = s.p
+        default_shift = p.mu
+
+        def offer(x, lam):
+            if s.offer_u(x, self.name):
+                return True
+            t = s.p.k * (s.p.e0 + s.p.R @ x)
+            t[p.one_sided] = p.sigma[p.one_sided] * lam
+            if s.offer_t(t, self.name):
+                return True
+            with p.shifted(default_shift):
+                return s.crossovers(x, self.name)
+
+        u, _, lam, _ = interior_point(p, tol=1e-10, anchored=True)
+        E = p.energy(u)
+        if offer(u, lam):
+            return True
+        for _ in range(self.steps):
+            x, _, lam, _ = interior_point(p, tol=1e-10, anchored=True, center=u)
+            E_x = p.energy(x)
+            if offer(x, lam):
+                return True
+            if not E_x < E / 4:  # the steps have stalled
+                return False
+            u, E = x, E_x
+        return False
+
+
+@dataclass(frozen=True)
+class LinearProgram:
+    """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
+
+    First the verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1``: HiGHS's
+    interior point (no crossover, one thread, at most ``max_iter`` iterations) gives a point
+    near the analytic centre of the optimal face; its tensions are purified and offered, its
+    dual displacements offered and crossed over. Then, if nothing was accepted, the feasibility
+    LP for a zero-energy displacement by the dual simplex (at most ``max_simplex_iter``
+    iterations): a vertex satisfies its rows to HiGHS's tolerance and is checked as it is. A
+    HiGHS failure leaves the search as it was.
+    """
+
+    max_iter: int = 400
+    max_simplex_iter: int = 200_000
+    name: str = "lp"
+
+    def run(self, s: Search) -> None:
+        import highspy
+
+        p = s.p
+        A = p.RT.tocsc()
+        lo = np.where(p.sigma > 0, 0.0, -1.0)
+        hi = np.where(p.sigma < 0, 0.0, 1.0)
+        lp = highspy.HighsLp()
+        lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
+        lp.col_cost_ = -p.e0
+        lp.col_lower_, lp.col_upper_ = lo, hi
+        lp.row_lower_ = lp.row_upper_ = np.zeros(A.shape[0])
+        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+        lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = (
+            A.indptr,
+            A.indices,
+            A.data,
+        )
+        h = highspy.Highs()
+        for key, value in (
+            ("output_flag", False),
+            ("solver", "ipm"),
+            ("run_crossover", "off"),
+            ("threads", 1),
+            ("ipm_iteration_limit", self.max_iter),
+        ):
+            h.setOptionValue(key, value)
+        h.passModel(lp)
+        h.run()
+        sol = h.getSolution()
+        if not (sol.value_valid and sol.dual_valid):
+            return
+        t = np.asarray(sol.col_value, dtype=float)
+        if s.offer_t(np.clip(t, lo, hi), self.name):
+            return
+        # HiGHS's row duals y satisfy c - A^T y = reduced costs, i.e. e0 + R y = -(bound
+        # duals): y is a displacement whose extensions are admissible at the optimum 0.
+        u = np.asarray(sol.row_dual, dtype=float)
+        if s.offer_u(u, self.name) or s.crossovers(u, self.name):
+            return
+        u = _feasibility_vertex(p, self.max_simplex_iter)
+        if u is not None and not s.offer_u(u, self.name):
+            s.crossovers(u, self.name)
+
+
+def _feasibility_vertex(p: Problem, max_iter: int) -> np.ndarray | None:
+    """A vertex of ``{u : e0 + R u admissible}`` by HiGHS's dual simplex (None if none found).
+
+    Rows in site order: rods ``R u = -e0``, cables ``R u <= -e0``, struts ``R u >= -e0``; the
+    columns are free. At most ``max_iter`` simplex iterations, one thread.
+    """
+    import highspy
+
+    A = p.R.tocsc()
+    inf = highspy.kHighsInf
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
+    lp.col_cost_ = np.zeros(A.shape[1])
+    lp.col_lower_ = np.full(A.shape[1], -inf)
+    lp.col_upper_ = np.full(A.shape[1], inf)
+    lp.row_lower_ = np.where(p.sigma > 0, -inf, -p.e0)
+    lp.row_upper_ = np.where(p.sigma < 0, inf, -p.e0)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
+    h = highspy.Highs()
+    for key, value in (
+        ("output_flag", False),
+        ("solver", "simplex"),
+        ("threads", 1),
+        ("simplex_iteration_limit", max_iter),
+        ("primal_feasibility_tolerance", 1e-9),
+    ):
+        h.setOptionValue(key, value)
+    h.passModel(lp)
+    h.run()
+    if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+        return None
+    return np.asarray(h.getSolution().col_value, dtype=float)
+
+
+#: The stages by name, for ``SolverOptions.stages``.
+STAGES = {
+    "affine": Affine(),
+    "newton": Newton(),
+    "crossover": Crossover(),
+    "ipm": InteriorPoint(),
+    "proximal": Proximal(),
+    "lp": LinearProgram(),
+}
+
+#: The default order of the stages.
+DEFAULT_STAGES = ("affine", "newton", "crossover", "ipm", "proximal", "lp")
+
+
+def search(
+    p: Problem,
+    resolution: Resolution,
+    stages,
+    start: np.ndarray | None = None,
+    start_tensions: np.ndarray | None = None,
+) -> Search:
+    """Run ``stages`` (Stage objects) in order until a certificate is accepted.
+
+    ``start`` ((2N,), normalised units) and ``start_tensions`` ((m,), non-empty sites) are
+    candidates from elsewhere (a neighbouring configuration, say): the tensions are purified
+    and offered, the displacements offered, crossed over, and used as Newton's start.
+    """
+    s = Search(p, resolution)
+    if not np.any(p.e0):  # nothing is strained: u = 0 is exact
+        s.offer_u(np.zeros(p.n2), "trivial")
+    if start_tensions is not None and not s.decided:
+        s.offer_t(start_tensions, "hint")
+    if start is not None and not s.decided:
+        start = np.asarray(start, dtype=float).ravel()
+        if not s.offer_u(start, "hint"):
+            s.crossovers(start, "hint", taus=(1e-9, 1e-7))
+    for stage in stages:
+        if s.decided:
+            break
+        stage.run(s)
+    return s
