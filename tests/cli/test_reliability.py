@@ -18,6 +18,8 @@ from tensegrity_rigidity import lattice_instance, save_instance
 from tensegrity_rigidity.analysis.estimators import wilson
 from tensegrity_rigidity.cli.main import main
 
+from ..processes import unprivileged
+
 SPEC = """
 n = 5
 p_r = [0.55, 0.7]
@@ -90,6 +92,23 @@ def test_sample_into_a_directory_or_nowhere_leaves_no_temporary(tmp_path, capsys
     err = _one_error(capsys, main(["sample", "", "--n", "4", "--p-r", "0.5"]))
     assert "empty" in err
     assert [p.name for p in tmp_path.iterdir()] == ["d.npz"]
+
+
+def test_sample_into_a_read_only_directory_leaves_no_temporary(tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    cmd = [sys.executable, "-m", "tensegrity_rigidity", "sample", str(ro / "s.npz")]
+    try:
+        proc = subprocess.run(
+            unprivileged(cmd + ["--n", "4", "--p-r", "0.5"]), capture_output=True, text=True
+        )
+        err = proc.stderr.strip()
+        assert proc.returncode == 2 and len(err.splitlines()) == 1, err
+        assert err.startswith("error: ") and "Permission denied" in err
+        assert list(ro.iterdir()) == []
+    finally:
+        ro.chmod(0o755)
 
 
 def test_sample_onto_a_full_disk(tmp_path, capsys, monkeypatch):

@@ -24,6 +24,8 @@ from tensegrity_rigidity.ensemble.store import ResultStore
 from tensegrity_rigidity.ensemble.sweep import load_results, run_sweep
 from tensegrity_rigidity.errors import InputError, SpecError
 
+from ..processes import unprivileged
+
 SMALL = """
 n = 5
 p_r = [0.55, 0.7]
@@ -111,7 +113,7 @@ def _check_one_writer(out: Path) -> None:
     rows = load_results(out, all_rows=True)
     assert len(rows) and rows["seed"].nunique() == 1  # no foreign rows
     assert rows.duplicated(["point_key", "sample", "theta"]).sum() == 0
-    assert len(rows) == sum(1 for _ in out.glob("part-*.parquet")) * 4
+    assert len(rows) == len(ResultStore(out).manifest()) * 4
 
 
 def test_two_sweeps_started_together_one_writes_the_other_is_refused(tmp_path):
@@ -126,13 +128,15 @@ def test_two_sweeps_started_together_one_writes_the_other_is_refused(tmp_path):
         time.sleep(0.05)
     winner = next(p for p in procs if p is not refused)
     _wait_for_parts(out, 2, winner)
-    winner.send_signal(signal.SIGINT)
+    winner.send_signal(
+        signal.SIGTERM
+    )  # (SIGINT may be ignored when the tests run in the background)
     _, winner_err = winner.communicate(timeout=60)
     assert refused is not None, "neither sweep was refused"
     err = refused.stderr.read().strip()
     assert refused.returncode == 2 and len(err.splitlines()) == 1, err
     assert "being written by another sweep" in err and "pid" in err
-    assert winner.returncode == 130 and "Traceback" not in winner_err, winner_err
+    assert winner.returncode == 143 and "Traceback" not in winner_err, winner_err
     _check_one_writer(out)
 
 
@@ -148,9 +152,9 @@ def test_refused_sweep_touches_nothing_of_the_running_one(tmp_path):
         assert second.returncode == 2 and "being written by another sweep" in second.stderr
         assert running.poll() is None, "the running sweep died"
     _wait_for_parts(out, len(list(out.glob("part-*.parquet"))) + 2, running)
-    running.send_signal(signal.SIGINT)
+    running.send_signal(signal.SIGTERM)
     _, err = running.communicate(timeout=60)
-    assert running.returncode == 130 and "Traceback" not in err, err
+    assert running.returncode == 143 and "Traceback" not in err, err
     _check_one_writer(out)
 
 
@@ -431,6 +435,21 @@ def test_what_cannot_fit_is_refused_before_starting(tmp_path, text, needle):
     assert time.time() - start < 60 and not out.exists()
 
 
+def test_disk_too_small_for_the_missing_rows_is_refused(tmp_path, monkeypatch):
+    import shutil
+
+    spec = _write(tmp_path, SMALL)
+    out = tmp_path / "d"
+    run_sweep(spec, out, executor="serial", progress=False)  # 64 rows done
+    grown = _write(tmp_path, SMALL.replace("samples = 8", "samples = 12"), "g.toml")
+    real = shutil.disk_usage
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: real(p)._replace(free=50_000))
+    with pytest.raises(SpecError, match=r"32 missing rows need about 120.3 KiB of disk"):
+        run_sweep(grown, out, executor="serial", progress=False)
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: real(p)._replace(free=300_000))
+    assert run_sweep(grown, out, executor="serial", progress=False).samples_run == 32
+
+
 def test_out_that_is_a_file_or_empty_is_one_line(tmp_path, capsys):
     spec = _write(tmp_path, SMALL)
     afile = tmp_path / "afile"
@@ -442,19 +461,6 @@ def test_out_that_is_a_file_or_empty_is_one_line(tmp_path, capsys):
     assert afile.read_text() == "x" and not list(Path.cwd().glob("part-*"))
 
 
-def _unprivileged(cmd: list[str]) -> list[str]:
-    """``cmd`` without the capabilities that let root ignore file permissions."""
-    if os.geteuid() != 0:
-        return cmd
-    import shlex
-    import shutil
-
-    if shutil.which("capsh") is None:
-        pytest.skip("running as root without capsh: permissions cannot be tested")
-    drop = "--drop=cap_dac_override,cap_dac_read_search,cap_fowner"
-    return ["capsh", drop, "--", "-c", "exec " + shlex.join(cmd)]
-
-
 @pytest.mark.skipif(not hasattr(os, "geteuid"), reason="POSIX permissions")
 def test_read_only_out_is_one_line(tmp_path):
     spec = _write(tmp_path, SMALL)
@@ -463,7 +469,7 @@ def test_read_only_out_is_one_line(tmp_path):
     ro.chmod(0o555)
     try:
         for out in (ro, ro / "sub"):
-            cmd = _unprivileged(_cmd(spec, out, 1))
+            cmd = unprivileged(_cmd(spec, out, 1))
             proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
             assert proc.returncode == 2, proc.stderr
             err = proc.stderr.strip()

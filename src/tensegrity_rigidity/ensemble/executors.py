@@ -107,6 +107,8 @@ def die_with_parent() -> None:
 def _init_worker() -> None:
     """Set up a local worker process: die with the parent, one BLAS thread, no Ctrl-C.
 
+    SIGTERM ends a worker (the pool then reports it dead); the main process handles its own.
+
     Each worker is one core's worth of work, so the BLAS libraries (NumPy's and CVXOPT's
     OpenBLAS) get one thread: with one per core they spin and oversubscribe, which cost 7-11% of
     the sweep throughput on 2 workers (BENCHMARKS.md). Dask's nanny does the same for its
@@ -117,6 +119,7 @@ def _init_worker() -> None:
     die_with_parent()
     threadpool_limits(limits=1, user_api="blas")
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the command line's handler (forked)
 
 
 def _serial_pool() -> Pool:

@@ -130,7 +130,7 @@ class ResultStore:
             raise SpecError(f"cannot create {self.root} ({exc.strerror or exc})") from None
         lock = FileLock(self.root / "_lock")
         try:
-            lock.acquire(timeout=0)
+            lock.acquire(timeout=1.0)  # (a reader's brief probe, see busy(), is waited out)
         except Timeout:
             raise SpecError(
                 f"{self.root} is being written by another sweep ({self.writer() or 'unknown'});"

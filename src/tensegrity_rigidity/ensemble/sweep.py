@@ -138,6 +138,15 @@ def plan_chunks(
 def estimate(spec: Spec) -> dict:
     """What a spec asks for: rows, memory per sample and of the loaded rows, disk, CPU time.
 
+    Returns
+    -------
+    dict
+        ``rows``, ``points``, ``n_max``, ``sample_bytes`` (memory of one sample at the largest
+        n), ``rows_bytes`` (memory of the loaded rows), ``disk_bytes`` (all parts),
+        ``cpu_seconds``.
+
+    Notes
+    -----
     CPU seconds per solve follow the benchmark medians (4 ms at n = 16, 0.37 s at n = 128 on
     the reference machine: about ``4e-3 (n / 16)^2.2``); a threshold costs about
     ``log2(3 n^2) + 2`` solves.
@@ -164,13 +173,15 @@ def estimate(spec: Spec) -> dict:
 
 
 def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = None) -> dict:
-    """Refuse a sweep that cannot fit, before anything starts; returns :func:`estimate`.
+    """Refuse a sweep that cannot fit in memory, before anything starts; returns :func:`estimate`.
+
+    The disk is checked once the missing rows are known (:func:`check_disk`).
 
     Parameters
     ----------
     spec : Spec
     out : path
-        Results directory (its file system's free space is checked).
+        Results directory.
     worker_memory : int, optional
         Memory of one worker in bytes (a Dask worker's limit); default this machine's.
 
@@ -194,19 +205,37 @@ def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = N
             f"{spec.samples:,}); their rows need about {format_bytes(est['rows_bytes'])} of "
             f"memory to load, this machine has {format_bytes(ram)}"
         )
+    return est
+
+
+def check_disk(out: str | os.PathLike, rows: int, parts: int) -> None:
+    """Refuse to start when the parts still to write cannot fit on the disk of ``out``.
+
+    Parameters
+    ----------
+    out : path
+        Results directory (or the nearest existing parent).
+    rows, parts : int
+        Rows and part files still to write.
+
+    Raises
+    ------
+    SpecError
+        One sentence saying how much disk is needed and how much is free.
+    """
+    need = ROW_DISK_BYTES * float(rows) + PART_DISK_BYTES * float(parts)
     parent = Path(out).absolute()
     while not parent.exists() and parent != parent.parent:
         parent = parent.parent
     try:
         free = shutil.disk_usage(parent).free
     except OSError:
-        free = None
-    if free is not None and est["disk_bytes"] > free:
+        return
+    if need > free:
         raise SpecError(
-            f"the sweep's {est['rows']:,} rows need about {format_bytes(est['disk_bytes'])} "
-            f"of disk; {parent} has {format_bytes(free)} free"
+            f"the sweep's {rows:,} missing rows need about {format_bytes(need)} of disk; "
+            f"{parent} has {format_bytes(free)} free"
         )
-    return est
 
 
 def _describe_chunk(point: GridPoint, ks: list[int]) -> str:
@@ -305,6 +334,7 @@ def run_sweep(
         reused = total - sum(len(ks) for _, ks in todo)
         if not todo:
             return SweepReport(total, reused, 0, 0)
+        check_disk(store.root, total - reused, len(todo))
         show = sys.stderr.isatty() if progress is None else progress
         bar = tqdm(
             total=total - reused,
