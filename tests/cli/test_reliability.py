@@ -237,7 +237,12 @@ def test_info_says_what_a_directory_holds(tmp_path, capsys):
     assert main(["info", str(out)]) == 0
     text = capsys.readouterr().out
     assert "done      24 of 56 samples (0 undecided); 8 chunks missing" in text
-    assert "left      about" in text
+    assert "left      about" in text and "damaged" not in text
+    part = sorted(out.glob("part-*.parquet"))[0]
+    part.write_bytes(part.read_bytes()[:-8] + b"12345678")
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "done      20 of 56 samples" in text and "damaged   1 parts" in text
     assert "not a results directory" in _one_error(capsys, main(["info", str(tmp_path)]))
     err = _one_error(capsys, main(["info", str(tmp_path / "absent")]))
     assert "no such results directory" in err

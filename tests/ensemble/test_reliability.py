@@ -151,6 +151,13 @@ def test_refused_sweep_touches_nothing_of_the_running_one(tmp_path):
         second = subprocess.run(_cmd(s, out, 1), capture_output=True, text=True, timeout=60)
         assert second.returncode == 2 and "being written by another sweep" in second.stderr
         assert running.poll() is None, "the running sweep died"
+    info = subprocess.run(
+        [sys.executable, "-m", "tensegrity_rigidity", "info", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert f"being written now by pid {running.pid}" in info.stdout, info.stdout + info.stderr
     _wait_for_parts(out, len(list(out.glob("part-*.parquet"))) + 2, running)
     running.send_signal(signal.SIGTERM)
     _, err = running.communicate(timeout=60)

@@ -76,6 +76,7 @@ def _cmd_sample(args) -> int:
 
     check_out(args.out, "the output file")
     from ..model.lattice import DEFAULT_DELTA
+    from ..model.network import Element
     from ..model.sampling import lattice_instance
 
     inst = lattice_instance(
@@ -94,7 +95,8 @@ def _cmd_sample(args) -> int:
     net = inst.network
     print(
         f"wrote {args.out}: {net.n_nodes} nodes, {net.n_sites} sites "
-        f"({net.count(1)} rods, {net.count(2)} cables, {net.count(3)} struts)"
+        f"({net.count(Element.ROD)} rods, {net.count(Element.CABLE)} cables, "
+        f"{net.count(Element.STRUT)} struts)"
     )
     return 0
 

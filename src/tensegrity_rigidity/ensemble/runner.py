@@ -78,6 +78,7 @@ def grid_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame
 
 def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
     """Per-sample exact thresholds along the spec's path; one row each."""
+    assert spec.threshold is not None, "threshold_chunk needs a threshold spec"
     opts = spec.solver_options()
     path = spec.threshold["path"]
     rows = []

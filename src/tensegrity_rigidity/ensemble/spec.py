@@ -66,6 +66,7 @@ import hashlib
 import itertools
 import json
 import math
+import os
 import tomllib
 import warnings
 from dataclasses import asdict, dataclass, field, fields
@@ -85,7 +86,14 @@ SECTIONS = {
     "output": {"chunk_size"},
     "threshold": {"path"},
 }
-DEFAULTS = {"n": [16], "delta": [0.2], "p_t": [0.0], "f_c": [0.5], "phi": ["shear"], "seed": [0]}
+DEFAULTS: dict[str, list] = {
+    "n": [16],
+    "delta": [0.2],
+    "p_t": [0.0],
+    "f_c": [0.5],
+    "phi": ["shear"],
+    "seed": [0],
+}
 ANGLE_SEQUENCES = ("golden", "uniform")
 #: the golden ratio of the "golden" angle sequence
 GOLDEN = (1.0 + math.sqrt(5.0)) / 2.0
@@ -337,7 +345,7 @@ def _check_distinct(key: str, values: list) -> None:
         seen.add(v)
 
 
-def load_spec(path: str | Path) -> Spec:
+def load_spec(path: str | os.PathLike) -> Spec:
     """Read and validate a TOML spec file."""
     path = Path(path)
     try:

@@ -345,20 +345,40 @@ class ResultStore:
         )
         return name
 
-    def read(self) -> pd.DataFrame:
-        """Every row of every listed part (empty frame if none); InputError on a damaged part."""
-        tables = []
+    def scan(self) -> tuple[pd.DataFrame, list[str], int]:
+        """Rows of every listed part that passes its checksum, the damaged parts, total bytes.
+
+        Returns
+        -------
+        rows : pandas.DataFrame
+            Empty when there are none.
+        damaged : list of str
+            Listed parts that are missing or fail their size or SHA-256.
+        size : int
+            Bytes of the listed parts, as recorded.
+        """
+        tables, damaged, size = [], [], 0
         for name, entry in sorted(self.manifest().items()):
+            size += int(entry.get("bytes", 0))
             data = self.check_part(entry)
             if data is None:
-                raise InputError(
-                    f"{self.root / name} is missing or damaged (checksum mismatch); run the "
-                    "sweep again to recompute it"
-                )
-            tables.append(pq.read_table(pa.BufferReader(data)))
+                damaged.append(name)
+            else:
+                tables.append(pq.read_table(pa.BufferReader(data)))
         if not tables:
-            return pd.DataFrame()
-        return pa.concat_tables(tables, promote_options="default").to_pandas()
+            return pd.DataFrame(), damaged, size
+        rows = pa.concat_tables(tables, promote_options="default").to_pandas()
+        return rows, damaged, size
+
+    def read(self) -> pd.DataFrame:
+        """Every row of every listed part (empty frame if none); InputError on a damaged part."""
+        rows, damaged, _ = self.scan()
+        if damaged:
+            raise InputError(
+                f"{self.root / damaged[0]} is missing or damaged (checksum mismatch); run the "
+                "sweep again to recompute it"
+            )
+        return rows
 
     def rows_of(self, spec: Spec, frame: pd.DataFrame | None = None) -> pd.DataFrame:
         """The rows of ``frame`` (default: all rows of DIR) that belong to ``spec``."""

@@ -394,7 +394,9 @@ def run_sweep(
     return report()
 
 
-def load_results(out: str | os.PathLike, spec: Spec | None = None, all_rows: bool = False):
+def load_results(
+    out: str | os.PathLike, spec: Spec | None = None, all_rows: bool = False
+) -> pd.DataFrame:
     """Rows of a sweep directory, sorted by grid point and sample.
 
     Parameters
@@ -448,19 +450,7 @@ def describe(out: str | os.PathLike) -> dict:
     spec = store.recorded_spec()
     if spec is None:
         raise InputError(f"{store.root}: not a results directory (no _spec.json)")
-    entries = store.manifest()
-    good, damaged, size = [], [], 0
-    for name, entry in entries.items():
-        (good if store.check_part(entry) is not None else damaged).append(name)
-        size += int(entry.get("bytes", 0))
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    frames = [
-        pq.read_table(pa.BufferReader(store.check_part(entries[name]))).to_pandas()
-        for name in sorted(good)
-    ]
-    everything = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    everything, damaged, size = store.scan()
     mine = store.rows_of(spec, everything) if not everything.empty else everything
     done = set()
     if not mine.empty:
@@ -473,7 +463,7 @@ def describe(out: str | os.PathLike) -> dict:
         "total": spec.n_samples(),
         "undecided": undecided,
         "chunks_missing": len(plan_chunks(spec, done)),
-        "parts": len(entries),
+        "parts": len(store.manifest()),
         "damaged": damaged,
         "bytes": size,
         "writer": store.writer() if store.busy() else None,

@@ -15,6 +15,7 @@ import os
 import zipfile
 import zlib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -51,7 +52,7 @@ def save_instance(path: str | os.PathLike, instance: Instance) -> None:
     if not path.parent.is_dir():
         raise InputError(f"{path}: directory {path.parent} does not exist")
     net = instance.network
-    arrays = {
+    arrays: dict[str, Any] = {
         "box": net.box,
         "positions": net.positions,
         "bonds": net.bonds,

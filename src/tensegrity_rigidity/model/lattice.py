@@ -89,8 +89,8 @@ def _check_delta(delta: float) -> float:
 
 def _periodic_grid_bonds(n: int, neighbours: list[tuple[int, int]]):
     """Bonds of an n x n periodic grid: each node (a, b) to (a + da, b + db), wrapped."""
-    a, b = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    a, b = a.ravel(), b.ravel()
+    grid_a, grid_b = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    a, b = grid_a.ravel(), grid_b.ravel()
     bonds, shifts = [], []
     for da, db in neighbours:
         a2, b2 = a + da, b + db
