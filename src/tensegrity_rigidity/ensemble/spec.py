@@ -38,9 +38,11 @@ Strain angles. Sample ``k`` is strained along principal axes at angle ``theta_k`
   ``phi_g = (1 + sqrt 5) / 2``. It does not depend on the number of samples, so a sweep can grow
   (``samples = 100`` -> ``200``) and keep every finished sample. Any ``K`` consecutive angles are
   spread almost evenly over the circle (at most three distinct gaps, the three-distance
-  theorem), so averages over theta converge as fast as on an even grid, and since
-  ``eps(theta + pi) = eps(theta)``, no two samples share the same strain tensor (``2 theta`` is
-  again a golden-angle sequence). The reproduction of the paper uses this default.
+  theorem; discrepancy O(log K / K)), far below the ``1 / sqrt K`` statistical error of ``K``
+  samples, so the sequence adds no visible error to an average over theta. Since
+  ``eps(theta + pi) = eps(theta)``, what matters is ``2 theta`` modulo ``2 pi``, again an
+  irrational rotation: no two samples share a strain tensor. This is the default because
+  sweeps should be extendable; the reproduction of the paper uses it.
 * ``"uniform"``: the paper's ``theta_k = 2 pi (k - 1) / samples``. Every angle depends on the
   total count, so changing ``samples`` changes every sample (nothing is reused); with an even
   count the samples come in pairs ``theta``, ``theta + pi`` of identical strain tensors.
