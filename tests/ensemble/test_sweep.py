@@ -72,17 +72,21 @@ def test_same_rows_on_one_and_two_workers(tmp_path):
 
 
 def test_rerun_does_no_work_and_corrupt_chunk_is_redone(tmp_path):
+    from tensegrity_rigidity.ensemble.store import CorruptPartWarning
+
     spec = _write(tmp_path)
     out = tmp_path / "r"
     first = run_sweep(spec, out, executor="serial", progress=False)
-    assert first.chunks_run == first.chunks_total
+    assert first.samples_run == first.samples_total == 2 * 2 * 2 * 2 * 12
     again = run_sweep(spec, out, executor="serial", progress=False)
     assert again.chunks_run == 0 and again.samples_run == 0
+    assert again.samples_reused == again.samples_total
     parts = sorted(out.glob("part-*.parquet"))
     parts[0].write_bytes(parts[0].read_bytes()[:100])  # truncated: a partial write
     parts[1].unlink()
-    fixed = run_sweep(spec, out, executor="serial", progress=False)
-    assert fixed.chunks_run == 2
+    with pytest.warns(CorruptPartWarning, match="damaged"):
+        fixed = run_sweep(spec, out, executor="serial", progress=False)
+    assert fixed.chunks_run == 2 and fixed.samples_run == 8
     pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "fresh"))
 
 
@@ -91,14 +95,26 @@ def _frame_of_fresh(spec, out):
     return _frame(out)
 
 
-def test_different_spec_into_same_dir_is_refused(tmp_path, capsys):
+@pytest.mark.parametrize(
+    "change,named",
+    [
+        ("[solver]\nwork_tol = 1e-8\n", "work_tol"),
+        ("[strain]\ngamma = 2.0\n", "gamma"),
+        ("[strain]\nangles = 'uniform'\n", "angles"),
+        ("[lattice]\nkind = 'square'\n", "lattice"),
+    ],
+)
+def test_other_settings_into_same_dir_are_refused(tmp_path, capsys, change, named):
+    """A changed setting would compute different rows: refused, naming it, nothing touched."""
     spec = _write(tmp_path)
     out = tmp_path / "o"
     run_sweep(spec, out, executor="serial", progress=False)
-    other = _write(tmp_path, SPEC.replace("seed = 3", "seed = 4"), "other.toml")
+    before = sorted((p.name, p.stat().st_mtime_ns) for p in out.iterdir())
+    other = _write(tmp_path, SPEC.replace("[output]", change + "[output]"), "other.toml")
     assert main(["sweep", str(other), "--out", str(out), "--workers", "1"]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "different sweep" in err
+    assert len(err.splitlines()) == 1 and "different sweep" in err and named in err, err
+    assert sorted((p.name, p.stat().st_mtime_ns) for p in out.iterdir()) == before
 
 
 def test_sigkill_then_resume_equals_uninterrupted(tmp_path):
@@ -114,7 +130,7 @@ def test_sigkill_then_resume_equals_uninterrupted(tmp_path):
     n_parts = len(list(out.glob("part-*.parquet")))
     total = 2 * 2 * 2 * 2 * 10
     assert 0 < n_parts < total, "the kill should land mid-run"
-    subprocess.run(cmd, check=True)
+    subprocess.run(cmd, check=True, capture_output=True)
     assert len(list(out.glob("part-*.parquet"))) == total
     pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "clean"))
 
@@ -185,6 +201,12 @@ def test_thresholds_derive_the_grid_probability_exactly(tmp_path):
         ("n = 6\np_r = 0.5\nphi = 'twist'\nsamples = 2\n", "phi must be"),
         ("n = 6\np_r = 0.5\nsamples = 2\n[threshold]\npath = 'p_r'\n", "remove the 'p_r'"),
         ("n = [6\n", "not valid TOML"),
+        ("n = 6\np_r = [0.5, 0.5]\nsamples = 2\n", "lists the value 0.5 twice"),
+        ("n = 6\np_r = 0.5\nphi = ['shear', 1.5707963267948966]\nsamples = 2\n", "twice"),
+        ("n = 6\np_r = 0.5\nsamples = 2\nseed = -1\n", "'seed' must be a non-negative"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nwork_tol = nan\n", "must be finite"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nfloppy_tol = inf\n", "must be finite"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[strain]\nangles = 'random'\n", "angles must be"),
     ],
 )
 def test_bad_specs_fail_before_any_work(tmp_path, capsys, text, needle):
@@ -221,5 +243,5 @@ def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
     assert "interrupted" in err and "Traceback" not in err
     kept = list(out.glob("part-*.parquet"))
     assert kept and not list(out.glob(".*.tmp"))
-    subprocess.run(cmd, check=True)
+    subprocess.run(cmd, check=True, capture_output=True)
     pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "clean"))

@@ -3,21 +3,38 @@
 ``tensegrity-rigidity sample``  draw a random lattice instance and write it to .npz
 ``tensegrity-rigidity solve``   relax an instance file and print the certified verdict
 ``tensegrity-rigidity sweep``   run a TOML parameter sweep into a Parquet dataset
+``tensegrity-rigidity info``    say what a results directory holds
 ``tensegrity-rigidity reproduce``  run every study of the paper and write the report
 
-A user's mistake ends in one line on stderr (``error: ...``) and exit status 2.
+Exit status and messages:
+
+* 0: done;
+* 2: the user's to fix (bad input, a busy or unusable directory, a full disk, a closed output
+  pipe): one line ``error: ...`` on stderr, never a traceback;
+* 1: work failed (a chunk raised, a worker or the Dask scheduler died): one line ``error: ...``
+  with a resume hint, finished work saved;
+* 130 / 143: interrupted by Ctrl-C / SIGTERM, finished work saved.
+
+Warnings are printed as one line each, ``warning: ...``.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
+import signal
 import sys
+import threading
+import warnings
 from collections.abc import Sequence
 
-from ..errors import InputError, TensegrityError
+from ..errors import TensegrityError
+from . import info as info_cli
 from . import reproduce as reproduce_cli
 from . import sweep as sweep_cli
+from .common import Terminated, check_out, on_sigterm
 
 
 def _add_sample(sub) -> None:
@@ -56,7 +73,10 @@ def _add_solve(sub) -> None:
 
 def _cmd_sample(args) -> int:
     from ..model.io import save_instance
+
+    check_out(args.out, "the output file")
     from ..model.lattice import DEFAULT_DELTA
+    from ..model.network import Element
     from ..model.sampling import lattice_instance
 
     inst = lattice_instance(
@@ -75,7 +95,8 @@ def _cmd_sample(args) -> int:
     net = inst.network
     print(
         f"wrote {args.out}: {net.n_nodes} nodes, {net.n_sites} sites "
-        f"({net.count(1)} rods, {net.count(2)} cables, {net.count(3)} struts)"
+        f"({net.count(Element.ROD)} rods, {net.count(Element.CABLE)} cables, "
+        f"{net.count(Element.STRUT)} struts)"
     )
     return 0
 
@@ -86,8 +107,12 @@ def _cmd_solve(args) -> int:
 
     result = solve(load_instance(args.file))
     summary = result.summary()
-    if args.json:
-        print(json.dumps(summary, indent=2))
+    if args.json:  # JSON has no NaN or Infinity: a non-finite number is null
+        safe = {
+            k: None if isinstance(v, float) and not math.isfinite(v) else v
+            for k, v in summary.items()
+        }
+        print(json.dumps(safe, indent=2, allow_nan=False))
     else:
         width = max(map(len, summary))
         for key, value in summary.items():
@@ -105,6 +130,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sample(sub)
     _add_solve(sub)
     sweep_cli.add_parser(sub)
+    info_cli.add_parser(sub)
     reproduce_cli.add_parser(sub)
     return parser
 
@@ -112,19 +138,47 @@ def build_parser() -> argparse.ArgumentParser:
 COMMANDS = {"sample": _cmd_sample, "solve": _cmd_solve}
 
 
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    text = " ".join(str(message).split())
+    print(f"warning: {text}", file=sys.stderr if file is None else file)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point; returns the exit status."""
+    """Entry point; returns the exit status (see the module docstring)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     handler = getattr(args, "handler", None) or COMMANDS[args.command]
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, on_sigterm) if in_main_thread else None
     try:
-        return int(handler(args) or 0)
-    except (InputError, TensegrityError) as exc:
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warning
+            status = int(handler(args) or 0)
+            sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+            return status
+    except TensegrityError as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return int(getattr(exc, "exit_status", 2))
+    except BrokenPipeError:
+        # stdout was closed early (``... | head``): silence the final flush, say it once
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        print("error: the output pipe was closed before all output was written", file=sys.stderr)
         return 2
+    except OSError as exc:  # a full disk, a read-only file system, ... while writing output
+        where = f" ({exc.filename})" if exc.filename else ""
+        print(f"error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return 2
+    except Terminated:
+        print("terminated", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

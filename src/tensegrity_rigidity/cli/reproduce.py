@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from .common import check_out, interrupt_status
+
 
 def add_parser(sub) -> None:
     from ..paper.reproduce import EXPECTED
@@ -31,6 +33,7 @@ def _run(args) -> int:
     from ..ensemble.sweep import SweepInterrupted
     from ..paper.reproduce import reproduce
 
+    check_out(args.out)
     try:
         res = reproduce(
             args.out,
@@ -39,14 +42,15 @@ def _run(args) -> int:
             scheduler=args.scheduler,
             progress=False if args.no_progress else None,
         )
-    except SweepInterrupted:
+    except SweepInterrupted as exc:
         import sys
 
+        word = "terminated" if interrupt_status(exc.cause) == 143 else "interrupted"
         print(
-            f"interrupted; finished samples are kept in {args.out}/studies: run the same "
+            f"{word}; finished samples are kept in {args.out}/studies: run the same "
             "command again to resume",
             file=sys.stderr,
         )
-        return 130
+        return interrupt_status(exc.cause)
     print(f"wrote {res['report']['html']} and {res['report']['md']}")
     return 0

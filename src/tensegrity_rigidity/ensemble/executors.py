@@ -4,13 +4,25 @@
 ``concurrent.futures.Executor``, a ``distributed.Client`` or a scheduler address) into a small
 :class:`Pool` with ``submit``, ``as_completed`` and ``cancel``. Results are returned to the
 calling process, which alone writes files, so workers need no shared file system.
+
+Local worker processes die with the process that started them: on Linux the kernel sends them
+SIGKILL when their parent dies (``PR_SET_PDEATHSIG``), and everywhere a watchdog thread ends a
+worker whose parent has changed (re-parented after a SIGKILL of the main process). If the main
+process leaves by an exception (Ctrl-C, SIGTERM through the command line, a full disk), the
+workers are killed at once instead of finishing chunks nobody will save.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import ctypes
+import logging
 import os
 import signal
+import sys
+import threading
+import time
+import warnings
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -40,9 +52,12 @@ class Pool:
         as_completed: Callable,
         close: Callable | None = None,
         description: str = "",
+        worker_memory: int | None = None,
     ):
         self._submit, self._as_completed, self._close = submit, as_completed, close
         self.description = description
+        #: memory of one worker in bytes when the executor says (Dask), else None
+        self.worker_memory = worker_memory
 
     def submit(self, fn: Callable, *args: Any):
         return self._submit(fn, *args)
@@ -54,13 +69,45 @@ class Pool:
         for f in futures:
             f.cancel()
 
-    def close(self) -> None:
+    def close(self, abort: bool = False) -> None:
+        """Release the executor; ``abort`` kills local workers instead of letting them finish."""
         if self._close is not None:
-            self._close()
+            self._close(abort)
+
+
+_PR_SET_PDEATHSIG = 1  # from <linux/prctl.h>
+
+
+def _watch_parent(parent: int, period: float = 1.0) -> None:
+    """End this process once its parent is gone (it was re-parented)."""
+    while True:
+        time.sleep(period)
+        if os.getppid() != parent:
+            os._exit(1)
+
+
+def die_with_parent() -> None:
+    """Make this process end when its parent dies, however the parent dies.
+
+    On Linux ``prctl(PR_SET_PDEATHSIG, SIGKILL)`` asks the kernel to kill it; everywhere a
+    daemon thread polls the parent pid once a second. Safe to call in any child process.
+    """
+    parent = os.getppid()
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:  # the parent died during the call
+        os._exit(1)
+    threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
 
 
 def _init_worker() -> None:
-    """Set up a local worker process: one BLAS thread, no Ctrl-C.
+    """Set up a local worker process: die with the parent, one BLAS thread, no Ctrl-C.
+
+    SIGTERM ends a worker (the pool then reports it dead); the main process handles its own.
 
     Each worker is one core's worth of work, so the BLAS libraries (NumPy's and CVXOPT's
     OpenBLAS) get one thread: with one per core they spin and oversubscribe, which cost 7-11% of
@@ -69,8 +116,10 @@ def _init_worker() -> None:
     """
     from threadpoolctl import threadpool_limits
 
+    die_with_parent()
     threadpool_limits(limits=1, user_api="blas")
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the command line's handler (forked)
 
 
 def _serial_pool() -> Pool:
@@ -78,9 +127,16 @@ def _serial_pool() -> Pool:
 
 
 def _futures_pool(executor: cf.Executor, owned: bool) -> Pool:
-    def close():
-        if owned:
-            executor.shutdown(wait=True, cancel_futures=True)
+    def close(abort: bool):
+        if not owned:
+            return
+        if abort:  # nobody will save what the workers compute now: stop them
+            for proc in list((getattr(executor, "_processes", None) or {}).values()):
+                try:
+                    proc.kill()
+                except (OSError, ValueError, AttributeError):
+                    pass
+        executor.shutdown(wait=True, cancel_futures=True)
 
     return Pool(executor.submit, cf.as_completed, close, type(executor).__name__)
 
@@ -91,28 +147,82 @@ def _dask_pool(client, owned: bool) -> Pool:
     def submit(fn, *args):
         return client.submit(fn, *args, pure=False)
 
-    def close():
-        if owned:
+    def close(abort: bool):
+        if not owned:
+            return
+        if not abort:
             client.close()
+            return
+        # After a failure (the scheduler gone) the client's reconnection attempts end in
+        # logged tracebacks while it closes; the sweep reports the failure in one line.
+        names = ["distributed"] + [
+            n for n in logging.root.manager.loggerDict if n.startswith("distributed.")
+        ]
+        levels = {n: logging.getLogger(n).level for n in names}
+        for n in names:
+            logging.getLogger(n).setLevel(logging.CRITICAL + 1)
+        try:
+            client.close(timeout=5)
+        except Exception:  # noqa: BLE001 (closing a client whose scheduler is gone)
+            pass
+        finally:
+            for n, level in levels.items():
+                logging.getLogger(n).setLevel(level)
 
-    return Pool(submit, as_completed, close, f"dask {client.scheduler.address}")
+    limits = [w.get("memory_limit") or 0 for w in client.scheduler_info()["workers"].values()]
+    memory = max(limits) if limits and max(limits) > 0 else None
+    return Pool(submit, as_completed, close, f"dask {client.scheduler.address}", memory)
 
 
-def connect(address: str, timeout: float = 5.0):
-    """A Dask client for a running scheduler; SpecError (one line) if it cannot be reached."""
+def connect(address: str, timeout: float = 5.0, wait_for_workers: float = 60.0):
+    """A Dask client for a running scheduler with at least one worker.
+
+    Parameters
+    ----------
+    address : str
+        Scheduler address, e.g. ``tcp://host:8786``.
+    timeout : float
+        Seconds to reach the scheduler.
+    wait_for_workers : float
+        Seconds to wait for a first worker when the scheduler has none (a warning says so).
+
+    Raises
+    ------
+    SpecError
+        One line when the scheduler cannot be reached or no worker joins in time.
+    """
     from distributed import Client
 
     try:
-        return Client(address, timeout=f"{timeout}s")
+        client = Client(address, timeout=f"{timeout}s")
     except (OSError, TimeoutError, ValueError) as exc:
         raise SpecError(f"cannot reach the Dask scheduler at {address} ({exc})") from None
+    if not client.scheduler_info()["workers"]:
+        warnings.warn(
+            f"the Dask scheduler at {address} has no workers; waiting up to "
+            f"{wait_for_workers:g} s for one",
+            UserWarning,
+            stacklevel=2,
+        )
+        try:
+            client.wait_for_workers(1, timeout=wait_for_workers)
+        except (TimeoutError, OSError):
+            client.close()
+            raise SpecError(
+                f"no worker joined the Dask scheduler at {address} within {wait_for_workers:g} "
+                f"s; start one (dask worker {address}) and run again"
+            ) from None
+    return client
 
 
 @contextmanager
-def open_pool(executor: Any = None, scheduler: str | None = None):
-    """Yield a :class:`Pool` for ``executor`` (see module docstring) or a scheduler address."""
+def open_pool(executor: Any = None, scheduler: str | None = None, wait_for_workers: float = 60.0):
+    """Yield a :class:`Pool` for ``executor`` (see module docstring) or a scheduler address.
+
+    Leaving the block by an exception aborts the pool (local workers are killed).
+    """
     if scheduler is not None:
-        pool = _dask_pool(connect(scheduler), owned=True)
+        pool = _dask_pool(connect(scheduler, wait_for_workers=wait_for_workers), owned=True)
     elif executor is None or isinstance(executor, int):
         workers = executor or os.cpu_count() or 1
         if workers == 1:
@@ -131,5 +241,7 @@ def open_pool(executor: Any = None, scheduler: str | None = None):
         raise SpecError(f"unsupported executor {executor!r}")
     try:
         yield pool
-    finally:
-        pool.close()
+    except BaseException:
+        pool.close(abort=True)
+        raise
+    pool.close()

@@ -2,21 +2,28 @@
 
 These functions are what executors run (a local process, a Dask worker); they take only plain,
 picklable arguments and return a pandas DataFrame of rows, one per sample. They write nothing.
+
+A row starts with its key columns (:func:`key_columns`: the grid point, ``sample``, ``theta`` and
+``point_key``, the digest of the spec's settings and the grid point); ``(point_key, sample,
+theta)`` identifies the row in a results directory (:mod:`~tensegrity_rigidity.ensemble.store`).
+The remaining columns are the sample's record; to add a column, add it to the record.
 """
 
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 import pandas as pd
 
 from ..analysis.observables import sample_record
 from ..model.elements import place_elements
+from ..model.lattice import CrossingBondsWarning
 from ..model.network import Instance
 from ..model.sampling import lattice_geometry
-from ..model.strain import run_angle, strain_tensor
-from ..solver.core import SolverOptions, solve
+from ..model.strain import strain_tensor
+from ..solver.core import solve
 from .spec import GridPoint, Spec
 from .thresholds import find_threshold
 
@@ -29,12 +36,19 @@ def sample_rng(point: GridPoint, k: int) -> np.random.Generator:
 
 
 def sample_geometry(spec: Spec, point: GridPoint, k: int):
-    """(network, U, V, theta) of sample k at a grid point."""
-    net, u, v = lattice_geometry(point.n, point.delta, sample_rng(point, k), spec.lattice)
-    return net, u, v, run_angle(k, spec.samples)
+    """(network, U, V, theta) of sample k at a grid point.
+
+    Crossing bonds at a large ``delta`` were announced once when the spec was parsed; the
+    builder's per-sample warning is silenced here.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CrossingBondsWarning)
+        net, u, v = lattice_geometry(point.n, point.delta, sample_rng(point, k), spec.lattice)
+    return net, u, v, spec.angle(k)
 
 
-def _base(point: GridPoint, k: int, theta: float) -> dict:
+def key_columns(spec: Spec, point: GridPoint, k: int, theta: float) -> dict:
+    """The columns that identify a row: grid point, sample index, angle and point key."""
     return {
         "n": point.n,
         "delta": point.delta,
@@ -45,6 +59,7 @@ def _base(point: GridPoint, k: int, theta: float) -> dict:
         "seed": point.seed,
         "theta": theta,
         "sample": k,
+        "point_key": spec.point_key(point),
     }
 
 
@@ -57,7 +72,7 @@ def grid_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame
         kinds = place_elements(u, v, point.p_r, point.p_t, point.f_c)
         inst = Instance(net.with_kinds(kinds), strain_tensor(point.phi, theta, spec.gamma))
         res = solve(inst, opts)
-        rows.append(_base(point, k, theta) | sample_record(inst, res, spec.gamma))
+        rows.append(key_columns(spec, point, k, theta) | sample_record(inst, res, spec.gamma))
     return pd.DataFrame(rows)
 
 
@@ -69,7 +84,8 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
     on the bisection path were within resolution of the boundary). ``decided`` is True when
     the interval is a single event.
     """
-    opts = SolverOptions(**({"min_norm": False} | spec.solver))
+    assert spec.threshold is not None, "threshold_chunk needs a threshold spec"
+    opts = spec.solver_options()
     path = spec.threshold["path"]
     rows = []
     for k in samples:
@@ -79,7 +95,7 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
             net, u, v, strain_tensor(point.phi, theta, spec.gamma), point.p_t, point.f_c, path, opts
         )
         rows.append(
-            _base(point, k, theta)
+            key_columns(spec, point, k, theta)
             | {
                 "path": path,
                 "threshold_p_r": th.s,

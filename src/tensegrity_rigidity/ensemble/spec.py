@@ -1,6 +1,6 @@
 """Sweep specifications: a TOML file describing a grid of parameters and what to compute.
 
-Flat keys (each a scalar or a list; the grid is the product of the lists)::
+Flat keys (each a scalar or a list of distinct values; the grid is the product of the lists)::
 
     n = [16, 32]            # lattice size
     delta = 0.2             # node disorder
@@ -8,8 +8,8 @@ Flat keys (each a scalar or a list; the grid is the product of the lists)::
     p_t = 0.3               # one-sided element probability
     f_c = [0.0, 0.5, 1.0]   # cable fraction
     phi = ["dilation", "shear", "compression", 0.7]
-    samples = 100           # eta runs per grid point; run k uses theta = 2 pi (k - 1) / eta
-    seed = 1                # a list gives independent replicas
+    samples = 100           # samples k = 1 .. samples per grid point
+    seed = 1                # a list gives independent replicas (non-negative integers)
 
 Optional sections (defaults shown)::
 
@@ -18,8 +18,9 @@ Optional sections (defaults shown)::
 
     [strain]
     gamma = 1.0             # magnitude; E scales as gamma^2, verdicts do not depend on it
+    angles = "golden"       # principal-axis angle of sample k: "golden" or "uniform" (below)
 
-    [solver]                # any field of SolverOptions
+    [solver]                # any field of SolverOptions (finite values)
     max_iter = 100
 
     [output]
@@ -31,11 +32,34 @@ Optional sections (defaults shown)::
 
 In threshold mode the grid's ``p_r`` key is not used (omit it).
 
+Strain angles. Sample ``k`` is strained along principal axes at angle ``theta_k``:
+
+* ``"golden"`` (the default): ``theta_k = 2 pi frac((k - 1) phi_g)`` with the golden ratio
+  ``phi_g = (1 + sqrt 5) / 2``. It does not depend on the number of samples, so a sweep can grow
+  (``samples = 100`` -> ``200``) and keep every finished sample. Any ``K`` consecutive angles are
+  spread almost evenly over the circle (at most three distinct gaps, the three-distance
+  theorem; discrepancy O(log K / K)), far below the ``1 / sqrt K`` statistical error of ``K``
+  samples, so the sequence adds no visible error to an average over theta. Since
+  ``eps(theta + pi) = eps(theta)``, what matters is ``2 theta`` modulo ``2 pi``, again an
+  irrational rotation: no two samples share a strain tensor. This is the default because
+  sweeps should be extendable; the reproduction of the paper uses it.
+* ``"uniform"``: the paper's ``theta_k = 2 pi (k - 1) / samples``. Every angle depends on the
+  total count, so changing ``samples`` changes every sample (nothing is reused); with an even
+  count the samples come in pairs ``theta``, ``theta + pi`` of identical strain tensors.
+
 Randomness: sample k at grid point (n, delta, seed) draws its geometry and site uniforms from
 ``SeedSequence(seed, spawn_key=(n, bits(delta), k))``; it does not depend on ``p_r``, ``p_t``,
 ``f_c`` or ``phi``. Samples of the same index therefore share their disorder across those
 parameters (common random numbers): each sample's rigidity is monotone in ``p_r`` and ``p_t``,
 differences between grid points are far less noisy, and thresholds derive exactly the grid's P.
+
+Identity of results. Everything that changes a sample's result and is not a grid value is a
+*setting* (:meth:`Spec.settings`: mode and threshold path, lattice, gamma, angle sequence, every
+field of the effective :class:`~tensegrity_rigidity.solver.core.SolverOptions`). Each row is
+keyed by its :meth:`Spec.point_key` (a digest of the settings and the grid point), its sample
+index and its angle, so a results directory can grow by samples or grid values, or be resumed
+with another chunk size or worker count, and reuse every finished row; a spec with other
+settings is refused there (it would compute different rows).
 """
 
 from __future__ import annotations
@@ -44,11 +68,14 @@ import hashlib
 import itertools
 import json
 import math
+import os
 import tomllib
+import warnings
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
 from ..errors import InputError, SpecError
+from ..model.lattice import CROSSING_DELTA
 from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
 
@@ -56,12 +83,41 @@ GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
 FLAT_KEYS = GRID_KEYS + ("samples",)
 SECTIONS = {
     "lattice": {"kind"},
-    "strain": {"gamma"},
+    "strain": {"gamma", "angles"},
     "solver": {f.name for f in fields(SolverOptions)},
     "output": {"chunk_size"},
     "threshold": {"path"},
 }
-DEFAULTS = {"n": [16], "delta": [0.2], "p_t": [0.0], "f_c": [0.5], "phi": ["shear"], "seed": [0]}
+DEFAULTS: dict[str, list] = {
+    "n": [16],
+    "delta": [0.2],
+    "p_t": [0.0],
+    "f_c": [0.5],
+    "phi": ["shear"],
+    "seed": [0],
+}
+ANGLE_SEQUENCES = ("golden", "uniform")
+#: the golden ratio of the "golden" angle sequence
+GOLDEN = (1.0 + math.sqrt(5.0)) / 2.0
+
+
+def strain_angle(k: int, samples: int, sequence: str = "golden") -> float:
+    """Principal-axis angle theta of sample ``k`` (1-based) of ``samples``, in [0, 2 pi).
+
+    Parameters
+    ----------
+    k : int
+        Sample index, ``1 <= k <= samples``.
+    samples : int
+        Samples per grid point (used by ``"uniform"`` only).
+    sequence : {"golden", "uniform"}
+        ``2 pi frac((k - 1) phi_g)`` or the paper's ``2 pi (k - 1) / samples`` (module docstring).
+    """
+    if sequence == "golden":
+        return 2.0 * math.pi * math.fmod((k - 1) * GOLDEN, 1.0)
+    if sequence == "uniform":
+        return 2.0 * math.pi * (k - 1) / samples
+    raise InputError(f"unknown angle sequence {sequence!r}; use 'golden' or 'uniform'")
 
 
 @dataclass(frozen=True)
@@ -76,10 +132,9 @@ class GridPoint:
     phi: float
     seed: int
 
-    def key(self) -> str:
-        """A short stable name for file names."""
-        text = json.dumps(asdict(self), sort_keys=True)
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+def _digest(obj) -> str:
+    return hashlib.sha256(json.dumps(obj, sort_keys=True).encode()).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -93,10 +148,16 @@ class Spec:
     solver: dict = field(default_factory=dict)
     chunk_size: int = 32
     threshold: dict | None = None
+    angles: str = "golden"
 
     @property
     def mode(self) -> str:
         return "threshold" if self.threshold is not None else "grid"
+
+    def n_points(self) -> int:
+        """Number of grid points, without building them."""
+        keys = [k for k in GRID_KEYS if k != "p_r" or self.mode == "grid"]
+        return math.prod(len(self.grid[k]) for k in keys)
 
     def points(self) -> list[GridPoint]:
         """All grid points, in a fixed order."""
@@ -110,25 +171,54 @@ class Spec:
         ]
 
     def solver_options(self) -> SolverOptions:
-        return SolverOptions(**self.solver)
+        """The options every solve of this sweep uses (threshold mode: no minimum norm)."""
+        base = {"min_norm": False} if self.mode == "threshold" else {}
+        return SolverOptions(**(base | self.solver))
+
+    def angle(self, k: int) -> float:
+        """theta of sample k (1-based), see :func:`strain_angle`."""
+        return strain_angle(k, self.samples, self.angles)
+
+    def settings(self) -> dict:
+        """Everything but the grid that changes a sample's result (JSON-ready).
+
+        The solver options are listed field by field from the effective
+        :class:`SolverOptions`, defaults included, so a changed default is a changed setting.
+        """
+        return {
+            "mode": self.mode,
+            "threshold_path": None if self.threshold is None else self.threshold["path"],
+            "lattice": self.lattice,
+            "gamma": self.gamma,
+            "angles": self.angles,
+            "solver": asdict(self.solver_options()),
+        }
+
+    def settings_digest(self) -> str:
+        return _digest(self.settings())
+
+    def point_key(self, point: GridPoint) -> str:
+        """Digest of the settings and the grid point: with (sample, theta) a row's identity."""
+        p = asdict(point)
+        if self.mode == "threshold":
+            p["p_r"] = None  # NaN is not JSON
+        return _digest({"settings": self.settings(), "point": p})[:24]
 
     def canonical(self) -> dict:
-        """A plain, sorted description; two specs are the same sweep iff these are equal."""
+        """A plain, sorted description of the whole spec (JSON-ready)."""
         return {
             "grid": self.grid,
             "samples": self.samples,
             "lattice": self.lattice,
             "gamma": self.gamma,
+            "angles": self.angles,
             "solver": dict(sorted(self.solver.items())),
             "chunk_size": self.chunk_size,
             "threshold": self.threshold,
         }
 
-    def digest(self) -> str:
-        return hashlib.sha256(json.dumps(self.canonical(), sort_keys=True).encode()).hexdigest()
-
     def n_samples(self) -> int:
-        return len(self.points()) * self.samples
+        return self.n_points() * self.samples
 
 
 def _as_list(key: str, value) -> list:
@@ -192,9 +282,16 @@ def parse_spec(data: dict) -> Spec:
             grid[key] = [_number(key, v, integer=True) for v in raw]
         else:
             grid[key] = [_number(key, v) for v in raw]
+        _check_distinct(key, grid[key])
     for n in grid["n"]:
         if n < 2:
             raise SpecError(f"'n' must be at least 2, got {n}")
+    for sd in grid["seed"]:
+        if sd < 0:
+            raise SpecError(f"'seed' must be a non-negative integer, got {sd}")
+    lattice = data.get("lattice", {}).get("kind", "triangular")
+    if lattice not in ("triangular", "square"):
+        raise SpecError(f"[lattice] kind must be 'triangular' or 'square', got {lattice!r}")
     for d in grid["delta"]:
         if not 0 <= d < 0.5:
             raise SpecError(f"'delta' must lie in [0, 0.5), got {d}")
@@ -212,13 +309,16 @@ def parse_spec(data: dict) -> Spec:
     samples = _number("samples", data.get("samples", 1), integer=True)
     if samples < 1:
         raise SpecError(f"'samples' must be at least 1, got {samples}")
-    lattice = data.get("lattice", {}).get("kind", "triangular")
-    if lattice not in ("triangular", "square"):
-        raise SpecError(f"[lattice] kind must be 'triangular' or 'square', got {lattice!r}")
     gamma = _number("gamma", data.get("strain", {}).get("gamma", 1.0))
     if gamma <= 0:
         raise SpecError(f"[strain] gamma must be positive, got {gamma}")
+    angles = data.get("strain", {}).get("angles", "golden")
+    if angles not in ANGLE_SEQUENCES:
+        raise SpecError(f"[strain] angles must be 'golden' or 'uniform', got {angles!r}")
     solver = dict(data.get("solver", {}))
+    for key, value in solver.items():
+        if isinstance(value, float) and not math.isfinite(value):
+            raise SpecError(f"[solver] {key} must be finite, got {value!r}")
     try:
         SolverOptions(**solver)
     except (TypeError, InputError) as exc:
@@ -226,16 +326,39 @@ def parse_spec(data: dict) -> Spec:
     chunk = _number("chunk_size", data.get("output", {}).get("chunk_size", 32), integer=True)
     if chunk < 1:
         raise SpecError(f"[output] chunk_size must be at least 1, got {chunk}")
-    return Spec(grid, samples, lattice, gamma, solver, chunk, threshold)
+    worst_delta = max(grid["delta"])
+    if worst_delta >= CROSSING_DELTA[lattice]:
+        warnings.warn(
+            f"delta = {worst_delta} lets bonds of the {lattice} lattice cross (from delta = "
+            f"{CROSSING_DELTA[lattice]:.4f} a node can be kicked across the opposite side of "
+            "one of its triangles)",
+            UserWarning,
+            stacklevel=2,
+        )
+    return Spec(grid, samples, lattice, gamma, solver, chunk, threshold, angles)
 
 
-def load_spec(path: str | Path) -> Spec:
+def _check_distinct(key: str, values: list) -> None:
+    """A repeated grid value would claim samples twice and store them once: refuse it."""
+    seen = set()
+    for v in values:
+        if v in seen:
+            raise SpecError(f"'{key}' lists the value {v!r} twice; give each value once")
+        seen.add(v)
+
+
+def load_spec(path: str | os.PathLike) -> Spec:
     """Read and validate a TOML spec file."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise SpecError(f"{path}: cannot read ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise SpecError(
+            f"{path}: not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset {exc.start}); "
+            "TOML files are UTF-8"
+        ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -1,92 +1,392 @@
-"""A sweep's results directory: one Parquet file per finished chunk, renamed into place.
+"""A sweep's results directory: Parquet parts keyed by state point, one writer, checksummed.
 
 Layout of DIR::
 
-    _spec.json                  the canonical spec (a different spec is refused)
-    _spec.toml                  the spec file as given, for people
-    part-<point>-<chunk>.parquet
+    _spec.json        format, the settings (fixed for the directory), the latest spec
+    _spec.toml        the latest spec file as given, for people
+    _manifest.jsonl   one line per finished part: name, SHA-256, size, rows
+    _lock             the writer's lock (filelock); _writer names its pid and host
+    part-<point>-<first sample>-<hash>.parquet
+
+Rows. Each row carries ``point_key`` (a digest of the settings and its grid point, see
+:meth:`~tensegrity_rigidity.ensemble.spec.Spec.point_key`), ``sample`` and ``theta``; these three
+identify it. A sweep computes only the rows whose keys are missing, so growing ``samples``,
+adding grid values or changing the chunk size reuses every finished row. The settings are fixed
+per directory: a spec with other settings is refused before anything is touched.
+
+One writer. :meth:`ResultStore.writing` takes an exclusive lock (``filelock``; the operating
+system releases it when the process dies, even by SIGKILL). A second sweep into a busy directory
+ends with one line; it deletes nothing. Stale temporary files are removed only under the lock,
+only after the spec was accepted, and only if the process named in them is gone.
+
+Crash safety and checksums. A part is written to a hidden temporary file, flushed, renamed into
+place, and only then listed in the manifest (one appended, flushed line). On resume every listed
+part is checked against its size and SHA-256; a damaged part is deleted and recomputed (with a
+warning), a part the manifest does not list (a kill between the rename and the manifest line) is
+deleted and recomputed. Readers (:meth:`ResultStore.read`) take no lock, read only listed parts
+and refuse a part whose checksum does not match.
 
 ``pandas.read_parquet(DIR)`` reads every part (files starting with "_" or "." are ignored by
-Parquet dataset discovery). A chunk is written to a hidden temporary file, flushed to disk and
-renamed, so a part either exists whole or not at all; a part that fails to read or has the wrong
-number of rows is deleted and redone.
+Parquet dataset discovery), including rows of other, larger specs run into DIR before; use
+:func:`~tensegrity_rigidity.ensemble.sweep.load_results` for the rows of one spec.
 """
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
 import json
 import os
+import socket
+import tomllib
+import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
+from filelock import FileLock, Timeout
 
-from ..errors import SpecError
-from .spec import GridPoint, Spec
+from ..errors import InputError, SpecError
+from .spec import Spec, parse_spec
+
+FORMAT = 2
+KEY_COLUMNS = ["point_key", "sample", "theta"]
+
+
+class CorruptPartWarning(UserWarning):
+    """A part of a results directory failed its checksum; its rows are recomputed."""
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError):
+        return True
+    return True
+
+
+def spec_from_canonical(canonical: dict) -> Spec:
+    """The :class:`Spec` recorded in a directory's ``_spec.json``."""
+    data: dict = dict(canonical["grid"])
+    data["samples"] = canonical["samples"]
+    data["lattice"] = {"kind": canonical["lattice"]}
+    data["strain"] = {"gamma": canonical["gamma"], "angles": canonical["angles"]}
+    data["solver"] = canonical["solver"]
+    data["output"] = {"chunk_size": canonical["chunk_size"]}
+    if canonical["threshold"] is not None:
+        data["threshold"] = canonical["threshold"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # its warnings were shown when it was run
+        return parse_spec(data)
+
+
+def _differences(old: dict, new: dict, prefix: str = "") -> list[str]:
+    """Settings that differ, as "name: old -> new" phrases."""
+    out = []
+    for key in sorted(set(old) | set(new)):
+        a, b = old.get(key, "(absent)"), new.get(key, "(absent)")
+        if isinstance(a, dict) and isinstance(b, dict):
+            out += _differences(a, b, f"{prefix}{key}.")
+        elif a != b:
+            out.append(f"{prefix}{key}: {a!r} there, {b!r} in this spec")
+    return out
 
 
 class ResultStore:
-    """Results of one sweep under a directory."""
+    """Results of sweeps under one directory (see the module docstring).
+
+    Parameters
+    ----------
+    root : path
+        The directory; created by :meth:`writing` when missing.
+    """
 
     def __init__(self, root: str | os.PathLike):
+        if not os.fspath(root):
+            raise SpecError("the results directory is empty; give one, e.g. --out runs/a")
         self.root = Path(root)
+        self.done: set[tuple[str, int, float]] = set()
+        self._entries: dict[str, dict] = {}
+        self._locked = False
+
+    # ------------------------------------------------------------------ the writer's lock
+
+    @contextlib.contextmanager
+    def writing(self) -> Iterator[ResultStore]:
+        """Create DIR if needed and hold its writer's lock; one line if DIR is busy or unusable."""
+        if self.root.exists() and not self.root.is_dir():
+            raise SpecError(f"{self.root} is a file, not a directory; choose another --out")
+        try:
+            self.root.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise SpecError(f"cannot create {self.root} ({exc.strerror or exc})") from None
+        lock = FileLock(self.root / "_lock")
+        try:
+            lock.acquire(timeout=1.0)  # (a reader's brief probe, see busy(), is waited out)
+        except Timeout:
+            raise SpecError(
+                f"{self.root} is being written by another sweep ({self.writer() or 'unknown'});"
+                " wait for it to finish or choose another --out"
+            ) from None
+        except OSError as exc:
+            raise SpecError(
+                f"{self.root} is not writable ({exc.strerror or exc}); choose another --out"
+            ) from None
+        try:
+            try:
+                self._atomic_write(
+                    self.root / "_writer",
+                    f"pid {os.getpid()} on {socket.gethostname()}".encode(),
+                )
+            except OSError as exc:
+                raise SpecError(
+                    f"{self.root} is not writable ({exc.strerror or exc}); choose another --out"
+                ) from None
+            self._locked = True
+            yield self
+        finally:
+            self._locked = False
+            with contextlib.suppress(OSError):
+                (self.root / "_writer").unlink()
+            lock.release()
+
+    def writer(self) -> str | None:
+        """Who holds the lock, as recorded by the writer ("pid 123 on host"), if anyone."""
+        try:
+            return (self.root / "_writer").read_text().strip() or None
+        except OSError:
+            return None
+
+    def busy(self) -> bool:
+        """Whether another process holds the writer's lock now."""
+        if not (self.root / "_lock").exists():
+            return False
+        lock = FileLock(self.root / "_lock")
+        try:
+            lock.acquire(timeout=0)
+        except (Timeout, OSError):
+            return True
+        lock.release()
+        return False
+
+    # ------------------------------------------------------------------ spec and resume
+
+    def recorded(self) -> dict | None:
+        """The parsed ``_spec.json`` (None when absent); InputError when unreadable."""
+        meta = self.root / "_spec.json"
+        if not meta.exists():
+            return None
+        try:
+            data = json.loads(meta.read_text())
+        except (OSError, ValueError):
+            raise InputError(f"{meta} is unreadable; remove it or choose another --out") from None
+        if not isinstance(data, dict) or data.get("format") != FORMAT:
+            raise InputError(
+                f"{self.root} holds results written by an older version of tensegrity-rigidity "
+                "(no row keys or checksums); choose another --out"
+            )
+        return data
+
+    def recorded_spec(self) -> Spec | None:
+        """The latest spec run into DIR, or None."""
+        data = self.recorded()
+        return None if data is None else spec_from_canonical(data["spec"])
 
     def prepare(self, spec: Spec, source_text: str | None = None) -> None:
-        """Create DIR for this spec, or check that DIR already belongs to it."""
-        meta = self.root / "_spec.json"
-        canonical = {"digest": spec.digest(), "spec": spec.canonical()}
-        if self.root.exists():  # temporary files of a killed run
-            for stale in self.root.glob(".part-*.tmp"):
-                stale.unlink(missing_ok=True)
-        if meta.exists():
-            try:
-                old = json.loads(meta.read_text())
-            except (OSError, ValueError):
+        """Check that DIR may hold this spec, then make it ready to resume (lock held).
+
+        The spec is checked first; only then are stale temporary files removed and the parts
+        verified against the manifest (a damaged part is deleted, with a warning, so that its
+        rows are recomputed). Finally the spec is recorded as the directory's latest.
+        """
+        if not self._locked:
+            raise RuntimeError("prepare() needs the writer's lock: use `with store.writing():`")
+        settings = spec.settings()
+        old = self.recorded()
+        if old is not None:
+            if old.get("settings_digest") != spec.settings_digest():
+                diff = "; ".join(_differences(old.get("settings", {}), settings)[:3])
                 raise SpecError(
-                    f"{meta} is unreadable; remove it or choose another --out"
-                ) from None
-            if old.get("digest") != canonical["digest"]:
-                raise SpecError(
-                    f"{self.root} holds results of a different sweep; choose another --out "
-                    "or delete that directory"
+                    f"{self.root} holds results of a different sweep ({diff}); choose another "
+                    "--out or delete that directory"
                 )
-            return
-        if self.root.exists() and any(p.name.startswith("part-") for p in self.root.iterdir()):
+        elif any(p.name.startswith("part-") or p.name == "_manifest.jsonl" for p in self._ls()):
             raise SpecError(f"{self.root} holds results without a spec; choose another --out")
-        self.root.mkdir(parents=True, exist_ok=True)
-        self._atomic_write(meta, json.dumps(canonical, indent=2, sort_keys=True).encode())
+        self._remove_stale_temporaries()
+        self._verify()
+        record = {
+            "format": FORMAT,
+            "settings": settings,
+            "settings_digest": spec.settings_digest(),
+            "spec": spec.canonical(),
+        }
+        self._atomic_write(
+            self.root / "_spec.json", json.dumps(record, indent=2, sort_keys=True).encode()
+        )
         if source_text is not None:
             self._atomic_write(self.root / "_spec.toml", source_text.encode())
 
-    def part_path(self, point: GridPoint, chunk: int) -> Path:
-        return self.root / f"part-{point.key()}-{chunk:05d}.parquet"
-
-    def is_done(self, point: GridPoint, chunk: int, rows: int) -> bool:
-        """Whether the part exists whole; a corrupt or partial part is deleted."""
-        path = self.part_path(point, chunk)
-        if not path.exists():
-            return False
+    def _ls(self) -> list[Path]:
         try:
-            ok = pq.read_metadata(path).num_rows == rows
-        except Exception:  # noqa: BLE001 (any unreadable file is redone)
-            ok = False
-        if not ok:
-            path.unlink(missing_ok=True)
-        return ok
+            return list(self.root.iterdir())
+        except OSError:
+            return []
 
-    def write(self, point: GridPoint, chunk: int, frame: pd.DataFrame) -> None:
+    def _remove_stale_temporaries(self) -> None:
+        """Hidden ``.<name>.<pid>.tmp`` files whose writer is gone (never a live process's)."""
+        for tmp in self._ls():
+            name = tmp.name
+            if not (name.startswith(".") and name.endswith(".tmp")):
+                continue
+            try:
+                pid = int(name[:-4].rsplit(".", 1)[1])
+            except (IndexError, ValueError):
+                continue
+            if pid != os.getpid() and _pid_alive(pid):
+                continue
+            tmp.unlink(missing_ok=True)
+
+    def manifest(self) -> dict[str, dict]:
+        """Entries of ``_manifest.jsonl`` by part name (a torn last line is ignored)."""
+        path = self.root / "_manifest.jsonl"
+        entries: dict[str, dict] = {}
+        try:
+            text = path.read_text()
+        except FileNotFoundError:
+            return entries
+        except OSError as exc:
+            raise InputError(f"{path}: cannot read ({exc.strerror})") from None
+        for line in text.splitlines():
+            try:
+                entry = json.loads(line)
+                entries[entry["part"]] = entry
+            except (ValueError, KeyError, TypeError):
+                continue
+        return entries
+
+    def check_part(self, entry: dict) -> bytes | None:
+        """The part's bytes if it exists with the manifest's size and checksum, else None."""
+        try:
+            data = (self.root / entry["part"]).read_bytes()
+        except OSError:
+            return None
+        if len(data) != entry.get("bytes") or _sha256(data) != entry.get("sha256"):
+            return None
+        return data
+
+    def _verify(self) -> None:
+        """Keep the parts that match the manifest, learn their keys, delete the rest."""
+        self.done = set()
+        self._entries = {}
+        for name, entry in self.manifest().items():
+            data = self.check_part(entry)
+            if data is None:
+                if (self.root / name).exists():
+                    warnings.warn(
+                        f"{self.root / name} is damaged (checksum mismatch): its "
+                        f"{entry.get('rows', '?')} rows are recomputed",
+                        CorruptPartWarning,
+                        stacklevel=3,
+                    )
+                    (self.root / name).unlink(missing_ok=True)
+                continue
+            keys = pq.read_table(pa.BufferReader(data), columns=KEY_COLUMNS)
+            self.done.update(
+                zip(
+                    keys.column("point_key").to_pylist(),
+                    keys.column("sample").to_pylist(),
+                    keys.column("theta").to_pylist(),
+                    strict=True,
+                )
+            )
+            self._entries[name] = entry
+        for path in self._ls():  # complete parts renamed in place but never listed
+            if path.name.startswith("part-") and path.name not in self._entries:
+                path.unlink(missing_ok=True)
+        lines = "".join(json.dumps(e, sort_keys=True) + "\n" for e in self._entries.values())
+        self._atomic_write(self.root / "_manifest.jsonl", lines.encode())
+
+    # ------------------------------------------------------------------ writing and reading
+
+    @staticmethod
+    def part_name(frame: pd.DataFrame) -> str:
+        """A part's file name from its rows' keys (one grid point per part)."""
+        pk = str(frame["point_key"].iloc[0])
+        ident = json.dumps([pk, frame["sample"].tolist(), [float(t).hex() for t in frame["theta"]]])
+        first = int(frame["sample"].iloc[0])
+        return f"part-{pk[:16]}-{first:06d}-{_sha256(ident.encode())[:12]}.parquet"
+
+    def write(self, frame: pd.DataFrame) -> str:
+        """Save one chunk's rows as a part and list it in the manifest; returns its name."""
+        if not self._locked:
+            raise RuntimeError("write() needs the writer's lock: use `with store.writing():`")
         table = pa.Table.from_pandas(frame, preserve_index=False)
         sink = pa.BufferOutputStream()
         pq.write_table(table, sink)
-        self._atomic_write(self.part_path(point, chunk), sink.getvalue().to_pybytes())
+        data = sink.getvalue().to_pybytes()
+        name = self.part_name(frame)
+        self._atomic_write(self.root / name, data)
+        entry = {"part": name, "sha256": _sha256(data), "bytes": len(data), "rows": len(frame)}
+        with open(self.root / "_manifest.jsonl", "a") as fh:
+            fh.write(json.dumps(entry, sort_keys=True) + "\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        self._entries[name] = entry
+        self.done.update(
+            zip(frame["point_key"], frame["sample"].astype(int), frame["theta"], strict=True)
+        )
+        return name
+
+    def scan(self) -> tuple[pd.DataFrame, list[str], int]:
+        """Rows of every listed part that passes its checksum, the damaged parts, total bytes.
+
+        Returns
+        -------
+        rows : pandas.DataFrame
+            Empty when there are none.
+        damaged : list of str
+            Listed parts that are missing or fail their size or SHA-256.
+        size : int
+            Bytes of the listed parts, as recorded.
+        """
+        tables, damaged, size = [], [], 0
+        for name, entry in sorted(self.manifest().items()):
+            size += int(entry.get("bytes", 0))
+            data = self.check_part(entry)
+            if data is None:
+                damaged.append(name)
+            else:
+                tables.append(pq.read_table(pa.BufferReader(data)))
+        if not tables:
+            return pd.DataFrame(), damaged, size
+        rows = pa.concat_tables(tables, promote_options="default").to_pandas()
+        return rows, damaged, size
 
     def read(self) -> pd.DataFrame:
-        """All finished rows (empty frame if none)."""
-        parts = sorted(self.root.glob("part-*.parquet"))
-        if not parts:
-            return pd.DataFrame()
-        return pd.read_parquet(self.root)
+        """Every row of every listed part (empty frame if none); InputError on a damaged part."""
+        rows, damaged, _ = self.scan()
+        if damaged:
+            raise InputError(
+                f"{self.root / damaged[0]} is missing or damaged (checksum mismatch); run the "
+                "sweep again to recompute it"
+            )
+        return rows
+
+    def rows_of(self, spec: Spec, frame: pd.DataFrame | None = None) -> pd.DataFrame:
+        """The rows of ``frame`` (default: all rows of DIR) that belong to ``spec``."""
+        df = self.read() if frame is None else frame
+        if df.empty:
+            return df
+        want = expected_keys(spec)
+        return df.merge(want, on=KEY_COLUMNS, how="inner")
 
     @staticmethod
     def _atomic_write(path: Path, data: bytes) -> None:
@@ -108,3 +408,27 @@ class ResultStore:
                 os.close(dir_fd)
         except OSError:
             pass
+
+
+def expected_keys(spec: Spec) -> pd.DataFrame:
+    """The key columns of every row of ``spec``: (point_key, sample, theta), one row each."""
+    ks = list(range(1, spec.samples + 1))
+    thetas = [spec.angle(k) for k in ks]
+    keys = [spec.point_key(p) for p in spec.points()]
+    return pd.DataFrame(
+        {
+            "point_key": [pk for pk in keys for _ in ks],
+            "sample": ks * len(keys),
+            "theta": thetas * len(keys),
+        }
+    )
+
+
+def load_source(path: str | os.PathLike) -> str | None:
+    """The text of a spec file, for ``_spec.toml`` (None when it cannot be read as TOML)."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+        tomllib.loads(text)
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return None
+    return text

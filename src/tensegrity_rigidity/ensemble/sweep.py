@@ -1,54 +1,286 @@
-"""Running a sweep: split the spec into chunks, skip finished ones, run the rest, save each.
+"""Running a sweep: find the rows still missing, run them in chunks, save each as it finishes.
 
-:func:`run_sweep` is the API behind ``tensegrity-rigidity sweep``. Rows depend only on the
-spec (see :mod:`~tensegrity_rigidity.ensemble.spec` on randomness), never on workers, chunk
-order or restarts.
+:func:`run_sweep` is the API behind ``tensegrity-rigidity sweep``. Rows depend only on their
+state point (see :mod:`~tensegrity_rigidity.ensemble.spec` on randomness and identity), never on
+workers, chunk size, chunk order or restarts; a results directory can therefore be resumed after
+any interruption and grown by samples or grid values, computing only what is new.
+
+Failures. A chunk that raises, a worker process that dies, a Dask scheduler that goes away: every
+chunk that finished is saved, the others are left for the next run, and :class:`SweepFailed`
+says what happened in one sentence with a resume hint. A full disk ends the same way.
 """
 
 from __future__ import annotations
 
+import concurrent.futures as cf
+import math
 import os
+import shutil
 import sys
+import time
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import pandas as pd
 from tqdm.auto import tqdm
 
+from ..errors import InputError, SpecError, TensegrityError
+from ..model.limits import (
+    BUILD_BYTES_PER_NODE,
+    SOLVE_BYTES_PER_NODE,
+    format_bytes,
+    physical_memory,
+)
 from .executors import open_pool
 from .runner import run_chunk
 from .spec import GridPoint, Spec, load_spec
-from .store import ResultStore
+from .store import ResultStore, load_source
+
+#: memory of one row in a loaded frame (25 columns; measured 218 bytes)
+ROW_MEMORY_BYTES = 300
+#: disk of one row in a Parquet part, and of a part itself (its schema and footer): measured
+#: 14.5 kB for a part of 4 rows, 16.6 kB for 32, 24 kB for 256
+ROW_DISK_BYTES = 100
+PART_DISK_BYTES = 15_000
 
 
 @dataclass(frozen=True)
 class SweepReport:
-    """What a call to :func:`run_sweep` did."""
+    """What a call to :func:`run_sweep` did.
 
-    chunks_total: int
-    chunks_skipped: int
-    chunks_run: int
+    Attributes
+    ----------
+    samples_total : int
+        Samples (rows) of the spec.
+    samples_reused : int
+        Rows found finished in the directory before this call.
+    samples_run : int
+        Rows computed and saved by this call.
+    chunks_run : int
+        Chunks saved by this call.
+    chunks_failed : int
+        Chunks that raised or were lost with a worker or the scheduler.
+    seconds : float
+        Wall time of the work.
+    interrupted : bool
+        Ctrl-C or SIGTERM ended the call.
+    """
+
+    samples_total: int
+    samples_reused: int
     samples_run: int
-    seconds: float
+    chunks_run: int
+    chunks_failed: int = 0
+    seconds: float = 0.0
     interrupted: bool = False
+
+    @property
+    def samples_saved(self) -> int:
+        """Rows of the spec in the directory after this call."""
+        return self.samples_reused + self.samples_run
 
 
 class SweepInterrupted(KeyboardInterrupt):
-    """Raised on Ctrl-C after pending work was cancelled; finished chunks are kept."""
+    """Raised on Ctrl-C after pending work was cancelled; finished chunks are kept.
 
-    def __init__(self, report: SweepReport):
+    ``cause`` is the interrupt that ended the sweep (a KeyboardInterrupt or a subclass, such
+    as the command line's SIGTERM).
+    """
+
+    def __init__(self, report: SweepReport, cause: BaseException | None = None):
         super().__init__("interrupted")
         self.report = report
+        self.cause = cause
 
 
-def plan_chunks(spec: Spec) -> list[tuple[GridPoint, int, list[int]]]:
-    """(point, chunk index, sample indices) for every chunk of the sweep."""
+class SweepFailed(TensegrityError):
+    """Some chunks could not be computed or saved; every finished chunk is kept.
+
+    ``exit_status`` is 2 when the cause is the user's to fix (a full or read-only disk) and 1
+    otherwise (a chunk raised, a worker or the scheduler died).
+    """
+
+    def __init__(self, message: str, report: SweepReport, exit_status: int = 1):
+        super().__init__(message)
+        self.report = report
+        self.exit_status = exit_status
+
+
+def plan_chunks(
+    spec: Spec, done: set | frozenset = frozenset()
+) -> list[tuple[GridPoint, list[int]]]:
+    """(point, sample indices) of every chunk still to compute.
+
+    Parameters
+    ----------
+    spec : Spec
+    done : set of (point_key, sample, theta)
+        Rows already saved (:attr:`ResultStore.done`).
+
+    Returns
+    -------
+    list of (GridPoint, list of int)
+        At most ``spec.chunk_size`` samples each, in increasing sample order per point.
+    """
+    ks = range(1, spec.samples + 1)
+    thetas = [spec.angle(k) for k in ks]
     out = []
-    ks = list(range(1, spec.samples + 1))
     for point in spec.points():
-        for c, start in enumerate(range(0, len(ks), spec.chunk_size)):
-            out.append((point, c, ks[start : start + spec.chunk_size]))
+        pk = spec.point_key(point)
+        missing = [k for k in ks if (pk, k, thetas[k - 1]) not in done] if done else list(ks)
+        for start in range(0, len(missing), spec.chunk_size):
+            out.append((point, missing[start : start + spec.chunk_size]))
     return out
+
+
+def estimate(spec: Spec) -> dict:
+    """What a spec asks for: rows, memory per sample and of the loaded rows, disk, CPU time.
+
+    Returns
+    -------
+    dict
+        ``rows``, ``points``, ``n_max``, ``sample_bytes`` (memory of one sample at the largest
+        n), ``rows_bytes`` (memory of the loaded rows), ``disk_bytes`` (all parts),
+        ``cpu_seconds``.
+
+    Notes
+    -----
+    CPU seconds per solve follow the benchmark medians (4 ms at n = 16, 0.37 s at n = 128 on
+    the reference machine: about ``4e-3 (n / 16)^2.2``); a threshold costs about
+    ``log2(3 n^2) + 2`` solves.
+    """
+    rows = spec.n_samples()
+    n_max = max(spec.grid["n"])
+    per_point = spec.samples * spec.n_points() // len(spec.grid["n"])
+    solves = 1.0
+    cpu = 0.0
+    for n in spec.grid["n"]:
+        if spec.mode == "threshold":
+            solves = math.log2(3 * n * n) + 2
+        cpu += per_point * solves * 4e-3 * (n / 16) ** 2.2
+    return {
+        "rows": rows,
+        "points": spec.n_points(),
+        "sample_bytes": (BUILD_BYTES_PER_NODE + SOLVE_BYTES_PER_NODE) * float(n_max) ** 2,
+        "n_max": n_max,
+        "rows_bytes": ROW_MEMORY_BYTES * float(rows),
+        "disk_bytes": ROW_DISK_BYTES * float(rows)
+        + PART_DISK_BYTES * float(spec.n_points()) * math.ceil(spec.samples / spec.chunk_size),
+        "cpu_seconds": cpu,
+    }
+
+
+def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = None) -> dict:
+    """Refuse a sweep that cannot fit in memory, before anything starts; returns :func:`estimate`.
+
+    The disk is checked once the missing rows are known (:func:`check_disk`).
+
+    Parameters
+    ----------
+    spec : Spec
+    out : path
+        Results directory.
+    worker_memory : int, optional
+        Memory of one worker in bytes (a Dask worker's limit); default this machine's.
+
+    Raises
+    ------
+    SpecError
+        One sentence saying how much is asked and how much there is.
+    """
+    est = estimate(spec)
+    have = worker_memory or physical_memory()
+    if est["sample_bytes"] > have:
+        where = "a Dask worker has" if worker_memory else "this machine has"
+        raise SpecError(
+            f"n = {est['n_max']} needs about {format_bytes(est['sample_bytes'])} of memory per "
+            f"sample; {where} {format_bytes(have)}"
+        )
+    ram = physical_memory()
+    if est["rows_bytes"] > ram:
+        raise SpecError(
+            f"the sweep asks for {est['rows']:,} samples ({est['points']:,} grid points x "
+            f"{spec.samples:,}); their rows need about {format_bytes(est['rows_bytes'])} of "
+            f"memory to load, this machine has {format_bytes(ram)}"
+        )
+    return est
+
+
+def check_disk(out: str | os.PathLike, rows: int, parts: int) -> None:
+    """Refuse to start when the parts still to write cannot fit on the disk of ``out``.
+
+    Parameters
+    ----------
+    out : path
+        Results directory (or the nearest existing parent).
+    rows, parts : int
+        Rows and part files still to write.
+
+    Raises
+    ------
+    SpecError
+        One sentence saying how much disk is needed and how much is free.
+    """
+    need = ROW_DISK_BYTES * float(rows) + PART_DISK_BYTES * float(parts)
+    parent = Path(out).absolute()
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    try:
+        free = shutil.disk_usage(parent).free
+    except OSError:
+        return
+    if need > free:
+        raise SpecError(
+            f"the sweep's {rows:,} missing rows need about {format_bytes(need)} of disk; "
+            f"{parent} has {format_bytes(free)} free"
+        )
+
+
+def _describe_chunk(point: GridPoint, ks: list[int]) -> str:
+    where = ", ".join(
+        f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+        for k, v in vars(point).items()
+        if not (isinstance(v, float) and math.isnan(v))
+    )
+    return f"{where}, samples {ks[0]}-{ks[-1]}"
+
+
+def _lost_with(exc: BaseException) -> str | None:
+    """Why a chunk was lost with its worker or scheduler (None: the chunk itself raised)."""
+    name = type(exc).__name__
+    if isinstance(exc, BrokenProcessPool):
+        return "a worker process died (killed, or out of memory)"
+    if name == "KilledWorker":
+        return "a Dask worker died (killed, or out of memory)"
+    if name in ("CancelledError", "FutureCancelledError", "CommClosedError") or isinstance(
+        exc, cf.CancelledError
+    ):
+        return "the Dask scheduler or its workers went away"
+    return None
+
+
+def _failure_message(failed: list, n_chunks: int, saved: int, root: Path) -> str:
+    """One sentence: what failed, what is saved, how to resume."""
+    lost = [(c, _lost_with(e)) for c, e in failed]
+    raised = [(c, e) for (c, e), (_, why) in zip(failed, lost, strict=True) if why is None]
+    parts = []
+    if raised:
+        (point, ks), exc = raised[0]
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        what = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+        parts.append(
+            f"{len(raised)} of {n_chunks} chunks failed (first: {_describe_chunk(point, ks)}: "
+            f"{what})"
+        )
+    gone = [why for _, why in lost if why is not None]
+    if gone:
+        parts.append(f"{gone[0]}: {len(gone)} of {n_chunks} chunks not computed")
+    return (
+        "; ".join(parts) + f"; the {saved} finished samples are saved in {root}: run the same "
+        "command again to resume"
+    )
 
 
 def run_sweep(
@@ -57,74 +289,183 @@ def run_sweep(
     executor: Any = None,
     scheduler: str | None = None,
     progress: bool | None = None,
+    wait_for_workers: float = 60.0,
 ) -> SweepReport:
-    """Run (or resume) a sweep into the directory ``out``.
+    """Run (or resume, or grow) a sweep into the directory ``out``.
 
     Parameters
     ----------
     spec : Spec or path of a TOML file
-    out : directory of results (created; reopened to resume)
+    out : directory of results (created; reopened to resume or grow)
     executor : None/int (local processes, default all cores), "serial",
         a concurrent.futures.Executor or a distributed.Client
     scheduler : address of a running Dask scheduler (tcp://host:port), instead of executor
     progress : show a progress bar (default: when stderr is a terminal)
-    """
-    import time
+    wait_for_workers : seconds to wait for a first worker of a Dask scheduler that has none
 
+    Returns
+    -------
+    SweepReport
+
+    Raises
+    ------
+    SpecError
+        A bad spec, a sweep too large for this machine, a busy or unusable directory, a
+        directory holding another sweep (nothing is touched).
+    SweepInterrupted
+        Ctrl-C (or SIGTERM via the command line); finished chunks are kept.
+    SweepFailed
+        Chunks failed or could not be saved; finished chunks are kept.
+    """
     source = None
     if not isinstance(spec, Spec):
-        source = open(spec).read() if os.path.exists(spec) else None
+        source = load_source(spec)
         spec = load_spec(spec)
     store = ResultStore(out)
+    check_size(spec, out)
     start = time.perf_counter()
     # Reach the executor (a remote scheduler may be down) before touching the directory.
-    with open_pool(executor, scheduler) as pool:
+    with open_pool(executor, scheduler, wait_for_workers) as pool, store.writing():
+        if pool.worker_memory:
+            check_size(spec, out, pool.worker_memory)
         store.prepare(spec, source)
-        chunks = plan_chunks(spec)
-        todo = [(p, c, ks) for p, c, ks in chunks if not store.is_done(p, c, len(ks))]
+        todo = plan_chunks(spec, store.done)
+        total = spec.n_samples()
+        reused = total - sum(len(ks) for _, ks in todo)
         if not todo:
-            return SweepReport(len(chunks), len(chunks), 0, 0, 0.0)
-        n_todo = sum(len(ks) for _, _, ks in todo)
+            return SweepReport(total, reused, 0, 0)
+        check_disk(store.root, total - reused, len(todo))
         show = sys.stderr.isatty() if progress is None else progress
         bar = tqdm(
-            total=n_todo,
+            total=total - reused,
             unit="sample",
             disable=not show,
             dynamic_ncols=True,
             desc=f"sweep {os.fspath(out)}",
         )
         done_chunks = done_samples = 0
-        futures = {pool.submit(run_chunk, spec, p, ks): (p, c, ks) for p, c, ks in todo}
+        failed: list[tuple[tuple[GridPoint, list[int]], BaseException]] = []
+
+        def report(interrupted: bool = False) -> SweepReport:
+            return SweepReport(
+                total,
+                reused,
+                done_samples,
+                done_chunks,
+                len(failed),
+                time.perf_counter() - start,
+                interrupted,
+            )
+
+        futures = {pool.submit(run_chunk, spec, p, ks): (p, ks) for p, ks in todo}
         try:
             for fut in pool.as_completed(list(futures)):
-                point, c, ks = futures[fut]
-                store.write(point, c, fut.result())
+                chunk = futures[fut]
+                try:
+                    frame = fut.result()
+                except Exception as exc:  # noqa: BLE001 (reported below, the rest is saved)
+                    failed.append((chunk, exc))
+                    continue
+                try:
+                    store.write(frame)
+                except OSError as exc:
+                    pool.cancel(futures)
+                    bar.close()
+                    raise SweepFailed(
+                        f"cannot write {store.root} ({exc.strerror or exc}); "
+                        f"{total - reused - done_samples} samples not saved, the "
+                        f"{reused + done_samples} finished are kept: free space and run the "
+                        "same command again to resume",
+                        report(),
+                        exit_status=2,
+                    ) from None
                 done_chunks += 1
-                done_samples += len(ks)
-                bar.update(len(ks))
-        except KeyboardInterrupt:
+                done_samples += len(chunk[1])
+                bar.update(len(chunk[1]))
+        except KeyboardInterrupt as exc:
             pool.cancel(futures)
             bar.close()
-            raise SweepInterrupted(
-                SweepReport(
-                    len(chunks),
-                    len(chunks) - len(todo),
-                    done_chunks,
-                    done_samples,
-                    time.perf_counter() - start,
-                    interrupted=True,
-                )
-            ) from None
-    bar.close()
-    return SweepReport(
-        len(chunks), len(chunks) - len(todo), done_chunks, done_samples, time.perf_counter() - start
-    )
+            raise SweepInterrupted(report(interrupted=True), exc) from None
+        bar.close()
+        if failed:
+            raise SweepFailed(
+                _failure_message(failed, len(todo), reused + done_samples, store.root), report()
+            )
+    return report()
 
 
-def load_results(out: str | os.PathLike) -> pd.DataFrame:
-    """All rows of a sweep directory, sorted by grid point and sample."""
-    df = ResultStore(out).read()
+def load_results(
+    out: str | os.PathLike, spec: Spec | None = None, all_rows: bool = False
+) -> pd.DataFrame:
+    """Rows of a sweep directory, sorted by grid point and sample.
+
+    Parameters
+    ----------
+    out : path
+        Results directory.
+    spec : Spec, optional
+        Return the rows of this spec; default the latest spec run into ``out``.
+    all_rows : bool
+        Return every row in ``out`` (also those of earlier, larger specs).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per sample (empty when there are none).
+
+    Raises
+    ------
+    InputError
+        When ``out`` is not a results directory or one of its parts is damaged.
+    """
+    store = ResultStore(out)
+    if not store.root.is_dir():
+        raise InputError(f"{store.root}: no such results directory")
+    df = store.read()
     if df.empty:
         return df
+    if not all_rows:
+        spec = spec or store.recorded_spec()
+        if spec is not None:
+            df = store.rows_of(spec, df)
     keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed", "sample") if c in df]
     return df.sort_values(keys, kind="stable").reset_index(drop=True)
+
+
+def describe(out: str | os.PathLike) -> dict:
+    """What a results directory holds (for ``tensegrity-rigidity info``).
+
+    Returns
+    -------
+    dict
+        ``spec`` (the latest spec, a :class:`Spec`), ``rows`` (all rows in DIR), ``done``
+        (rows of the spec), ``total`` (rows the spec asks for), ``undecided`` (rows of the
+        spec without a verdict), ``chunks_missing`` (chunks a re-run computes), ``parts``,
+        ``damaged`` (parts failing their checksum), ``bytes`` (size of the parts), ``writer``
+        (who is writing now, or None), ``frame`` (the spec's rows).
+    """
+    store = ResultStore(out)
+    if not store.root.is_dir():
+        raise InputError(f"{store.root}: no such results directory")
+    spec = store.recorded_spec()
+    if spec is None:
+        raise InputError(f"{store.root}: not a results directory (no _spec.json)")
+    everything, damaged, size = store.scan()
+    mine = store.rows_of(spec, everything) if not everything.empty else everything
+    done = set()
+    if not mine.empty:
+        done = set(zip(mine["point_key"], mine["sample"], mine["theta"], strict=True))
+    undecided = int((~mine["decided"].astype(bool)).sum()) if not mine.empty else 0
+    return {
+        "spec": spec,
+        "rows": len(everything),
+        "done": len(mine),
+        "total": spec.n_samples(),
+        "undecided": undecided,
+        "chunks_missing": len(plan_chunks(spec, done)),
+        "parts": len(store.manifest()),
+        "damaged": damaged,
+        "bytes": size,
+        "writer": store.writer() if store.busy() else None,
+        "frame": mine,
+    }

@@ -1,29 +1,58 @@
 """Instance files: ``.npz`` archives with exactly the keys ``box``, ``positions``, ``bonds``,
 ``shifts``, ``kinds`` (0 empty, 1 rod, 2 cable, 3 strut), ``strain`` (2x2 symmetric, magnitude
-included) and optionally ``stiffness``."""
+included) and optionally ``stiffness``.
+
+Reading trusts nothing in the file: every member's ``.npy`` header (shape, dtype) is read and
+checked against the bytes the member holds, and against this machine's memory, *before* an array
+is allocated; a corrupt member (a bad CRC, a broken deflate stream), a plain ``.npy`` file or an
+archive of pickled objects ends in one :class:`~tensegrity_rigidity.errors.InputError`.
+"""
 
 from __future__ import annotations
 
+import math
 import os
 import zipfile
+import zlib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ..errors import InputError
+from .limits import check_memory, format_bytes
 from .network import Instance
 
 REQUIRED_KEYS = ("box", "positions", "bonds", "shifts", "kinds", "strain")
 OPTIONAL_KEYS = ("stiffness",)
 
+_NPY_MAGIC = b"\x93NUMPY"
+_READ_ERRORS = (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error)
+
 
 def save_instance(path: str | os.PathLike, instance: Instance) -> None:
-    """Write an instance to ``path`` (.npz), atomically (a temporary file renamed into place)."""
+    """Write an instance to ``path`` (.npz), atomically.
+
+    The archive is written to a hidden temporary file next to ``path`` and renamed into place;
+    on any failure (a directory in the way, no permission, a full disk) the temporary file is
+    removed and nothing is left behind.
+
+    Raises
+    ------
+    InputError
+        If ``path`` is empty, a directory, in a missing directory, or cannot be written.
+    """
     if not isinstance(instance, Instance):
         raise InputError("save_instance needs an Instance")
+    if not os.fspath(path):
+        raise InputError("the output path is empty")
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a directory; give a file name such as {path}/sample.npz")
+    if not path.parent.is_dir():
+        raise InputError(f"{path}: directory {path.parent} does not exist")
     net = instance.network
-    arrays = {
+    arrays: dict[str, Any] = {
         "box": net.box,
         "positions": net.positions,
         "bonds": net.bonds,
@@ -33,10 +62,76 @@ def save_instance(path: str | os.PathLike, instance: Instance) -> None:
     }
     if net.stiffness is not None:
         arrays["stiffness"] = net.stiffness
-    tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "wb") as fh:
-        np.savez(fh, **arrays)
-    os.replace(tmp, path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+        os.replace(tmp, path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, path: Path) -> np.ndarray:
+    """One ``.npy`` member, its header checked before anything is allocated."""
+    key = info.filename[:-4]
+    fmt = np.lib.format
+    with zf.open(info) as fh:
+        version = fmt.read_magic(fh)
+        if version == (1, 0):
+            shape, fortran, dtype = fmt.read_array_header_1_0(fh)
+        elif version == (2, 0):
+            shape, fortran, dtype = fmt.read_array_header_2_0(fh)
+        else:
+            raise InputError(f"{path}: member {key!r} has unsupported .npy version {version}")
+        header = fh.tell()
+        if dtype.hasobject or dtype.kind not in "biufc":
+            raise InputError(f"{path}: member {key!r} holds {dtype}, not numbers")
+        declared = math.prod(shape) * dtype.itemsize
+        held = info.file_size - header
+        if declared != held:
+            raise InputError(
+                f"{path}: member {key!r} declares shape {shape} ({format_bytes(declared)}) but "
+                f"holds {format_bytes(max(held, 0))}: the file is corrupt"
+            )
+        check_memory(declared, f"{path}: member {key!r} of shape {shape}")
+    with zf.open(info) as fh:
+        return fmt.read_array(fh, allow_pickle=False)
+
+
+def _read_npz(path: Path) -> dict[str, np.ndarray]:
+    """Every member of an instance archive, validated one by one."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(len(_NPY_MAGIC))
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if head == _NPY_MAGIC:
+        raise InputError(
+            f"{path}: is a plain .npy array, not an .npz instance archive "
+            "(write one with save_instance)"
+        )
+    try:
+        with zipfile.ZipFile(path) as zf:
+            infos = [i for i in zf.infolist() if not i.is_dir()]
+            other = sorted(i.filename for i in infos if not i.filename.endswith(".npy"))
+            if other:
+                raise InputError(f"{path}: unknown member(s) {', '.join(other)}")
+            keys = {i.filename[:-4] for i in infos}
+            missing = [k for k in REQUIRED_KEYS if k not in keys]
+            if missing:
+                raise InputError(f"{path}: missing key(s) {', '.join(missing)}")
+            unknown = sorted(keys - set(REQUIRED_KEYS) - set(OPTIONAL_KEYS))
+            if unknown:
+                raise InputError(f"{path}: unknown key(s) {', '.join(unknown)}")
+            return {i.filename[:-4]: _read_member(zf, i, path) for i in infos}
+    except InputError:
+        raise
+    except _READ_ERRORS as exc:
+        raise InputError(f"{path}: not a readable .npz instance file ({exc})") from None
 
 
 def load_instance(path: str | os.PathLike) -> Instance:
@@ -45,24 +140,15 @@ def load_instance(path: str | os.PathLike) -> Instance:
     Raises
     ------
     InputError
-        If the file is missing or unreadable, keys are missing or unknown, or the arrays do not
-        describe a valid instance.
+        If the file is missing, unreadable or corrupt, keys are missing or unknown, a member's
+        header declares more data than it holds, or the arrays do not describe a valid instance.
     """
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a directory, not an instance file")
     if not path.is_file():
         raise InputError(f"{path}: no such file")
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            keys = set(data.files)
-            arrays = {key: data[key] for key in keys}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        raise InputError(f"{path}: not a readable .npz instance file ({exc})") from None
-    missing = [k for k in REQUIRED_KEYS if k not in keys]
-    if missing:
-        raise InputError(f"{path}: missing key(s) {', '.join(missing)}")
-    unknown = sorted(keys - set(REQUIRED_KEYS) - set(OPTIONAL_KEYS))
-    if unknown:
-        raise InputError(f"{path}: unknown key(s) {', '.join(unknown)}")
+    arrays = _read_npz(path)
     try:
         return Instance.from_arrays(
             arrays["box"],

@@ -7,15 +7,31 @@ state. Builders return networks with all bond sites *empty*; elements are placed
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ..errors import InputError
+from .limits import BUILD_BYTES_PER_NODE, check_memory
 from .network import Element, PeriodicNetwork
 
 #: Default node disorder of the triangular lattice. The paper does not state its value; 0.2 (in
 #: units of the lattice constant) is large enough to remove the straight lines of the perfect
 #: lattice and small enough that no bond comes close to zero length. Keep it a parameter.
 DEFAULT_DELTA = 0.2
+
+#: Smallest disorder at which bonds *can* cross, per lattice: a node kicked across the opposite
+#: side of one of its triangles. The signed area of a triangle is affine in each kicked
+#: coordinate, so its minimum over the kicks lies at a corner of the kick box; the smallest
+#: delta at which that minimum reaches zero is (3 - sqrt 3) / 4 on the triangular lattice and
+#: 1/4 on the square lattice with diagonals. Without diagonals the square lattice's bonds
+#: cannot cross for delta < 1/2.
+CROSSING_DELTA = {"triangular": (3.0 - np.sqrt(3.0)) / 4.0, "square": 0.5, "square+diagonals": 0.25}
+
+
+class CrossingBondsWarning(UserWarning):
+    """The node disorder turned some triangles of a lattice inside out: bonds cross."""
+
 
 B1 = np.array([1.0, 0.0])
 B2 = np.array([-0.5, np.sqrt(3.0) / 2.0])
@@ -26,7 +42,38 @@ def _check_size(n: int) -> int:
         raise InputError(f"n must be an integer, got {n!r}")
     if n < 2:
         raise InputError(f"n must be at least 2, got {n}")
+    check_memory(BUILD_BYTES_PER_NODE * float(n) ** 2, f"a lattice of n = {n} ({n}^2 nodes)")
     return int(n)
+
+
+def inverted_triangles(net: PeriodicNetwork) -> int:
+    """Number of inside-out triangles of a grid lattice built here (crossing bonds).
+
+    Sites ``0..N-1``, ``N..2N-1``, ``2N..3N-1`` join node ``i`` to its ``+b1``, ``+b2`` and
+    ``+(b1 + b2)`` neighbours (``N`` nodes), so the two triangles at node ``i`` have the sides
+    ``(d1, d3)`` and ``(d3, d2)``, both counter-clockwise in the undisturbed lattice; a
+    non-positive cross product means a node crossed the opposite side. Networks with another
+    number of sites (the square lattice without diagonals) have no triangles: 0.
+    """
+    n_nodes = net.n_nodes
+    if net.n_sites != 3 * n_nodes:
+        return 0
+    d = net.bond_vectors()
+    d1, d2, d3 = d[:n_nodes], d[n_nodes : 2 * n_nodes], d[2 * n_nodes :]
+    up = d1[:, 0] * d3[:, 1] - d1[:, 1] * d3[:, 0]
+    down = d3[:, 0] * d2[:, 1] - d3[:, 1] * d2[:, 0]
+    return int(np.count_nonzero(up <= 0) + np.count_nonzero(down <= 0))
+
+
+def _warn_if_crossing(net: PeriodicNetwork, delta: float, name: str) -> None:
+    bad = inverted_triangles(net)
+    if bad:
+        warnings.warn(
+            f"delta = {delta} turned {bad} triangle(s) of the {name} lattice inside out: bonds "
+            f"cross (possible from delta = {CROSSING_DELTA[name]:.4f})",
+            CrossingBondsWarning,
+            stacklevel=3,
+        )
 
 
 def _check_delta(delta: float) -> float:
@@ -42,8 +89,8 @@ def _check_delta(delta: float) -> float:
 
 def _periodic_grid_bonds(n: int, neighbours: list[tuple[int, int]]):
     """Bonds of an n x n periodic grid: each node (a, b) to (a + da, b + db), wrapped."""
-    a, b = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    a, b = a.ravel(), b.ravel()
+    grid_a, grid_b = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    a, b = grid_a.ravel(), grid_b.ravel()
     bonds, shifts = [], []
     for da, db in neighbours:
         a2, b2 = a + da, b + db
@@ -67,9 +114,16 @@ def triangular_lattice(
     n : int
         Linear size, at least 2.
     delta : float
-        Disorder amplitude, ``0 <= delta < 0.5``.
+        Disorder amplitude, ``0 <= delta < 0.5``. From ``delta = (3 - sqrt 3) / 4 = 0.317``
+        kicks can turn a triangle inside out (its bonds cross); a
+        :class:`CrossingBondsWarning` says when they did.
     rng : numpy.random.Generator, optional
         Source of the kicks; required when ``delta > 0``.
+
+    Returns
+    -------
+    PeriodicNetwork
+        ``n^2`` nodes, ``3 n^2`` empty sites.
     """
     n = _check_size(n)
     delta = _check_delta(delta)
@@ -81,7 +135,10 @@ def triangular_lattice(
         positions = positions + rng.uniform(-delta, delta, size=positions.shape)
     box = np.array([n * B1, n * B2])
     kinds = np.full(len(bonds), Element.EMPTY, dtype=np.int64)
-    return PeriodicNetwork(box, positions, bonds, shifts, kinds)
+    net = PeriodicNetwork(box, positions, bonds, shifts, kinds)
+    if delta >= CROSSING_DELTA["triangular"]:
+        _warn_if_crossing(net, delta, "triangular")
+    return net
 
 
 def square_lattice(
@@ -106,7 +163,10 @@ def square_lattice(
         positions = positions + rng.uniform(-delta, delta, size=positions.shape)
     box = n * np.eye(2)
     kinds = np.full(len(bonds), Element.EMPTY, dtype=np.int64)
-    return PeriodicNetwork(box, positions, bonds, shifts, kinds)
+    net = PeriodicNetwork(box, positions, bonds, shifts, kinds)
+    if diagonals and delta >= CROSSING_DELTA["square+diagonals"]:
+        _warn_if_crossing(net, delta, "square+diagonals")
+    return net
 
 
 def random_periodic_network(

@@ -35,7 +35,15 @@ class Element(IntEnum):
 
 def _as_float_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray:
     try:
-        arr = np.array(value, dtype=float)
+        raw = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be a numeric array ({exc})") from None
+    if raw.dtype.kind == "c":  # a cast would drop the imaginary part silently
+        raise InputError(f"{name} must be real, got complex values (dtype {raw.dtype})")
+    if raw.dtype.kind == "b":
+        raise InputError(f"{name} must be a numeric array, got booleans")
+    try:
+        arr = np.array(raw, dtype=float)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{name} must be a numeric array ({exc})") from None
     _check_shape(name, arr, shape)
@@ -54,7 +62,9 @@ def _as_int_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray
             raise InputError(f"{name} contains NaN or infinite values")
         if not np.all(raw == np.round(raw)):
             raise InputError(f"{name} must hold integers")
-    elif raw.size and raw.dtype.kind not in "iub":
+    elif raw.dtype.kind == "b":  # True/False would pass as 1/0: almost surely a mistake
+        raise InputError(f"{name} must be an integer array, got booleans")
+    elif raw.size and raw.dtype.kind not in "iu":
         raise InputError(f"{name} must be an integer array, got dtype {raw.dtype}")
     arr = raw.astype(np.int64)
     _check_shape(name, arr, shape)
@@ -105,7 +115,9 @@ class PeriodicNetwork:
 
     def __post_init__(self) -> None:
         box = _as_float_array("box", self.box, (2, 2))
-        if abs(np.linalg.det(box)) <= 1e-12 * max(1.0, float(np.abs(box).max()) ** 2):
+        # relative to the box's own scale: |det| = |b1| |b2| sin(angle between them)
+        norms = float(np.hypot(*box[0])) * float(np.hypot(*box[1]))
+        if not abs(np.linalg.det(box)) > 1e-12 * norms:
             raise InputError("box must have two independent lattice vectors (zero area)")
         positions = _as_float_array("positions", self.positions, (None, 2))
         n_nodes = positions.shape[0]
@@ -184,7 +196,7 @@ class PeriodicNetwork:
 def check_strain(strain) -> np.ndarray:
     """Validate a strain tensor: finite, shape (2, 2), symmetric. Returns a float copy."""
     eps = _as_float_array("strain", strain, (2, 2))
-    if abs(eps[0, 1] - eps[1, 0]) > 1e-12 * max(1.0, float(np.abs(eps).max())):
+    if abs(eps[0, 1] - eps[1, 0]) > 1e-12 * float(np.abs(eps).max()):
         raise InputError(
             f"strain must be symmetric, got off-diagonal entries {eps[0, 1]!r} and {eps[1, 0]!r}"
         )

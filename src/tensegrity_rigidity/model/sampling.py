@@ -20,6 +20,17 @@ from .strain import strain_tensor
 LATTICES = {"triangular": triangular_lattice, "square": square_lattice}
 
 
+def check_seed(seed) -> int | None:
+    """Validate a seed: ``None`` or a non-negative integer (what ``SeedSequence`` accepts)."""
+    if seed is None:
+        return None
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise InputError(f"seed must be a non-negative integer, got {seed!r}")
+    if seed < 0:
+        raise InputError(f"seed must be a non-negative integer, got {seed}")
+    return int(seed)
+
+
 def lattice_geometry(
     n: int, delta: float, rng: np.random.Generator, lattice: str = "triangular"
 ) -> tuple[PeriodicNetwork, np.ndarray, np.ndarray]:
@@ -60,10 +71,15 @@ def lattice_instance(
     delta : float
         Node disorder.
     seed : int or numpy.random.Generator
-        Randomness of the geometry and the site uniforms.
+        Randomness of the geometry and the site uniforms; an integer must be non-negative.
+
+    Returns
+    -------
+    Instance
+        The network (``n^2`` nodes, ``3 n^2`` sites on the triangular lattice) and its strain.
     """
     check_probabilities(p_r, p_t, f_c)
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
     net, u, v = lattice_geometry(n, delta, rng, lattice)
     kinds = place_elements(u, v, p_r, p_t, f_c)
     return Instance(net.with_kinds(kinds), strain_tensor(phi, theta, gamma))

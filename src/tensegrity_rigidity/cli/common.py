@@ -1,0 +1,26 @@
+"""Pieces shared by the command modules: SIGTERM as an interrupt, argument checks."""
+
+from __future__ import annotations
+
+from ..errors import InputError
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread and handled like Ctrl-C: finished work is kept."""
+
+
+def on_sigterm(signum, frame):
+    """Signal handler: turn SIGTERM into :class:`Terminated`."""
+    raise Terminated
+
+
+def interrupt_status(exc: BaseException | None) -> int:
+    """Exit status of an interrupt: 143 for SIGTERM, 130 for Ctrl-C."""
+    return 143 if isinstance(exc, Terminated) else 130
+
+
+def check_out(value: str, option: str = "--out") -> str:
+    """An output path given on the command line must not be empty (it would mean '.')."""
+    if not value or not value.strip():
+        raise InputError(f"{option} is empty; give a path")
+    return value

@@ -1,0 +1,248 @@
+"""Every failure of issue 18 items 7 and 8 at the command line: one line, the right status."""
+
+from __future__ import annotations
+
+import errno
+import io
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import zipfile
+
+import numpy as np
+import pytest
+
+from tensegrity_rigidity import lattice_instance, save_instance
+from tensegrity_rigidity.analysis.estimators import wilson
+from tensegrity_rigidity.cli.main import main
+
+from ..processes import unprivileged
+
+SPEC = """
+n = 5
+p_r = [0.55, 0.7]
+p_t = 0.25
+phi = ["dilation", "compression"]
+samples = 6
+seed = 2
+[output]
+chunk_size = 4
+"""
+
+
+def _one_error(capsys, code, expected_code=2) -> str:
+    err = capsys.readouterr().err.strip()
+    assert code == expected_code, err
+    assert len(err.splitlines()) == 1 and err.startswith("error: "), err
+    return err
+
+
+@pytest.fixture
+def instance_file(tmp_path):
+    path = tmp_path / "a.npz"
+    save_instance(path, lattice_instance(4, 0.6, 0.2, seed=1))
+    return path
+
+
+def test_corrupt_member_absurd_header_and_plain_npy(tmp_path, capsys, instance_file):
+    with np.load(instance_file) as data:
+        arrays = {k: data[k] for k in data.files}
+    corrupt = tmp_path / "c.npz"
+    np.savez_compressed(corrupt, **arrays)
+    with zipfile.ZipFile(corrupt) as zf:
+        info = zf.getinfo("bonds.npy")
+    raw = bytearray(corrupt.read_bytes())
+    raw[info.header_offset + 30 + len(info.filename) + len(info.extra) + 50] ^= 0xFF
+    corrupt.write_bytes(bytes(raw))
+    assert "not a readable" in _one_error(capsys, main(["solve", str(corrupt)]))
+
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(
+        header, {"descr": "<f8", "fortran_order": False, "shape": (10**11, 2)}
+    )
+    huge = tmp_path / "huge.npz"
+    with zipfile.ZipFile(huge, "w") as zf:
+        for key, value in arrays.items():
+            buf = io.BytesIO()
+            np.save(buf, value)
+            zf.writestr(f"{key}.npy", header.getvalue() if key == "positions" else buf.getvalue())
+    assert "declares shape" in _one_error(capsys, main(["solve", str(huge)]))
+
+    npy = tmp_path / "p.npy"
+    np.save(npy, np.zeros((3, 2)))
+    assert "plain .npy" in _one_error(capsys, main(["solve", str(npy)]))
+
+
+def test_sample_with_negative_seed_or_huge_n(tmp_path, capsys):
+    out = str(tmp_path / "s.npz")
+    err = _one_error(capsys, main(["sample", out, "--p-r", "0.5", "--seed", "-1"]))
+    assert "seed must be a non-negative integer" in err
+    err = _one_error(capsys, main(["sample", out, "--p-r", "0.5", "--n", "1000000"]))
+    assert "n = 1000000" in err and "this machine has" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_sample_into_a_directory_or_nowhere_leaves_no_temporary(tmp_path, capsys):
+    target = tmp_path / "d.npz"
+    target.mkdir()
+    err = _one_error(capsys, main(["sample", str(target), "--n", "4", "--p-r", "0.5"]))
+    assert "is a directory" in err
+    err = _one_error(capsys, main(["sample", "", "--n", "4", "--p-r", "0.5"]))
+    assert "empty" in err
+    assert [p.name for p in tmp_path.iterdir()] == ["d.npz"]
+
+
+def test_sample_into_a_read_only_directory_leaves_no_temporary(tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    cmd = [sys.executable, "-m", "tensegrity_rigidity", "sample", str(ro / "s.npz")]
+    try:
+        proc = subprocess.run(
+            unprivileged(cmd + ["--n", "4", "--p-r", "0.5"]), capture_output=True, text=True
+        )
+        err = proc.stderr.strip()
+        assert proc.returncode == 2 and len(err.splitlines()) == 1, err
+        assert err.startswith("error: ") and "Permission denied" in err
+        assert list(ro.iterdir()) == []
+    finally:
+        ro.chmod(0o755)
+
+
+def test_sample_onto_a_full_disk(tmp_path, capsys, monkeypatch):
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", full)
+    out = tmp_path / "s.npz"
+    err = _one_error(capsys, main(["sample", str(out), "--n", "4", "--p-r", "0.5"]))
+    assert "No space left on device" in err and list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_solve_output_to_a_full_device(instance_file):
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run(
+            [sys.executable, "-m", "tensegrity_rigidity", "solve", str(instance_file)],
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+    err = proc.stderr.strip()
+    assert proc.returncode == 2 and len(err.splitlines()) == 1, err
+    assert err.startswith("error: ") and "No space left on device" in err
+
+
+def test_solve_into_a_closed_pipe(instance_file):
+    """``solve FILE | head``: the reader is gone before the output is written."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "tensegrity_rigidity", "solve", str(instance_file), "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    proc.stdout.close()
+    err = proc.stderr.read().strip()
+    proc.wait(timeout=60)
+    assert proc.returncode == 2 and len(err.splitlines()) == 1, err
+    assert "Traceback" not in err and "pipe was closed" in err
+
+
+def test_solve_json_has_no_nan_or_infinity(capsys, instance_file, monkeypatch):
+    from tensegrity_rigidity.solver.core import SolveResult
+
+    real = SolveResult.summary
+
+    def with_nonfinite(self):
+        return real(self) | {"work": float("nan"), "force_residual": float("inf")}
+
+    monkeypatch.setattr(SolveResult, "summary", with_nonfinite)
+    assert main(["solve", str(instance_file), "--json"]) == 0
+    text = capsys.readouterr().out
+
+    def refuse(name):
+        raise AssertionError(f"{name} in JSON output")
+
+    data = json.loads(text, parse_constant=refuse)
+    assert data["work"] is None and data["force_residual"] is None
+
+
+def test_non_utf8_spec(tmp_path, capsys):
+    spec = tmp_path / "latin1.toml"
+    spec.write_bytes("# réseau\nn = 5\np_r = 0.5\n".encode("latin-1"))
+    err = _one_error(capsys, main(["sweep", str(spec), "--out", str(tmp_path / "o")]))
+    assert "not UTF-8" in err and not (tmp_path / "o").exists()
+
+
+def test_empty_out_is_refused_everywhere(tmp_path, capsys, monkeypatch):
+    spec = tmp_path / "s.toml"
+    spec.write_text(textwrap.dedent(SPEC))
+    monkeypatch.chdir(tmp_path)
+    assert "--out is empty" in _one_error(capsys, main(["sweep", str(spec), "--out", ""]))
+    err = _one_error(capsys, main(["reproduce", "--scale", "tiny", "--out", ""]))
+    assert "--out is empty" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_large_delta_warns_in_one_line(tmp_path, capsys):
+    spec = tmp_path / "s.toml"
+    spec.write_text(textwrap.dedent(SPEC).replace("n = 5", "n = 5\ndelta = 0.49"))
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "o"), "--workers", "1"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("warning: delta = 0.49 lets bonds"), err
+
+
+def test_sweep_prints_p_with_wilson_intervals(tmp_path, capsys):
+    from tensegrity_rigidity.ensemble.sweep import load_results
+
+    spec = tmp_path / "s.toml"
+    spec.write_text(textwrap.dedent(SPEC))
+    out = tmp_path / "o"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert lines[0].startswith(f"{out}: ran 24 samples")
+    assert lines[1].split() == ["p_r", "phi", "N", "undecided", "rigid", "P", "[95%", "Wilson]"]
+    rows = load_results(out)
+    for line in lines[2:]:
+        p_r, phi, n, und, k, *_ = line.split()
+        sub = rows[
+            (rows.p_r == float(p_r)) & np.isclose(rows.phi, 0 if phi == "dilation" else np.pi)
+        ]
+        assert int(n) == sub.decided.sum() == 6 and int(und) == 0 and int(k) == sub.rigid.sum()
+        p, lo, hi = wilson(int(k), int(n))
+        assert line.endswith(f"{p:.3f} [{lo:.3f}, {hi:.3f}]")
+    assert len(lines) == 2 + 4
+
+
+def test_info_says_what_a_directory_holds(tmp_path, capsys):
+    spec = tmp_path / "s.toml"
+    spec.write_text(textwrap.dedent(SPEC))
+    out = tmp_path / "o"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1"]) == 0
+    capsys.readouterr()
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert f"{out}: grid sweep, 4 grid points x 6 samples" in text
+    assert "done      24 of 24 samples (0 undecided); 0 chunks missing" in text
+    assert "golden angles" in text and "P [95% Wilson]" in text
+    # a grown spec that was interrupted before any work: 4 points x 2 new chunks missing
+    from tensegrity_rigidity.ensemble.spec import load_spec
+    from tensegrity_rigidity.ensemble.store import ResultStore
+
+    spec.write_text(textwrap.dedent(SPEC).replace("samples = 6", "samples = 14"))
+    with ResultStore(out).writing() as store:
+        store.prepare(load_spec(spec))
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "done      24 of 56 samples (0 undecided); 8 chunks missing" in text
+    assert "left      about" in text and "damaged" not in text
+    part = sorted(out.glob("part-*.parquet"))[0]
+    part.write_bytes(part.read_bytes()[:-8] + b"12345678")
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "done      20 of 56 samples" in text and "damaged   1 parts" in text
+    assert "not a results directory" in _one_error(capsys, main(["info", str(tmp_path)]))
+    err = _one_error(capsys, main(["info", str(tmp_path / "absent")]))
+    assert "no such results directory" in err
