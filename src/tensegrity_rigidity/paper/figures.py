@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import LinearSegmentedColormap, TwoSlopeNorm  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
 
@@ -44,10 +45,21 @@ def _segments(inst):
     return np.stack([start, start + net.bond_vectors()], axis=1)
 
 
-def fig1a(field: dict, figdir: Path):
+def _placeholder(fid: str, text: str, figdir: Path) -> list[Path]:
+    """A figure that says why it is empty (no sample of its sweep qualified)."""
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    ax.text(0.5, 0.5, text, ha="center", va="center", wrap=True)
+    ax.set_axis_off()
+    ax.set_title(fid, fontsize=9)
+    return _save(fig, figdir, fid)
+
+
+def fig1a(field, figdir: Path):
     """A force-balanced configuration: rods solid, cables dashed, struts hollow; red/green/blue
     for positive/zero/negative tension."""
-    inst, res = field["mixed_instance"], field["mixed_result"]
+    inst, res = field.mixed_instance, field.mixed_result
+    if inst is None:
+        return _placeholder("1A", "no rigid sample in the Fig. 1A sweep", figdir)
     seg = _segments(inst)
     kinds = inst.network.kinds
     t = res.tensions
@@ -76,8 +88,6 @@ def fig1a(field: dict, figdir: Path):
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title("1A  rigid sample under shear (red pulls, blue pushes)", fontsize=9)
-    from matplotlib.lines import Line2D
-
     ax.legend(
         handles=[
             Line2D([], [], color="k", lw=2, label="rod"),
@@ -93,24 +103,24 @@ def fig1a(field: dict, figdir: Path):
 
 def fig1b(r: dict, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
-    P = np.ma.masked_invalid(r["P"])
-    mesh = ax.pcolormesh(r["p_r"], r["p_t"], P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
+    P = np.ma.masked_invalid(r.P)
+    mesh = ax.pcolormesh(r.p_r, r.p_t, P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
     fig.colorbar(mesh, ax=ax, label="P (shear, f_c = 0.5)")
-    ax.contour(r["p_r"], r["p_t"], P, levels=[0.5], colors="white", linewidths=1)
+    ax.contour(r.p_r, r.p_t, P, levels=[0.5], colors="white", linewidths=1)
     # the mean-field line p_r + p_t / 2 = const through P = 1/2 at p_t = 0
-    x0 = float(np.interp(0.5, np.nan_to_num(r["P"][0]), r["p_r"]))
-    pt = np.linspace(0, r["p_t"].max(), 50)
+    x0 = float(np.interp(0.5, np.nan_to_num(r.P[0]), r.p_r))
+    pt = np.linspace(0, r.p_t.max(), 50)
     ax.plot(x0 - pt / 2, pt, color="orange", lw=2, label=r"$p_r + p_t/2$ = const")
     ax.set_xlim(0, 1)
     ax.set_xlabel("p_r")
     ax.set_ylabel("p_t")
     ax.legend(loc="upper right", fontsize=8)
-    ax.set_title(f"1B  P(p_r, p_t), n = {r['n']}, {r['samples']} samples per p_t", fontsize=9)
+    ax.set_title(f"1B  P(p_r, p_t), n = {r.n}, {r.samples} samples per p_t", fontsize=9)
     return _save(fig, figdir, "1B")
 
 
 def fig1c(r: dict, figdir: Path):
-    fits = r["fits"]
+    fits = r.fits
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for strain, sub in fits.groupby("strain"):
         ax.errorbar(
@@ -126,13 +136,15 @@ def fig1c(r: dict, figdir: Path):
     ax.set_xlabel("f_c (cable fraction)")
     ax.set_ylabel("S_t / S_r")
     ax.legend(fontsize=8)
-    ax.set_title(f"1C  efficacy of one-sided elements, n = {r['n']}", fontsize=9)
+    ax.set_title(f"1C  efficacy of one-sided elements, n = {r.n}", fontsize=9)
     return _save(fig, figdir, "1C")
 
 
 def fig2a(r: dict, figdir: Path):
-    field = r["field"]
-    inst, res = field["instance"], field["result"]
+    field = r.field
+    inst, res = field.instance, field.result
+    if inst is None:
+        return _placeholder("2A", "no sample of the Fig. 2A sweep has a usable threshold", figdir)
     pos = inst.network.positions
     u = res.displacements
     mag = np.hypot(u[:, 0], u[:, 1])
@@ -152,21 +164,21 @@ def fig2a(r: dict, figdir: Path):
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title(
-        f"2A  rods + cables, compression, p_r = {field['p_r']:.2f}, p_t = {field['p_t']}",
+        f"2A  rods + cables, compression, p_r = {field.p_r:.2f}, p_t = {field.p_t}",
         fontsize=9,
     )
     return _save(fig, figdir, "2A")
 
 
 def fig2b(r: dict, figdir: Path):
-    c = r["curves"]
+    c = r.curves
     sub = c[np.isclose(c.phi, math.pi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for p_t, s in sub.groupby("p_t"):
         line = ax.errorbar(
             s.p_r, s.gamma, yerr=s.gamma_sem, marker="o", ms=3, capsize=2, label=f"p_t = {p_t:.1f}"
         )
-        pc = r["crit"]
+        pc = r.crit
         pc = pc[np.isclose(pc.phi, math.pi) & np.isclose(pc.p_t, p_t)].p_crit
         if len(pc):
             ax.axvline(float(pc.iloc[0]), color=line[0].get_color(), ls="--", lw=1)
@@ -174,13 +186,13 @@ def fig2b(r: dict, figdir: Path):
     ax.set_xlabel("p_r")
     ax.set_ylabel("nonaffinity Gamma")
     ax.legend(fontsize=8)
-    ax.set_title(f"2B  rods + cables under compression, n = {r['n']} (dashed: p_crit)", fontsize=9)
+    ax.set_title(f"2B  rods + cables under compression, n = {r.n} (dashed: p_crit)", fontsize=9)
     return _save(fig, figdir, "2B")
 
 
 def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
-    c = r["curves"]
-    fits = r["fits"]
+    c = r.curves
+    fits = r.fits
     sub = c[np.isclose(c.phi, phi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     inset = ax.inset_axes([0.12, 0.5, 0.35, 0.4])
@@ -207,7 +219,7 @@ def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
     ax.set_ylabel("mean energy E (gamma = 1)")
     ax.legend(fontsize=8, loc="lower right")
     name = "compression" if phi == math.pi else "dilation"
-    ax.set_title(f"{fid}  energy, rods + cables, {name}, n = {r['n']}", fontsize=9)
+    ax.set_title(f"{fid}  energy, rods + cables, {name}, n = {r.n}", fontsize=9)
     return _save(fig, figdir, fid)
 
 
@@ -221,9 +233,9 @@ def fig2d(r: dict, figdir: Path):
 
 def fig3b(r: dict, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    sim = r["sim"]
-    for p_r, curve in r["analytic"].items():
-        line = ax.plot(r["f_c"], curve, label=f"p_r = {p_r}")
+    sim = r.sim
+    for p_r, curve in r.analytic.items():
+        line = ax.plot(r.f_c, curve, label=f"p_r = {p_r}")
         s = sim[np.isclose(sim.p_r, p_r)]
         ax.errorbar(
             s.f_c,
@@ -237,22 +249,19 @@ def fig3b(r: dict, figdir: Path):
     ax.set_xlabel("f_c")
     ax.set_ylabel("P_N")
     ax.legend(fontsize=8)
-    ax.set_title(f"3B  single node: theory (lines), {r['trials']} trials (95%)", fontsize=9)
+    ax.set_title(f"3B  single node: theory (lines), {r.trials} trials (95%)", fontsize=9)
     return _save(fig, figdir, "3B")
 
 
 def fig4a(r: dict, figdir: Path):
-    pp = r["per_phi"]
+    pp = r.per_phi
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     cmap = plt.get_cmap("coolwarm")
     for phi, s in pp.groupby("phi"):
-        from ..analysis.estimators import wilson
-
-        P, lo, hi = wilson(s.P * s.N, s.N)
         ax.errorbar(
             s.f_c,
-            P,
-            yerr=_yerr(P, lo, hi),
+            s.P,
+            yerr=_yerr(s.P, s.lo, s.hi),
             marker="o",
             ms=3,
             capsize=2,
@@ -262,12 +271,12 @@ def fig4a(r: dict, figdir: Path):
     ax.set_xlabel("f_c")
     ax.set_ylabel("P")
     ax.legend(fontsize=6, ncol=2)
-    ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r['n']}, {r['samples']} samples", fontsize=9)
+    ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r.n}, {r.samples} samples", fontsize=9)
     return _save(fig, figdir, "4A")
 
 
 def fig4b(r: dict, figdir: Path):
-    a = r["average"]
+    a = r.average
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     ax.errorbar(a.f_c, a.S_c_rel, yerr=a.S_c_rel_err, marker="o", capsize=3, label="S_c / S_r")
     ax.errorbar(a.f_c, a.S_s_rel, yerr=a.S_s_rel_err, marker="s", capsize=3, label="S_s / S_r")
@@ -282,7 +291,7 @@ def fig4b(r: dict, figdir: Path):
 def fig4c(r: dict, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for name in ("average", "dilation", "compression"):
-        s = r[name]
+        s = getattr(r, name)
         ax.errorbar(
             s.f_c,
             s.sum_rel,
@@ -304,7 +313,7 @@ def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
     """Draw every figure; returns {figure id: [png, svg]}."""
     out = {}
     if "fig2" in results:
-        out["1A"] = fig1a(results["fig2"]["field"], figdir)
+        out["1A"] = fig1a(results["fig2"].field, figdir)
     if "fig1b" in results:
         out["1B"] = fig1b(results["fig1b"], figdir)
     if "fig1c" in results:

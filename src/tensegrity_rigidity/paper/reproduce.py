@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .figures import all_figures
 from .report import write_report
-from .studies import SCALES, STUDIES, UNDECIDED
+from .studies import SCALES, STUDIES
 
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
 EXPECTED = {
@@ -46,5 +46,5 @@ def reproduce(
         timings[name] = time.perf_counter() - start
     print("drawing figures and writing the report", file=sys.stderr, flush=True)
     figures = all_figures(results, out / "figures")
-    paths = write_report(out, results, figures, scale, timings, dict(UNDECIDED))
+    paths = write_report(out, results, figures, scale, timings)
     return {"results": results, "figures": figures, "report": paths, "timings": timings}

@@ -2,8 +2,10 @@
 
 Each study is a set of sweep specs (run by :func:`tensegrity_rigidity.ensemble.sweep.run_sweep` into
 ``DIR/studies/<name>``, so an interrupted reproduction resumes) and a function that turns the
-rows into the numbers the figures and the comparison table need. Sizes and sample counts come
-from a :class:`Scale`.
+rows into a frozen result (:class:`Fig1bResult`, ...) holding the numbers the figures and the
+comparison need. Sizes and sample counts come from a :class:`Scale`. Every result carries the
+number of samples it excluded (``excluded``: sweep name -> count), so nothing is shared through
+module state.
 
 Estimators (documented in :mod:`~tensegrity_rigidity.analysis.estimators`):
 
@@ -16,12 +18,18 @@ Estimators (documented in :mod:`~tensegrity_rigidity.analysis.estimators`):
   S_c = S_t + (1 - f_c) dP/df_c / p_t and S_s = S_t - f_c dP/df_c / p_t
   (from S_t = f_c S_c + (1 - f_c) S_s and dP/df_c = p_t (S_c - S_s)).
 * p_crit (Fig. 2): the median per-sample threshold (P = 1/2), bootstrap error.
+
+Undecided samples: a grid sample whose verdict lies below double-precision resolution is dropped
+and counted. A threshold sample whose bisection met such a configuration is dropped and counted
+too, unless the rows carry the threshold's interval (``threshold_p_r_low``,
+``threshold_p_r_high``): then it is kept at its estimate, and the samples whose interval
+straddles a grid value are counted as a stated uncertainty of P.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -29,12 +37,20 @@ import pandas as pd
 
 from ..analysis import estimators as an
 from ..analysis.single_node import simulate_single_node, single_node_probability
+from ..ensemble.runner import sample_geometry
 from ..ensemble.spec import parse_spec
 from ..ensemble.sweep import load_results, run_sweep
+from ..model.elements import place_elements
+from ..model.lattice import DEFAULT_DELTA
+from ..model.network import Instance
+from ..model.strain import NAMED_STRAINS, strain_tensor
+from ..solver.core import SolveResult, solve
 
 PHI5 = [0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4, math.pi]
 FC5 = [0.0, 0.25, 0.5, 0.75, 1.0]
 PT4 = [0.0, 0.1, 0.2, 0.3]
+#: the names of the strains in :data:`~tensegrity_rigidity.model.strain.NAMED_STRAINS`, by phi
+STRAIN_NAMES = {phi: name for name, phi in NAMED_STRAINS.items()}
 
 
 @dataclass(frozen=True)
@@ -58,19 +74,64 @@ SCALES = {
     "paper": Scale("paper", 32, 32, 400, 100, 800, 0.025, 40000, 200),
 }
 
+#: threshold-interval columns of threshold rows (absent in rows written before they existed)
+INTERVAL = ("threshold_p_r_low", "threshold_p_r_high")
 
-#: samples excluded because a verdict was below double-precision resolution, per study
-UNDECIDED: dict[str, int] = {}
+
+def strain_name(phi: float) -> str:
+    """ "dilation", "shear" or "compression" for the named strains, else phi to 3 decimals."""
+    for value, name in STRAIN_NAMES.items():
+        if math.isclose(phi, value, abs_tol=1e-12):
+            return name
+    return f"{phi:.3f}"
 
 
-def _run(out: Path, name: str, spec: dict, workers, scheduler, progress) -> pd.DataFrame:
-    """Run (or resume) one sweep; drop and count undecided samples."""
-    path = out / "studies" / name
-    run_sweep(parse_spec(spec), path, executor=workers, scheduler=scheduler, progress=progress)
-    df = load_results(path)
+def keep_decided(df: pd.DataFrame) -> tuple[pd.DataFrame, int]:
+    """Rows to analyse and the number of samples excluded as undecided.
+
+    Grid rows: samples with ``decided == False`` are dropped. Threshold rows with the interval
+    columns (:data:`INTERVAL`): an undecided sample is kept when its interval is finite, at the
+    row's estimate ``threshold_p_r`` (the interval's midpoint if the estimate is missing);
+    without them every undecided sample is dropped.
+    """
+    if df.empty or "decided" not in df:
+        return df.reset_index(drop=True), 0
     bad = ~df["decided"].astype(bool)
-    UNDECIDED[name] = int(bad.sum())
-    return df[~bad].reset_index(drop=True)
+    if "threshold_p_r" in df and all(c in df for c in INTERVAL):
+        lo, hi = df[INTERVAL[0]].to_numpy(float), df[INTERVAL[1]].to_numpy(float)
+        usable = bad.to_numpy() & np.isfinite(lo) & np.isfinite(hi)
+        if usable.any():
+            df = df.copy()
+            est = df["threshold_p_r"].to_numpy(float, copy=True)
+            fill = usable & ~np.isfinite(est)
+            est[fill] = 0.5 * (lo[fill] + hi[fill])
+            df["threshold_p_r"] = est
+            bad = bad & ~usable
+    return df[~bad].reset_index(drop=True), int(bad.sum())
+
+
+def interval_straddles(df: pd.DataFrame, grid) -> int:
+    """Samples whose threshold interval (when recorded) contains a value of ``grid``.
+
+    Such a sample's outcome at that grid value is not determined by double precision; the
+    count bounds the change of P there (count / samples). 0 when the columns are absent.
+    """
+    if df.empty or not all(c in df for c in INTERVAL):
+        return 0
+    lo = df[INTERVAL[0]].to_numpy(float)[:, None]
+    hi = df[INTERVAL[1]].to_numpy(float)[:, None]
+    g = np.asarray(grid, float)[None, :]
+    with np.errstate(invalid="ignore"):
+        hit = (lo < g) & (g <= hi)
+    return int(hit.any(axis=1).sum())
+
+
+def _run(out: Path, name: str, spec: dict, workers, scheduler, progress):
+    """Run (or resume) one sweep; return its rows to analyse and the count excluded."""
+    path = out / "studies" / name
+    spec = {"delta": DEFAULT_DELTA} | spec
+    run_sweep(parse_spec(spec), path, executor=workers, scheduler=scheduler, progress=progress)
+    return keep_decided(load_results(path))
 
 
 def _p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
@@ -80,10 +141,44 @@ def _p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
 # --------------------------------------------------------------------------- Fig. 1
 
 
-def study_fig1b(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class Fig1bResult:
+    """P(p_r, p_t) at f_c = 0.5 under shear.
+
+    Attributes
+    ----------
+    p_r : (K,) float
+        Grid of p_r.
+    p_t : (J,) float
+        Values of p_t (one threshold sweep each).
+    P : (J, K) float
+        Fraction of rigid samples; NaN where p_r + p_t > 1.
+    half_x : (H,) float
+        p_r + p_t/2 where P crosses 1/2, for each p_t whose P reaches 1/2 (linear
+        interpolation on the grid).
+    rows : DataFrame
+        The threshold rows analysed.
+    excluded : dict
+        Sweep name -> samples excluded as undecided.
+    straddling : int
+        Samples whose threshold interval straddles a grid value (see :func:`interval_straddles`).
+    """
+
+    p_r: np.ndarray
+    p_t: np.ndarray
+    P: np.ndarray
+    half_x: np.ndarray
+    n: int
+    samples: int
+    rows: pd.DataFrame
+    excluded: dict[str, int]
+    straddling: int = 0
+
+
+def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
     """P(p_r, p_t) at f_c = 0.5 under shear, from per-sample thresholds along p_r."""
     p_t = [round(x, 3) for x in np.arange(0.0, 0.81, 0.1)]
-    df = _run(
+    df, excluded = _run(
         out,
         "fig1b",
         {
@@ -103,19 +198,60 @@ def study_fig1b(out, scale: Scale, **kw) -> dict:
         t = df[np.isclose(df.p_t, pt)].threshold_p_r.to_numpy()
         ok = p_r + pt <= 1 + 1e-12
         P[i, ok] = an.probability_from_thresholds(t, p_r[ok])
-    return {
-        "p_r": p_r,
-        "p_t": np.array(p_t),
-        "P": P,
-        "rows": df,
-        "n": scale.n_threshold,
-        "samples": scale.samples_threshold,
-    }
+    half = []
+    for i, pt in enumerate(p_t):
+        ok = np.isfinite(P[i])
+        if ok.sum() > 2 and P[i, ok].max() >= 0.5:
+            half.append(float(np.interp(0.5, P[i, ok], p_r[ok])) + pt / 2)
+    return Fig1bResult(
+        p_r=p_r,
+        p_t=np.array(p_t),
+        P=P,
+        half_x=np.array(half),
+        n=scale.n_threshold,
+        samples=scale.samples_threshold,
+        rows=df,
+        excluded={"fig1b": excluded},
+        straddling=interval_straddles(df, p_r),
+    )
 
 
-def study_fig1c(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class Fig1cResult:
+    """S_t/S_r versus f_c for each strain and the strain average.
+
+    Attributes
+    ----------
+    fits : DataFrame
+        One row per (f_c, strain): the fields of
+        :class:`~tensegrity_rigidity.analysis.estimators.CollapseFit` plus ``f_c``, ``strain``,
+        ``phi`` (NaN for the average).
+    rods_only_pc, rods_only_pc_err : float
+        Median threshold of the rods-only samples (p_t = 0, every strain) and its bootstrap error.
+    rods_only_samples : int
+        Number of rods-only thresholds.
+    """
+
+    fits: pd.DataFrame
+    rods_only_pc: float
+    rods_only_pc_err: float
+    rods_only_samples: int
+    n: int
+    samples: int
+    rows: pd.DataFrame
+    excluded: dict[str, int]
+    straddling: int = 0
+
+    def lam(self, f_c: float, strain: str) -> tuple[float, float]:
+        """(S_t/S_r, its error) of one fit."""
+        fits = self.fits
+        row = fits[np.isclose(fits.f_c, f_c) & (fits.strain == strain)].iloc[0]
+        return float(row.lam), float(row.lam_err)
+
+
+def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
     """S_t/S_r versus f_c for each strain and the strain average (collapse fits)."""
-    df = _run(
+    df, excluded = _run(
         out,
         "fig1c",
         {
@@ -139,51 +275,110 @@ def study_fig1c(out, scale: Scale, **kw) -> dict:
             pooled.append(y)
             if phi in (0.0, math.pi / 2, math.pi):
                 fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
-                fits.append({"f_c": f_c, "strain": _strain_name(phi), "phi": phi, **fit.__dict__})
+                fits.append({"f_c": f_c, "strain": strain_name(phi), "phi": phi, **fit.__dict__})
         fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap)
         fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
     rods_only = df[np.isclose(df.p_t, 0.0)].drop_duplicates(["phi", "sample"])
-    return {
-        "fits": pd.DataFrame(fits),
-        "rows": df,
-        "n": scale.n_threshold,
-        "samples": scale.samples_threshold,
-        "rods_only_pc": an.critical_point(rods_only.threshold_p_r.to_numpy()),
-        "rods_only_samples": len(rods_only),
-    }
-
-
-def _strain_name(phi: float) -> str:
-    return {0.0: "dilation", math.pi / 2: "shear", math.pi: "compression"}.get(phi, f"{phi:.3f}")
+    pc, pc_err = an.critical_point(rods_only.threshold_p_r.to_numpy())
+    return Fig1cResult(
+        fits=pd.DataFrame(fits),
+        rods_only_pc=pc,
+        rods_only_pc_err=pc_err,
+        rods_only_samples=len(rods_only),
+        n=scale.n_threshold,
+        samples=scale.samples_threshold,
+        rows=df,
+        excluded={"fig1c": excluded},
+        straddling=interval_straddles(df, grid),
+    )
 
 
 # --------------------------------------------------------------------------- Fig. 2
 
 
-def study_fig2(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class DisplacementField:
+    """Samples drawn in Figs. 1A and 2A, rebuilt from sweep samples and solved.
+
+    Attributes
+    ----------
+    instance, result : Instance, SolveResult
+        A rods + cables sample under compression just above its own threshold (Fig. 2A), or
+        None when no sample of the field sweep qualified.
+    p_r, p_t : float
+        Where that sample was solved.
+    mixed_instance, mixed_result : Instance, SolveResult
+        A rigid sample of rods, cables and struts under shear (Fig. 1A), or None.
+    """
+
+    instance: Instance | None
+    result: SolveResult | None
+    p_r: float
+    p_t: float
+    mixed_instance: Instance | None
+    mixed_result: SolveResult | None
+
+
+@dataclass(frozen=True, eq=False)
+class Fig2Result:
+    """Rods + cables (f_c = 1): energies, nonaffinity, engaged cables versus p_r.
+
+    Attributes
+    ----------
+    curves : DataFrame
+        Per (phi, p_t, p_r): mean energy and nonaffinity with standard errors, P, N.
+    taut : DataFrame
+        Per (phi, p_t, p_r): fraction of cables under tension in rigid samples (mean, sem, size).
+    fits : DataFrame
+        Per (phi, p_t): the power-law fit of the mean energy above p_crit
+        (:class:`~tensegrity_rigidity.analysis.estimators.PowerLawFit` fields) and ``p_crit_err``.
+    crit : DataFrame
+        Per (phi, p_t): ``p_crit`` (median threshold) and ``gamma_peak_p_r`` (grid p_r of the
+        largest mean nonaffinity).
+    taut_at_transition : tuple
+        (mean, error, [(p_t, p_r), ...]): the fraction of taut cables in rigid samples at the grid
+        p_r nearest p_crit under compression, averaged over p_t = 0.1, 0.2, 0.3; None when no
+        such sample exists.
+    field : DisplacementField
+    """
+
+    curves: pd.DataFrame
+    taut: pd.DataFrame
+    fits: pd.DataFrame
+    crit: pd.DataFrame
+    taut_at_transition: tuple | None
+    n: int
+    samples: int
+    rows: pd.DataFrame
+    field: DisplacementField
+    excluded: dict[str, int]
+    straddling: int = 0
+
+
+def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     """Rods + cables (f_c = 1): nonaffinity, energies and engaged cables versus p_r."""
     p_r = _p_r_grid(scale.p_r_step, 0.3, 0.95)
-    grids = []
+    grids, excluded = [], {}
     for p_t in PT4:
         pr = [p for p in p_r if p + p_t <= 1 + 1e-12]
-        grids.append(
-            _run(
-                out,
-                f"fig2_pt{p_t:.1f}",
-                {
-                    "n": scale.n_grid,
-                    "p_r": pr,
-                    "p_t": p_t,
-                    "f_c": 1.0,
-                    "phi": ["compression", "dilation"],
-                    "samples": scale.samples_grid,
-                    "seed": 21,
-                },
-                **kw,
-            )
+        name = f"fig2_pt{p_t:.1f}"
+        rows, excluded[name] = _run(
+            out,
+            name,
+            {
+                "n": scale.n_grid,
+                "p_r": pr,
+                "p_t": p_t,
+                "f_c": 1.0,
+                "phi": ["compression", "dilation"],
+                "samples": scale.samples_grid,
+                "seed": 21,
+            },
+            **kw,
         )
+        grids.append(rows)
     rows = pd.concat(grids, ignore_index=True)
-    th = _run(
+    th, excluded["fig2_thresholds"] = _run(
         out,
         "fig2_thresholds",
         {
@@ -223,7 +418,7 @@ def study_fig2(out, scale: Scale, **kw) -> dict:
         fits.append(
             {
                 "phi": phi,
-                "strain": _strain_name(phi),
+                "strain": strain_name(phi),
                 "p_t": p_t,
                 "p_crit_err": pc_err,
                 **fit.__dict__,
@@ -231,63 +426,118 @@ def study_fig2(out, scale: Scale, **kw) -> dict:
         )
         g = sub.set_index("p_r").gamma
         crit.append({"phi": phi, "p_t": p_t, "p_crit": pc, "gamma_peak_p_r": float(g.idxmax())})
-    return {
-        "curves": curves,
-        "taut": taut,
-        "fits": pd.DataFrame(fits),
-        "crit": pd.DataFrame(crit),
-        "rows": rows,
-        "n": scale.n_grid,
-        "samples": scale.samples_grid,
-        "field": _displacement_field(scale),
-    }
+    crit = pd.DataFrame(crit)
+    field_, excluded["fig2_field"], excluded["fig1a_field"] = _displacement_field(out, scale, **kw)
+    return Fig2Result(
+        curves=curves,
+        taut=taut,
+        fits=pd.DataFrame(fits),
+        crit=crit,
+        taut_at_transition=_taut_at_transition(taut, crit),
+        n=scale.n_grid,
+        samples=scale.samples_grid,
+        rows=rows,
+        field=field_,
+        excluded=excluded,
+        straddling=interval_straddles(th, p_r),
+    )
 
 
-def _displacement_field(scale: Scale) -> dict:
-    """One rods + cables sample under compression near its threshold (Fig. 2A, 1A)."""
-    from ..ensemble.thresholds import find_threshold
-    from ..model.elements import place_elements
-    from ..model.network import Instance
-    from ..model.sampling import lattice_geometry
-    from ..model.strain import strain_tensor
-    from ..solver.core import solve
+def _taut_at_transition(taut: pd.DataFrame, crit: pd.DataFrame):
+    """Fraction of taut cables at the grid p_r nearest p_crit (compression), mean over p_t."""
+    vals = []
+    for p_t in (0.1, 0.2, 0.3):
+        pc = crit[np.isclose(crit.phi, math.pi) & np.isclose(crit.p_t, p_t)].p_crit
+        sub = taut[np.isclose(taut.phi, math.pi) & np.isclose(taut.p_t, p_t)]
+        if len(pc) and len(sub):
+            row = sub.iloc[int(np.argmin(np.abs(sub.p_r - float(pc.iloc[0]))))]
+            vals.append((row["mean"], row["sem"], p_t, row.p_r))
+    if not vals:
+        return None
+    v = float(np.mean([x[0] for x in vals]))
+    e = float(np.sqrt(np.nansum([x[1] ** 2 for x in vals])) / len(vals))
+    return v, e, [(x[2], x[3]) for x in vals]
 
+
+#: samples of the sweeps that supply the drawn samples of Figs. 1A and 2A
+FIELD_SAMPLES = 8
+#: Fig. 2A's sample: rods + cables under compression at p_t = 0.2, solved at its own threshold
+#: plus this step in p_r (rigid there by monotonicity)
+FIELD_P_T, FIELD_STEP = 0.2, 0.02
+
+
+def _displacement_field(out, scale: Scale, **kw) -> tuple[DisplacementField, int, int]:
+    """The samples drawn in Figs. 2A and 1A, taken from small sweeps and solved again.
+
+    Fig. 2A: the first sample of a threshold sweep (rods + cables, compression, p_t = 0.2) whose
+    threshold s* is positive and leaves room for s* + 0.02 <= 1 - p_t; it is rigid at
+    p_r = s* + 0.02. Fig. 1A: the first rigid sample of a grid sweep at (p_r, p_t, f_c) =
+    (0.55, 0.4, 0.5) under shear. Each is rebuilt with the sweep's own sample geometry and solved
+    with the minimum-norm displacements. Returns (field, excluded 2A, excluded 1A).
+    """
     n = max(scale.n_grid, 8)
-    for seed in range(50):
-        rng = np.random.default_rng(1000 + seed)
-        net, u, v = lattice_geometry(n, 0.2, rng)
-        eps = strain_tensor("compression")
-        th = find_threshold(net, u, v, eps, 0.2, 1.0)
-        if np.isfinite(th.s) and th.s > 0:
-            p_r = min(th.s + 0.02, 0.8)
-            inst = Instance(net.with_kinds(place_elements(u, v, p_r, 0.2, 1.0)), eps)
-            res = solve(inst)
-            if res.rigid:
-                break
-    # a mixed sample for Fig. 1A: rods, cables and struts, rigid under shear
-    for seed in range(50):
-        rng = np.random.default_rng(2000 + seed)
-        net2, u2, v2 = lattice_geometry(n, 0.2, rng)
-        inst2 = Instance(
-            net2.with_kinds(place_elements(u2, v2, 0.55, 0.4, 0.5)), strain_tensor("shear")
-        )
+    base = {"n": n, "samples": FIELD_SAMPLES, "f_c": 1.0, "seed": 1000}
+    spec_2a = base | {"p_t": FIELD_P_T, "phi": "compression", "threshold": {"path": "p_r"}}
+    th, ex_2a = _run(out, "fig2_field", spec_2a, **kw)
+    inst = res = None
+    p_r = float("nan")
+    ok = th[(th.threshold_p_r > 0) & (th.threshold_p_r + FIELD_STEP <= 1 - FIELD_P_T)]
+    if len(ok):
+        row = ok.iloc[0]
+        p_r = float(row.threshold_p_r) + FIELD_STEP
+        inst = _rebuild(spec_2a, row, p_r)
+        res = solve(inst)
+    spec_1a = base | {"p_r": 0.55, "p_t": 0.4, "f_c": 0.5, "phi": "shear", "seed": 2000}
+    grid, ex_1a = _run(out, "fig1a_field", spec_1a, **kw)
+    inst2 = res2 = None
+    rigid = grid[grid.rigid]
+    if len(rigid):
+        row = rigid.iloc[0]
+        inst2 = _rebuild(spec_1a, row, float(row.p_r))
         res2 = solve(inst2)
-        if res2.rigid:
-            break
-    return {
-        "instance": inst,
-        "result": res,
-        "p_r": p_r,
-        "p_t": 0.2,
-        "mixed_instance": inst2,
-        "mixed_result": res2,
-    }
+    field_ = DisplacementField(inst, res, p_r, FIELD_P_T, inst2, res2)
+    return field_, ex_2a, ex_1a
+
+
+def _rebuild(spec: dict, row: pd.Series, p_r: float) -> Instance:
+    """The instance of one sweep row's sample at ``p_r`` (its geometry, uniforms and strain)."""
+    sp = parse_spec({"delta": DEFAULT_DELTA} | spec)
+    point = next(
+        q for q in sp.points() if np.isclose(q.p_t, row.p_t) and np.isclose(q.phi, row.phi)
+    )
+    net, u, v, theta = sample_geometry(sp, point, int(row["sample"]))
+    kinds = place_elements(u, v, p_r, point.p_t, point.f_c)
+    return Instance(net.with_kinds(kinds), strain_tensor(point.phi, theta, sp.gamma))
 
 
 # --------------------------------------------------------------------------- Fig. 3
 
 
-def study_fig3(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class Fig3Result:
+    """Single node: analytic P_N versus f_c and its simulation.
+
+    Attributes
+    ----------
+    f_c : (F,) float
+        Grid of the analytic curves.
+    analytic : dict
+        p_r -> (F,) analytic P_N.
+    sim : DataFrame
+        Simulated points: p_r, f_c, P with its Wilson interval (lo, hi), the analytic value and
+        ``z = (P - analytic) / binomial standard error`` (the error from the Wilson interval).
+    trials : int
+        Trials per simulated point.
+    """
+
+    f_c: np.ndarray
+    analytic: dict
+    sim: pd.DataFrame
+    trials: int
+    excluded: dict[str, int] = field(default_factory=dict)
+
+
+def study_fig3(out, scale: Scale, **kw) -> Fig3Result:
     """Single node: analytic P_N versus f_c, and simulation with Wilson intervals."""
     rng = np.random.default_rng(31)
     f_c = np.linspace(0, 1, 41)
@@ -311,7 +561,9 @@ def study_fig3(out, scale: Scale, **kw) -> dict:
                     "analytic": single_node_probability(p, f * (1 - p), (1 - f) * (1 - p)),
                 }
             )
-    return {"f_c": f_c, "analytic": analytic, "sim": pd.DataFrame(sim), "trials": scale.node_trials}
+    sim = pd.DataFrame(sim)
+    sim["z"] = (sim.P - sim.analytic) / ((sim.hi - sim.lo) / (2 * 1.96))
+    return Fig3Result(f_c=f_c, analytic=analytic, sim=sim, trials=scale.node_trials)
 
 
 # --------------------------------------------------------------------------- Fig. 4
@@ -324,7 +576,33 @@ FIG4_FC = [i / 8 for i in range(9)]
 H_R, H_T = 0.025, 0.05
 
 
-def study_fig4(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class Fig4Result:
+    """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies of cables and struts.
+
+    Attributes
+    ----------
+    per_phi : DataFrame
+        Per (phi, f_c): P, N, its Wilson interval (lo, hi), S_r, S_t, D_f = dP/df_c with
+        errors, S_c, S_s.
+    average, dilation, compression : DataFrame
+        Per f_c: S_r, S_c/S_r, S_s/S_r, (S_c + S_s)/S_r with errors, for the strain average and
+        the two pure strains.
+    slopes : dict
+        Strain name ("dilation", "compression") -> least-squares slope of P over f_c.
+    """
+
+    per_phi: pd.DataFrame
+    average: pd.DataFrame
+    dilation: pd.DataFrame
+    compression: pd.DataFrame
+    slopes: dict[str, float]
+    n: int
+    samples: int
+    excluded: dict[str, int]
+
+
+def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
     """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies S_c, S_s from paired
     differences on common random numbers."""
     base = {
@@ -334,9 +612,16 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
         "samples": scale.samples_fig4,
         "seed": 41,
     }
-    centre = _run(out, "fig4_centre", base | {"p_r": 0.3, "p_t": 0.6}, **kw)
-    d_r = _run(out, "fig4_dpr", base | {"p_r": [0.3 - H_R, 0.3 + H_R], "p_t": 0.6}, **kw)
-    d_t = _run(out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H_T, 0.6 + H_T]}, **kw)
+    excluded = {}
+    centre, excluded["fig4_centre"] = _run(
+        out, "fig4_centre", base | {"p_r": 0.3, "p_t": 0.6}, **kw
+    )
+    d_r, excluded["fig4_dpr"] = _run(
+        out, "fig4_dpr", base | {"p_r": [0.3 - H_R, 0.3 + H_R], "p_t": 0.6}, **kw
+    )
+    d_t, excluded["fig4_dpt"] = _run(
+        out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H_T, 0.6 + H_T]}, **kw
+    )
 
     samples = np.arange(1, scale.samples_fig4 + 1)
 
@@ -391,6 +676,7 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
                 }
             )
     per_phi = pd.DataFrame(per_phi)
+    _, per_phi["lo"], per_phi["hi"] = an.wilson(per_phi.P * per_phi.N, per_phi.N)
     p_t = 0.6
     per_phi["S_c"] = per_phi.S_t + (1 - per_phi.f_c) * per_phi.D_f / p_t
     per_phi["S_s"] = per_phi.S_t - per_phi.f_c * per_phi.D_f / p_t
@@ -425,17 +711,20 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
             )
         return pd.DataFrame(out_rows)
 
-    average = summarise(per_phi)
-    dil = summarise(per_phi[np.isclose(per_phi.phi, 0.0)])
-    comp = summarise(per_phi[np.isclose(per_phi.phi, math.pi)])
-    return {
-        "per_phi": per_phi,
-        "average": average,
-        "dilation": dil,
-        "compression": comp,
-        "n": scale.n_grid,
-        "samples": scale.samples_fig4,
-    }
+    slopes = {}
+    for name, phi in (("dilation", 0.0), ("compression", math.pi)):
+        s = per_phi[np.isclose(per_phi.phi, phi)].sort_values("f_c")
+        slopes[name] = float(np.polyfit(s.f_c, s.P, 1)[0])
+    return Fig4Result(
+        per_phi=per_phi,
+        average=summarise(per_phi),
+        dilation=summarise(per_phi[np.isclose(per_phi.phi, 0.0)]),
+        compression=summarise(per_phi[np.isclose(per_phi.phi, math.pi)]),
+        slopes=slopes,
+        n=scale.n_grid,
+        samples=scale.samples_fig4,
+        excluded=excluded,
+    )
 
 
 STUDIES = {

@@ -1,0 +1,99 @@
+"""Study results are typed and self-contained: exclusions travel inside them, no module state."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tensegrity_rigidity.model.strain import NAMED_STRAINS
+from tensegrity_rigidity.paper import studies
+from tensegrity_rigidity.paper.claims import CLAIMS
+from tensegrity_rigidity.paper.report import excluded_samples
+from tensegrity_rigidity.paper.studies import (
+    Scale,
+    interval_straddles,
+    keep_decided,
+    strain_name,
+)
+
+#: smaller than the "tiny" scale: enough to exercise every code path in a few seconds
+MINI = Scale("mini", 4, 4, 3, 2, 3, 0.1, 50, 3)
+
+
+def _threshold_rows(decided, est, lo=None, hi=None):
+    df = pd.DataFrame(
+        {"sample": np.arange(1, len(decided) + 1), "decided": decided, "threshold_p_r": est}
+    )
+    if lo is not None:
+        df["threshold_p_r_low"], df["threshold_p_r_high"] = lo, hi
+    return df
+
+
+def test_no_module_level_undecided_counter():
+    assert not hasattr(studies, "UNDECIDED")
+
+
+def test_undecided_grid_and_old_threshold_rows_are_dropped_and_counted():
+    grid = pd.DataFrame({"decided": [True, False, True], "rigid": [True, False, False]})
+    kept, n = keep_decided(grid)
+    assert n == 1 and len(kept) == 2
+    old = _threshold_rows([True, False, True], [0.6, np.nan, 0.7])
+    kept, n = keep_decided(old)
+    assert n == 1 and list(kept["sample"]) == [1, 3]
+
+
+def test_threshold_interval_keeps_undecided_samples():
+    rows = _threshold_rows(
+        [True, False, False, False],
+        [0.6, 0.63, np.nan, np.nan],
+        lo=[0.6, 0.62, 0.64, np.nan],
+        hi=[0.6, 0.64, 0.66, np.nan],
+    )
+    kept, n = keep_decided(rows)
+    # the last has no finite interval: dropped; the third is kept at its interval's midpoint
+    assert n == 1 and list(kept["sample"]) == [1, 2, 3]
+    assert kept.threshold_p_r.tolist() == pytest.approx([0.6, 0.63, 0.65])
+    # only intervals of positive width straddle a grid value
+    assert interval_straddles(kept, [0.6, 0.65]) == 1
+    assert interval_straddles(kept, [0.5, 0.7]) == 0
+    assert interval_straddles(_threshold_rows([True], [0.6]), [0.6]) == 0
+
+
+def test_strain_names_come_from_the_model():
+    for name, phi in NAMED_STRAINS.items():
+        assert strain_name(phi) == name
+    assert strain_name(math.pi / 4) == "0.785"
+
+
+@pytest.fixture(scope="module")
+def mini(tmp_path_factory):
+    out = tmp_path_factory.mktemp("mini")
+    kw = dict(workers="serial", scheduler=None, progress=False)
+    return {name: fn(out, MINI, **kw) for name, fn in studies.STUDIES.items()}
+
+
+def test_results_are_frozen_dataclasses_that_carry_their_exclusions(mini):
+    for name, r in mini.items():
+        assert dataclasses.is_dataclass(r), name
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            r.excluded = {}
+        assert all(isinstance(v, int) for v in r.excluded.values())
+    total = excluded_samples(mini)
+    assert set(total) >= {"fig1b", "fig1c", "fig2_thresholds", "fig4_centre"}
+
+
+def test_drawn_samples_come_from_the_sweeps_and_are_solved(mini):
+    field = mini["fig2"].field
+    assert field.instance is not None and field.result.rigid
+    assert field.p_t == studies.FIELD_P_T
+    assert field.mixed_result is not None and field.mixed_result.rigid
+    assert field.instance.network.n_nodes == max(MINI.n_grid, 8) ** 2
+
+
+def test_every_claim_names_its_source_and_a_study():
+    for c in CLAIMS.values():
+        assert c.source and c.study in studies.STUDIES, c.key
