@@ -55,3 +55,16 @@ def test_rerun_resumes_without_new_samples(tiny):
     )
     after = sorted(p.stat().st_mtime_ns for p in (tiny / "studies").rglob("part-*.parquet"))
     assert before == after
+
+
+def test_one_agreement_rule_stated_once_and_an_explanation_column(tiny):
+    import pandas as pd
+
+    from tensegrity_rigidity.paper.comparison import RULE
+
+    md = (tiny / "report.md").read_text()
+    assert md.count(RULE) == 1
+    comp = pd.read_csv(tiny / "tables" / "comparison.csv")
+    assert {"z", "verdict", "explanation", "source"} <= set(comp.columns)
+    dis = comp[comp.verdict == "disagree"]
+    assert dis.explanation.str.contains("finite size").all()

@@ -6,6 +6,7 @@ uncertainties; each states its estimator.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -228,3 +229,223 @@ def probability_curve(thresholds: np.ndarray, p_grid: np.ndarray):
     t = np.asarray(thresholds, float)
     k = probability_from_thresholds(t, p_grid) * t.size
     return wilson(k, np.full_like(k, t.size))
+
+
+# --------------------------------------------------------------------------- paired statistics
+
+
+def paired_slope(outcomes: np.ndarray, x: np.ndarray) -> Derivative:
+    """Least-squares slope of mean outcome over ``x``, with its standard error.
+
+    Parameters
+    ----------
+    outcomes : (S, G) float
+        Outcome (e.g. rigidity 0/1) of sample s at point g; the same samples at every point
+        (common random numbers). Samples with any NaN are dropped.
+    x : (G,) float
+        Coordinates of the points.
+
+    Notes
+    -----
+    The least-squares slope is linear in the outcomes, so the slope of the mean curve equals the
+    mean of the per-sample slopes ``b_s = sum_g (x_g - xbar) y_sg / sum_g (x_g - xbar)^2``; its
+    standard error is the standard error of that mean (samples are independent, points of one
+    sample are not).
+    """
+    y = np.asarray(outcomes, float)
+    x = np.asarray(x, float)
+    y = y[np.all(np.isfinite(y), axis=1)]
+    dx = x - x.mean()
+    b = y @ dx / float(dx @ dx)
+    err = b.std(ddof=1) / np.sqrt(b.size) if b.size > 1 else np.nan
+    return Derivative(float(b.mean()) if b.size else np.nan, float(err))
+
+
+@dataclass(frozen=True)
+class Location:
+    """A point estimate on the parameter axis (a crossing, a slope of a contour) and its error."""
+
+    value: float
+    err: float
+
+
+def peak_locations(
+    values: list[np.ndarray],
+    x: list[np.ndarray],
+    statistic: str = "mean",
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Grid points where several curves have their maximum, with their joint covariance.
+
+    Parameters
+    ----------
+    values : list of (S, G_j) float
+        Per-sample observable of curve j (NaN where missing) at its grid points ``x[j]``
+        (G_j,); row s of every curve is the same sample (common random numbers).
+    statistic : str
+        "mean" or "median" over samples: the curve whose maximum is located.
+
+    Returns
+    -------
+    peaks : (J,) float
+        Grid point of each curve's maximum.
+    cov : (J, J) float
+        Bootstrap covariance of the peaks (resampling samples jointly for all curves) plus the
+        grid resolution ``h_j^2 / 12`` on the diagonal (the maximum lies anywhere within half a
+        step of the grid point).
+    """
+    rng = rng or np.random.default_rng(2)
+    reduce = {"mean": np.nanmean, "median": np.nanmedian}[statistic]
+    vals = [np.asarray(v, float) for v in values]
+    xs = [np.asarray(g, float) for g in x]
+    S = vals[0].shape[0]
+
+    def peaks(idx):
+        out = []
+        for v, g in zip(vals, xs, strict=True):
+            m = reduce(v[idx], axis=0)
+            out.append(g[int(np.nanargmax(m))] if np.isfinite(m).any() else np.nan)
+        return out
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN columns
+        best = np.array(peaks(np.arange(S)))
+        boots = np.array([peaks(rng.integers(0, S, S)) for _ in range(n_boot)])
+    boots = boots[np.all(np.isfinite(boots), axis=1)]
+    J = len(vals)
+    cov = np.cov(boots.T, ddof=1).reshape(J, J) if len(boots) > 1 else np.full((J, J), np.nan)
+    h = np.array([np.min(np.diff(np.sort(g))) if g.size > 1 else 0.0 for g in xs])
+    return best, cov + np.diag(h**2 / 12)
+
+
+def first_positive(
+    values: np.ndarray, x: np.ndarray, n_boot: int = 200, rng: np.random.Generator | None = None
+) -> Location:
+    """Smallest grid point where the mean of ``values`` over samples is positive.
+
+    The paper's p_crit ("the value of p_r at which E first becomes positive") applied to
+    per-sample energies ``values`` (S, G) on the grid ``x`` (G,); NaN when no mean is positive.
+    The error is a bootstrap over samples. Unlike the median threshold (P = 1/2) this is an
+    extreme-value statistic: it moves to smaller p_r as the number of samples grows. The
+    error combines the bootstrap spread with the grid's resolution ``h / sqrt(12)``.
+    """
+    rng = rng or np.random.default_rng(4)
+    v = np.nan_to_num(np.asarray(values, float), nan=0.0)
+    x = np.asarray(x, float)
+
+    def first(rows):
+        pos = np.flatnonzero(rows.mean(axis=0) > 0)
+        return float(x[pos[0]]) if pos.size else np.nan
+
+    best = first(v)
+    S = v.shape[0]
+    boots = np.array([first(v[rng.integers(0, S, S)]) for _ in range(n_boot)])
+    boots = boots[np.isfinite(boots)]
+    sd = float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan
+    h = float(np.min(np.diff(np.sort(x)))) if x.size > 1 else 0.0
+    return Location(best, float(np.hypot(sd, h / np.sqrt(12))))
+
+
+def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rng=None) -> Location:
+    """S_t/S_r as minus the slope of the P = 1/2 contour, p_r*(p_t) = x0 - lam p_t.
+
+    Parameters
+    ----------
+    thresholds : (S, J) float
+        Per-sample threshold in p_r (NaN: never rigid) of the same S samples at J values of
+        ``p_t`` (J,).
+
+    Notes
+    -----
+    Model-free alternative to :func:`fit_collapse`: at each p_t the median threshold is where P
+    crosses 1/2; ``lam`` is minus the least-squares slope of the medians over p_t (exactly
+    S_t/S_r when P = F(p_r + lam p_t)). The error is a bootstrap over samples, which keeps the
+    correlation of the medians through common random numbers.
+    """
+    rng = rng or np.random.default_rng(3)
+    t = np.asarray(thresholds, float)
+    t = np.where(np.isnan(t), np.inf, t)
+    p_t = np.asarray(p_t, float)
+
+    def lam(rows):
+        med = np.median(rows, axis=0)
+        ok = np.isfinite(med)
+        if ok.sum() < 2:
+            return np.nan
+        d = p_t[ok] - p_t[ok].mean()
+        return -float(d @ med[ok] / (d @ d))
+
+    best = lam(t)
+    boots = [lam(t[rng.integers(0, t.shape[0], t.shape[0])]) for _ in range(n_boot)]
+    boots = np.array(boots)[np.isfinite(boots)]
+    return Location(best, float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan)
+
+
+# --------------------------------------------------------------------------- agreement
+
+
+def agreement_z(ours, cov, reference, reference_err=0.0) -> float:
+    """Distance between our values and a reference in units of both error bars.
+
+    Parameters
+    ----------
+    ours : (k,) float
+        Our values.
+    cov : (k, k) float
+        Their covariance (a scalar or (k,) is read as variances).
+    reference : (k,) float
+        The reference values (the paper's), broadcast.
+    reference_err : (k,) float
+        Their standard errors, taken as independent.
+
+    Returns
+    -------
+    z : float
+        For k = 1, ``|ours - ref| / sqrt(err_ours^2 + err_ref^2)``. For k > 1 the chi-square
+        ``d^2 = delta^T (C + diag(err_ref^2))^+ delta`` with k degrees of freedom, expressed as
+        the two-sided normal deviate of the same tail probability (so that ``z < 2`` means the
+        same 95.4 % level whatever k). Points without error on either side count only if they
+        differ (z = inf). NaN when any input is not finite.
+    """
+    y = np.atleast_1d(np.asarray(ours, float))
+    k = y.size
+    C = np.asarray(cov, float)
+    C = np.diag(np.broadcast_to(C, (k,))) if C.ndim < 2 else C
+    ref = np.broadcast_to(np.asarray(reference, float), (k,))
+    rerr = np.broadcast_to(np.asarray(reference_err, float), (k,))
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(C)) and np.all(np.isfinite(ref))):
+        return float("nan")
+    if not np.all(np.isfinite(rerr)):
+        return float("nan")
+    delta = y - ref
+    total = C + np.diag(rerr**2)
+    if k == 1:
+        s = float(np.sqrt(total[0, 0]))
+        if s == 0:
+            return 0.0 if delta[0] == 0 else float("inf")
+        return float(abs(delta[0]) / s)
+    certain = np.diag(total) == 0  # no error on either side: must match exactly
+    if np.any(delta[certain] != 0):
+        return float("inf")
+    delta, total = delta[~certain], total[np.ix_(~certain, ~certain)]
+    k = delta.size
+    if k == 0:
+        return 0.0
+    d2 = float(delta @ np.linalg.pinv(total) @ delta)
+    logp = float(stats.chi2.logsf(d2, k))
+    return float(stats.norm.isf(max(np.exp(logp) / 2, 1e-300)))
+
+
+def sign_z(value: float, err: float, sign: int) -> float:
+    """z of a claim that a quantity has a sign: its distance to the claimed half-line.
+
+    ``max(0, -sign * value) / err``: zero when the value lies on the claimed side, else the
+    number of standard errors by which it lies on the other side.
+    """
+    if not (np.isfinite(value) and np.isfinite(err)):
+        return float("nan")
+    gap = max(0.0, -sign * value)
+    if gap == 0:
+        return 0.0
+    return float(gap / err) if err > 0 else float("inf")

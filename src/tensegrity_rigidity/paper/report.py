@@ -18,7 +18,7 @@ import pandas as pd
 
 from ..analysis.single_node import class_weights, qbar_table
 from ..model.lattice import DEFAULT_DELTA
-from .comparison import TABLE_COLUMNS, compare, comparison_frame
+from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame
 
 
 def _md_table(df: pd.DataFrame) -> str:
@@ -114,8 +114,8 @@ def write_report(
         f"Reproduction of *Rigidity of generic random tensegrity structures* at scale "
         f"**{scale_name}**. Every verdict is exact (certified by an admissible self-stress or a "
         f"zero-energy displacement), so differences from the paper are statistical, finite-size "
-        f"or definitional, not solver noise. {n_agree} claims agree within two combined standard "
-        f"errors, {n_dis} do not. Study wall times: "
+        f"or definitional, not solver noise. {n_agree} claims agree, {n_dis} do not. "
+        f"{RULE} Study wall times: "
         + ", ".join(f"{k} {v:.0f} s" for k, v in timings.items())
         + ". "
         + (

@@ -45,6 +45,7 @@ from ..model.lattice import DEFAULT_DELTA
 from ..model.network import Instance
 from ..model.strain import NAMED_STRAINS, strain_tensor
 from ..solver.core import SolveResult, solve
+from .claims import Measurement
 
 PHI5 = [0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4, math.pi]
 FC5 = [0.0, 0.25, 0.5, 0.75, 1.0]
@@ -138,6 +139,28 @@ def _p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
     return [round(x, 6) for x in np.arange(lo, hi + 1e-9, step)]
 
 
+def threshold_matrix(rows: pd.DataFrame, p_t: list[float]) -> np.ndarray:
+    """(S, J) thresholds of the samples present at every p_t (NaN: never rigid).
+
+    Rows of one strain and f_c from a threshold sweep along p_r; samples are matched by index.
+    """
+    groups = [rows[np.isclose(rows.p_t, pt)].set_index("sample").threshold_p_r for pt in p_t]
+    common = sorted(set.intersection(*(set(g.index) for g in groups))) if groups else []
+    return np.column_stack([g.reindex(common).to_numpy(float) for g in groups])
+
+
+def per_sample(rows: pd.DataFrame, column: str, samples=None) -> tuple[np.ndarray, np.ndarray]:
+    """(S, G) values of ``column`` by sample (rows) and p_r (columns) of one curve, and p_r (G,).
+
+    ``samples`` (S,) fixes the rows (NaN for a sample missing from ``rows``), so that curves of
+    the same samples line up row by row.
+    """
+    table = rows.pivot_table(index="sample", columns="p_r", values=column, dropna=False)
+    if samples is not None:
+        table = table.reindex(samples)
+    return table.to_numpy(float), table.columns.to_numpy(float)
+
+
 # --------------------------------------------------------------------------- Fig. 1
 
 
@@ -156,6 +179,8 @@ class Fig1bResult:
     half_x : (H,) float
         p_r + p_t/2 where P crosses 1/2, for each p_t whose P reaches 1/2 (linear
         interpolation on the grid).
+    collapse : CollapseFit
+        Fit of P = F(p_r + lam p_t) to every p_t: lam = S_t/S_r under shear at f_c = 0.5.
     rows : DataFrame
         The threshold rows analysed.
     excluded : dict
@@ -168,11 +193,13 @@ class Fig1bResult:
     p_t: np.ndarray
     P: np.ndarray
     half_x: np.ndarray
+    collapse: an.CollapseFit
     n: int
     samples: int
     rows: pd.DataFrame
     excluded: dict[str, int]
     straddling: int = 0
+    measured: tuple[Measurement, ...] = ()
 
 
 def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
@@ -203,16 +230,33 @@ def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
         ok = np.isfinite(P[i])
         if ok.sum() > 2 and P[i, ok].max() >= 0.5:
             half.append(float(np.interp(0.5, P[i, ok], p_r[ok])) + pt / 2)
+    y, pr, pt = an.outcomes_from_thresholds(df, np.arange(0.0, 1.0001, 0.01))
+    collapse = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
+    system = f"n = {scale.n_threshold}, {collapse.n_samples} samples x {len(p_t)} p_t"
+    half = np.array(half)
+    note = (
+        f"collapse fit over p_t = 0 ... 0.8; p_r + p_t/2 at P = 1/2: mean {half.mean():.3f}, "
+        f"spread {half.std():.3f} over {half.size} values of p_t"
+        if half.size
+        else "collapse fit over p_t = 0 ... 0.8"
+    )
+    measured = (
+        Measurement.scalar(
+            "collapse_shear_half", collapse.lam, collapse.lam_err, system, note=note
+        ),
+    )
     return Fig1bResult(
         p_r=p_r,
         p_t=np.array(p_t),
         P=P,
-        half_x=np.array(half),
+        half_x=half,
+        collapse=collapse,
         n=scale.n_threshold,
         samples=scale.samples_threshold,
         rows=df,
         excluded={"fig1b": excluded},
         straddling=interval_straddles(df, p_r),
+        measured=measured,
     )
 
 
@@ -230,9 +274,14 @@ class Fig1cResult:
         Median threshold of the rods-only samples (p_t = 0, every strain) and its bootstrap error.
     rods_only_samples : int
         Number of rods-only thresholds.
+    contour : DataFrame
+        Per (f_c, strain): ``lam``, ``lam_err`` from the slope of the P = 1/2 contour
+        (:func:`~tensegrity_rigidity.analysis.estimators.contour_slope`), the model-free
+        alternative to the collapse fit.
     """
 
     fits: pd.DataFrame
+    contour: pd.DataFrame
     rods_only_pc: float
     rods_only_pc_err: float
     rods_only_samples: int
@@ -241,6 +290,7 @@ class Fig1cResult:
     rows: pd.DataFrame
     excluded: dict[str, int]
     straddling: int = 0
+    measured: tuple[Measurement, ...] = ()
 
     def lam(self, f_c: float, strain: str) -> tuple[float, float]:
         """(S_t/S_r, its error) of one fit."""
@@ -266,22 +316,68 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
         **kw,
     )
     grid = np.arange(0.3, 0.9001, 0.01)
-    fits = []
+    fits, contour = [], []
     for f_c in FC5:
-        pooled = []
+        pooled, pooled_t = [], []
         for phi in PHI5:
             sub = df[np.isclose(df.f_c, f_c) & np.isclose(df.phi, phi)]
             y, pr, pt = an.outcomes_from_thresholds(sub, grid)
+            t = threshold_matrix(sub, PT4)
             pooled.append(y)
+            pooled_t.append(t)
             if phi in (0.0, math.pi / 2, math.pi):
                 fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
                 fits.append({"f_c": f_c, "strain": strain_name(phi), "phi": phi, **fit.__dict__})
+                c = an.contour_slope(t, np.array(PT4), n_boot=scale.bootstrap)
+                contour.append(
+                    {"f_c": f_c, "strain": strain_name(phi), "lam": c.value, "lam_err": c.err}
+                )
         fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap)
         fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
+        c = an.contour_slope(np.vstack(pooled_t), np.array(PT4), n_boot=scale.bootstrap)
+        contour.append({"f_c": f_c, "strain": "average", "lam": c.value, "lam_err": c.err})
     rods_only = df[np.isclose(df.p_t, 0.0)].drop_duplicates(["phi", "sample"])
     pc, pc_err = an.critical_point(rods_only.threshold_p_r.to_numpy())
+    fits, contour = pd.DataFrame(fits), pd.DataFrame(contour)
+    system = f"n = {scale.n_threshold}, {scale.samples_threshold} samples x 4 p_t"
+    measured = []
+    for key, f_c, strain in [
+        *((f"st_sr_half_{s_}", 0.5, s_) for s_ in ("dilation", "shear", "compression", "average")),
+        ("st_sr_cables_compression", 1.0, "compression"),
+        ("st_sr_struts_dilation", 0.0, "dilation"),
+        ("st_sr_cables_dilation", 1.0, "dilation"),
+    ]:
+        row = fits[np.isclose(fits.f_c, f_c) & (fits.strain == strain)].iloc[0]
+        note = (
+            "identical to rods + cables under compression by an exact symmetry: compression is "
+            "minus dilation, and e -> -e swaps cables and struts sample by sample"
+            if key == "st_sr_struts_dilation"
+            else "collapse fit P = F(p_r + lam p_t) over p_t = 0, 0.1, 0.2, 0.3"
+        )
+        measured.append(Measurement.scalar(key, row.lam, row.lam_err, system, note=note))
+        row = contour[np.isclose(contour.f_c, f_c) & (contour.strain == strain)].iloc[0]
+        measured.append(
+            Measurement.scalar(
+                key,
+                row.lam,
+                row.lam_err,
+                system,
+                factor="estimator",
+                label="slope of the P = 1/2 contour instead of the logistic collapse fit",
+            )
+        )
+    measured.append(
+        Measurement.scalar(
+            "rods_only_pc",
+            pc,
+            pc_err,
+            f"n = {scale.n_threshold}, {len(rods_only)} thresholds",
+            note="finite-size threshold (median of per-sample thresholds, every strain)",
+        )
+    )
     return Fig1cResult(
-        fits=pd.DataFrame(fits),
+        fits=fits,
+        contour=contour,
         rods_only_pc=pc,
         rods_only_pc_err=pc_err,
         rods_only_samples=len(rods_only),
@@ -290,6 +386,7 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
         rows=df,
         excluded={"fig1c": excluded},
         straddling=interval_straddles(df, grid),
+        measured=tuple(measured),
     )
 
 
@@ -335,6 +432,12 @@ class Fig2Result:
     crit : DataFrame
         Per (phi, p_t): ``p_crit`` (median threshold) and ``gamma_peak_p_r`` (grid p_r of the
         largest mean nonaffinity).
+    paper_estimators : DataFrame
+        Per (phi, p_t): the paper's estimators on our grid rows: ``p_crit`` where the mean
+        energy first becomes positive and ``alpha`` fitted from it (with errors).
+    peaks : dict
+        Under compression, per p_t: where the mean and the median Gamma peak, with their joint
+        covariance (see ``_gamma_peaks``).
     taut_at_transition : tuple
         (mean, error, [(p_t, p_r), ...]): the fraction of taut cables in rigid samples at the grid
         p_r nearest p_crit under compression, averaged over p_t = 0.1, 0.2, 0.3; None when no
@@ -346,6 +449,8 @@ class Fig2Result:
     taut: pd.DataFrame
     fits: pd.DataFrame
     crit: pd.DataFrame
+    paper_estimators: pd.DataFrame
+    peaks: dict
     taut_at_transition: tuple | None
     n: int
     samples: int
@@ -353,6 +458,7 @@ class Fig2Result:
     field: DisplacementField
     excluded: dict[str, int]
     straddling: int = 0
+    measured: tuple[Measurement, ...] = ()
 
 
 def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
@@ -410,7 +516,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         .frac_cables_taut.agg(["mean", "sem", "size"])
         .reset_index()
     )
-    fits, crit = [], []
+    fits, crit, paper_est = [], [], []
     for (phi, p_t), sub in curves.groupby(["phi", "p_t"]):
         tsub = th[np.isclose(th.phi, phi) & np.isclose(th.p_t, p_t)].threshold_p_r.to_numpy()
         pc, pc_err = an.critical_point(tsub)
@@ -426,21 +532,145 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         )
         g = sub.set_index("p_r").gamma
         crit.append({"phi": phi, "p_t": p_t, "p_crit": pc, "gamma_peak_p_r": float(g.idxmax())})
-    crit = pd.DataFrame(crit)
+        # the paper's estimators on the same grid rows: p_crit where the mean energy first
+        # becomes positive, and the power law fitted from that p_crit
+        e, x = per_sample(rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)], "energy")
+        first = an.first_positive(e, x, n_boot=scale.bootstrap)
+        pfit = an.fit_energy_power_law(sub.p_r.to_numpy(), sub.energy.to_numpy(), first.value)
+        paper_est.append(
+            {
+                "phi": phi,
+                "strain": strain_name(phi),
+                "p_t": p_t,
+                "p_crit": first.value,
+                "p_crit_err": first.err,
+                "alpha": pfit.alpha,
+                "alpha_err": pfit.alpha_err,
+                "n_points": pfit.n_points,
+            }
+        )
+    crit, fits, paper_est = pd.DataFrame(crit), pd.DataFrame(fits), pd.DataFrame(paper_est)
+    peaks = _gamma_peaks(rows, crit, scale.bootstrap)
+    taut_tr = _taut_at_transition(taut, crit)
     field_, excluded["fig2_field"], excluded["fig1a_field"] = _displacement_field(out, scale, **kw)
     return Fig2Result(
         curves=curves,
         taut=taut,
-        fits=pd.DataFrame(fits),
+        fits=fits,
         crit=crit,
-        taut_at_transition=_taut_at_transition(taut, crit),
+        paper_estimators=paper_est,
+        peaks=peaks,
+        taut_at_transition=taut_tr,
         n=scale.n_grid,
         samples=scale.samples_grid,
         rows=rows,
         field=field_,
         excluded=excluded,
         straddling=interval_straddles(th, p_r),
+        measured=_fig2_measurements(scale, fits, paper_est, peaks, taut_tr),
     )
+
+
+def _gamma_peaks(rows: pd.DataFrame, crit: pd.DataFrame, n_boot: int) -> dict:
+    """Where the mean (and the median) nonaffinity peaks under compression, per p_t.
+
+    Returns {"p_t": (J,), "p_crit": (J,), "p_crit_err": (J,), "mean": (peaks, cov),
+    "median": (peaks, cov)}; the peaks' covariance comes from one bootstrap over samples shared
+    by every p_t (common random numbers correlate the curves).
+    """
+    comp = crit[np.isclose(crit.phi, math.pi)].sort_values("p_t")
+    samples = np.arange(1, int(rows["sample"].max()) + 1)
+    vals, xs = [], []
+    for p_t in comp.p_t:
+        sub = rows[np.isclose(rows.phi, math.pi) & np.isclose(rows.p_t, p_t)]
+        v, x = per_sample(sub, "nonaffinity", samples)
+        vals.append(v)
+        xs.append(x)
+    out = {"p_t": comp.p_t.to_numpy(), "p_crit": comp.p_crit.to_numpy()}
+    for stat in ("mean", "median"):
+        out[stat] = an.peak_locations(vals, xs, stat, n_boot=n_boot)
+    return out
+
+
+def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurement, ...]:
+    system = f"n = {scale.n_grid}, {scale.samples_grid} samples per point"
+    out = []
+    for _, row in fits.iterrows():
+        alt = paper_est[np.isclose(paper_est.phi, row.phi) & np.isclose(paper_est.p_t, row.p_t)]
+        alt = alt.iloc[0]
+        key = f"p_crit_{row.strain}_{row.p_t}"
+        out.append(
+            Measurement.scalar(
+                key,
+                row.p_crit,
+                row.p_crit_err,
+                f"n = {scale.n_grid}, {scale.samples_threshold} thresholds",
+                note="ours: median threshold (P = 1/2); paper: first positive mean energy",
+            )
+        )
+        out.append(
+            Measurement.scalar(
+                key,
+                alt.p_crit,
+                alt.p_crit_err,
+                system,
+                factor="estimator",
+                label="the paper's p_crit (first grid p_r with positive mean energy)",
+            )
+        )
+        key = f"alpha_{row.strain}_{row.p_t}"
+        out.append(
+            Measurement.scalar(
+                key,
+                row.alpha,
+                row.alpha_err,
+                f"{system}; {row.n_points} fit points",
+                note="least squares of ln(mean E) over ln(p_r - p_crit), p_crit = P = 1/2",
+            )
+        )
+        out.append(
+            Measurement.scalar(
+                key,
+                alt.alpha,
+                alt.alpha_err,
+                f"{system}; {alt.n_points} fit points",
+                factor="estimator",
+                label="fitted from the paper's p_crit (first positive mean energy)",
+            )
+        )
+    if taut_tr is not None:
+        v, e, _ = taut_tr
+        out.append(
+            Measurement.scalar(
+                "taut_cables_transition",
+                v,
+                e,
+                system + "; rigid samples at p_r nearest p_crit, mean over p_t = 0.1, 0.2, 0.3",
+            )
+        )
+    labels = tuple(f"p_t = {p:.1f}" for p in peaks["p_t"])
+    pc_var = np.diag(
+        fits[np.isclose(fits.phi, math.pi)].sort_values("p_t").p_crit_err.to_numpy() ** 2
+    )
+    for stat, factor, label in (
+        ("mean", "ours", ""),
+        ("median", "estimator", "peak of the median Gamma instead of the mean"),
+    ):
+        at, cov = peaks[stat]
+        out.append(
+            Measurement(
+                "gamma_peak",
+                at - peaks["p_crit"],
+                cov + pc_var,
+                system,
+                factor=factor,
+                label=label,
+                points=labels,
+                note="peak of the mean Gamma on the p_r grid minus the median threshold; error: "
+                "bootstrap over samples, grid resolution, p_crit's error",
+            )
+        )
+    return tuple(out)
 
 
 def _taut_at_transition(taut: pd.DataFrame, crit: pd.DataFrame):
@@ -535,6 +765,7 @@ class Fig3Result:
     sim: pd.DataFrame
     trials: int
     excluded: dict[str, int] = field(default_factory=dict)
+    measured: tuple[Measurement, ...] = ()
 
 
 def study_fig3(out, scale: Scale, **kw) -> Fig3Result:
@@ -562,8 +793,27 @@ def study_fig3(out, scale: Scale, **kw) -> Fig3Result:
                 }
             )
     sim = pd.DataFrame(sim)
-    sim["z"] = (sim.P - sim.analytic) / ((sim.hi - sim.lo) / (2 * 1.96))
-    return Fig3Result(f_c=f_c, analytic=analytic, sim=sim, trials=scale.node_trials)
+    se = (sim.hi - sim.lo) / (2 * 1.96)
+    sim["z"] = (sim.P - sim.analytic) / se
+    # the test of "simulation = formula" uses the binomial variance under the formula
+    var = sim.analytic * (1 - sim.analytic) / scale.node_trials
+    measured = (
+        Measurement(
+            "single_node",
+            sim.P.to_numpy(),
+            np.diag(var.to_numpy()),
+            f"{scale.node_trials} trials per point",
+            points=tuple(
+                f"p_r = {a}, f_c = {b:.3f}" for a, b in zip(sim.p_r, sim.f_c, strict=True)
+            ),
+            reference=sim.analytic.to_numpy(),
+            note="simulated against analytic P_N at every point; binomial errors at the "
+            "analytic value",
+        ),
+    )
+    return Fig3Result(
+        f_c=f_c, analytic=analytic, sim=sim, trials=scale.node_trials, measured=measured
+    )
 
 
 # --------------------------------------------------------------------------- Fig. 4
@@ -589,17 +839,19 @@ class Fig4Result:
         Per f_c: S_r, S_c/S_r, S_s/S_r, (S_c + S_s)/S_r with errors, for the strain average and
         the two pure strains.
     slopes : dict
-        Strain name ("dilation", "compression") -> least-squares slope of P over f_c.
+        Strain name ("dilation", "compression") -> least-squares slope of P over f_c with its
+        error (:func:`~tensegrity_rigidity.analysis.estimators.paired_slope`).
     """
 
     per_phi: pd.DataFrame
     average: pd.DataFrame
     dilation: pd.DataFrame
     compression: pd.DataFrame
-    slopes: dict[str, float]
+    slopes: dict[str, an.Derivative]
     n: int
     samples: int
     excluded: dict[str, int]
+    measured: tuple[Measurement, ...] = ()
 
 
 def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
@@ -711,19 +963,48 @@ def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
             )
         return pd.DataFrame(out_rows)
 
-    slopes = {}
-    for name, phi in (("dilation", 0.0), ("compression", math.pi)):
-        s = per_phi[np.isclose(per_phi.phi, phi)].sort_values("f_c")
-        slopes[name] = float(np.polyfit(s.f_c, s.P, 1)[0])
+    slopes = {
+        name: an.paired_slope(
+            np.column_stack([outcomes(centre, phi=phi, f_c=f) for f in FIG4_FC]), FIG4_FC
+        )
+        for name, phi in (("dilation", 0.0), ("compression", math.pi))
+    }
+    average = summarise(per_phi)
+    system = f"n = {scale.n_grid}, {scale.samples_fig4} samples per point"
+    measured = [
+        Measurement.scalar(
+            key,
+            slopes[name].value,
+            slopes[name].err,
+            system,
+            note="least-squares slope of P over f_c = 0, 1/8, ..., 1 (mean of per-sample slopes)",
+        )
+        for key, name in (
+            ("fig4a_dilation_rises", "dilation"),
+            ("fig4a_compression_falls", "compression"),
+        )
+    ]
+    measured.append(
+        Measurement(
+            "fig4c_sum_one",
+            average.sum_rel.to_numpy(float),
+            np.diag(average.sum_rel_err.to_numpy(float) ** 2),
+            system,
+            points=tuple(f"f_c = {f:.3f}" for f in average.f_c),
+            note="dP/df_c by central differences, second-order one-sided at f_c = 0 and 1; "
+            "errors taken as independent across f_c",
+        )
+    )
     return Fig4Result(
         per_phi=per_phi,
-        average=summarise(per_phi),
+        average=average,
         dilation=summarise(per_phi[np.isclose(per_phi.phi, 0.0)]),
         compression=summarise(per_phi[np.isclose(per_phi.phi, math.pi)]),
         slopes=slopes,
         n=scale.n_grid,
         samples=scale.samples_fig4,
         excluded=excluded,
+        measured=tuple(measured),
     )
 
 
