@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from scipy.stats import norm
 
 from tensegrity_rigidity.paper.claims import CLAIMS, FACTORS, ROUNDING_2DP, Measurement
 from tensegrity_rigidity.paper.comparison import AGREE_BELOW, compare, comparison_frame, z_score
@@ -45,13 +46,20 @@ def test_sign_claims_measure_the_distance_to_the_claimed_side():
     assert z_score(falls, Measurement.scalar(falls.key, 0.05, 0.1, "")) == pytest.approx(0.5)
 
 
-def test_several_points_use_their_covariance():
+def test_several_points_use_the_largest_z_family_wise():
     c = CLAIMS["fig4c_sum_one"]
-    v = np.array([1.1, 1.1])
-    independent = Measurement(c.key, v, np.diag([0.01, 0.01]), "")
-    correlated = Measurement(c.key, v, np.array([[0.01, 0.0099], [0.0099, 0.01]]), "")
-    # one shared offset is more plausible under strongly correlated errors
-    assert z_score(c, correlated) < z_score(c, independent)
+    one = Measurement(c.key, np.array([1.2]), np.array([[0.01]]), "")
+    two = Measurement(c.key, np.array([1.2, 1.2]), np.diag([0.01, 0.01]), "")
+    nine = Measurement(c.key, np.full(9, 1.0), np.diag(np.full(9, 0.01)), "")
+    assert z_score(c, one) == pytest.approx(2.0)
+    # two points each 2 sigma off are less surprising than one: Sidak, 1 - (1 - p)^2
+    p = 2 * norm.sf(2.0)
+    assert z_score(c, two) == pytest.approx(norm.isf((1 - (1 - p) ** 2) / 2))
+    assert z_score(c, two) < AGREE_BELOW
+    assert z_score(c, nine) == 0.0
+    # the covariance's off-diagonal (nearly singular for smooth curves) is not inverted
+    corr = Measurement(c.key, np.array([1.2, 1.2]), np.array([[0.01, 0.01], [0.01, 0.01]]), "")
+    assert z_score(c, corr) == pytest.approx(z_score(c, two))
     # non-finite points (a ratio where P does not vary) are left out
     partial = Measurement(c.key, np.array([np.nan, 1.0]), np.diag([np.nan, 0.01]), "")
     assert z_score(c, partial) == 0.0

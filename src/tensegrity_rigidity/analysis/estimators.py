@@ -175,6 +175,225 @@ def paired_derivative(minus: np.ndarray, plus: np.ndarray, h: float) -> Derivati
     return Derivative(float(d.mean() / (2 * h)), float(err / (2 * h)))
 
 
+# --------------------------------------------------------------------------- efficacy surface
+
+
+def fit_logistic(k: np.ndarray, m: np.ndarray, X: np.ndarray, max_iter: int = 100) -> np.ndarray:
+    """Firth-penalised maximum-likelihood logistic regression on binomial counts.
+
+    Parameters
+    ----------
+    k, m : (G,) float
+        Successes and trials at each design point.
+    X : (G, q) float
+        Design matrix.
+
+    Returns
+    -------
+    beta : (q,) float
+        Coefficients of ``logit P = X beta`` (NaN if Newton's method does not converge).
+
+    Notes
+    -----
+    Firth's penalty (half the log-determinant of the Fisher information) keeps the estimate
+    finite when the outcomes are separated (P = 0 or 1 at every point, as happens with few
+    samples) and removes the O(1/m) bias of the maximum-likelihood estimate; its effect vanishes
+    as the counts grow. Newton steps on the modified score
+    ``X^T (k - m p + h (1/2 - p))`` (h: leverages), halved until the penalised likelihood rises.
+    """
+    k, m, X = (np.asarray(a, float) for a in (k, m, X))
+    beta = np.zeros(X.shape[1])
+
+    def penalised(b):
+        eta = X @ b
+        w = m * _sigmoid(eta) * _sigmoid(-eta)
+        sign, logdet = np.linalg.slogdet(X.T @ (w[:, None] * X))
+        ll = float(np.sum(k * -np.logaddexp(0, -eta) + (m - k) * -np.logaddexp(0, eta)))
+        return ll + 0.5 * logdet if sign > 0 else -np.inf
+
+    current = penalised(beta)
+    for _ in range(max_iter):
+        p = _sigmoid(X @ beta)
+        w = m * p * (1 - p)
+        info = X.T @ (w[:, None] * X)
+        try:
+            inv = np.linalg.inv(info)
+        except np.linalg.LinAlgError:
+            return np.full(X.shape[1], np.nan)
+        h = w * np.einsum("ij,jk,ik->i", X, inv, X)
+        step = inv @ (X.T @ (k - m * p + h * (0.5 - p)))
+        t = 1.0
+        while t > 1e-8:
+            trial = penalised(beta + t * step)
+            if trial >= current - 1e-12:
+                break
+            t /= 2
+        beta = beta + t * step
+        current = penalised(beta)
+        if np.max(np.abs(t * step)) < 1e-9:
+            return beta
+    return np.full(X.shape[1], np.nan)
+
+
+def _sigmoid(x):
+    return 0.5 * (1 + np.tanh(0.5 * np.asarray(x, float)))
+
+
+@dataclass(frozen=True, eq=False)
+class EfficacyCurves:
+    """Efficacies along f_c at a point (p_r0, p_t0), with bootstrap covariances.
+
+    Attributes
+    ----------
+    f_c : (F,) float
+        Where the curves are evaluated.
+    values : dict
+        Name -> (F,) float: "P", "S_r", "S_t", "D_f" (dP/df_c), "S_c", "S_s", "S_c_rel"
+        (S_c/S_r), "S_s_rel", "sum_rel" ((S_c + S_s)/S_r).
+    cov : dict
+        Name -> (F, F) bootstrap covariance of ``values[name]`` over f_c.
+    n_samples : int
+        Samples (rows) behind the fit.
+    """
+
+    f_c: np.ndarray
+    values: dict
+    cov: dict
+    n_samples: int
+
+    def err(self, name: str) -> np.ndarray:
+        """(F,) standard errors of one curve."""
+        return np.sqrt(np.diag(self.cov[name]))
+
+
+def _surface_design(p_r, p_t, f_c, centre, degrees):
+    d_eta, d_slope = degrees
+    dr, dt = np.asarray(p_r) - centre[0], np.asarray(p_t) - centre[1]
+    f = np.asarray(f_c, float)
+    cols = [f**j for j in range(d_eta + 1)]
+    cols += [dr * f**j for j in range(d_slope + 1)]
+    cols += [dt * f**j for j in range(d_slope + 1)]
+    return np.column_stack(cols)
+
+
+def _surface_derivatives(beta, f, degrees):
+    """P, dP/dp_r, dP/dp_t, dP/df at the centre, each (F,), from the coefficients."""
+    d_eta, d_slope = degrees
+    c = beta[: d_eta + 1]
+    a = beta[d_eta + 1 : d_eta + d_slope + 2]
+    b = beta[d_eta + d_slope + 2 :]
+    eta = sum(c[j] * f**j for j in range(d_eta + 1))
+    deta = sum(j * c[j] * f ** (j - 1) for j in range(1, d_eta + 1))
+    P = _sigmoid(eta)
+    dF = P * (1 - P)
+    slope_r = sum(a[j] * f**j for j in range(d_slope + 1))
+    slope_t = sum(b[j] * f**j for j in range(d_slope + 1))
+    return P, dF * slope_r, dF * slope_t, dF * deta
+
+
+def fit_efficacies(
+    outcomes: np.ndarray,
+    p_r: np.ndarray,
+    p_t: np.ndarray,
+    f_c: np.ndarray,
+    centre: tuple[float, float],
+    f_eval: np.ndarray,
+    degrees: tuple[int, int] = (4, 2),
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+) -> tuple[list[EfficacyCurves], EfficacyCurves]:
+    """S_r, S_t, S_c, S_s along f_c from a likelihood fit smooth in f_c, per strain and averaged.
+
+    Parameters
+    ----------
+    outcomes : (K, S, G) float
+        Rigidity (0/1, NaN where missing) of sample s under strain k at design point g; the
+        same S samples under every strain and at every point (common random numbers).
+    p_r, p_t, f_c : (G,) float
+        Design points around ``centre = (p_r0, p_t0)``, at several f_c.
+    f_eval : (F,) float
+        Where to evaluate the curves.
+    degrees : (int, int)
+        Polynomial degrees in f_c of the logit at the centre and of its slopes in p_r, p_t.
+
+    Returns
+    -------
+    per_strain : list of EfficacyCurves
+        One per strain.
+    average : EfficacyCurves
+        S_r, S_t, dP/df_c averaged over the strains, and the ratios formed from the averages.
+
+    Notes
+    -----
+    Model, for each strain: ``logit P = eta(f_c) + a(f_c) (p_r - p_r0) + b(f_c) (p_t - p_t0)``
+    with eta a polynomial of degree ``degrees[0]`` and a, b of degree ``degrees[1]``, fitted by
+    :func:`fit_logistic` to the pooled counts (a pseudo-likelihood: outcomes of one sample are
+    correlated). At the centre ``S_r = P (1 - P) a``, ``S_t = P (1 - P) b``,
+    ``dP/df_c = P (1 - P) eta'``; ``S_c = S_t + (1 - f_c) dP/df_c / p_t0`` and
+    ``S_s = S_t - f_c dP/df_c / p_t0``. The curves are smooth in f_c, so the ends f_c = 0, 1 use
+    every point, unlike one-sided differences. Covariances: a bootstrap over samples, the same
+    resampled samples for every strain (it keeps the correlations of common random numbers
+    across points, f_c and strains). Missing outcomes are left out of the counts.
+    """
+    rng = rng or np.random.default_rng(5)
+    y = np.asarray(outcomes, float)
+    if y.ndim == 2:
+        y = y[None]
+    K, S, _ = y.shape
+    X = _surface_design(p_r, p_t, f_c, centre, degrees)
+    f = np.asarray(f_eval, float)
+    p_t0 = centre[1]
+
+    def curves(idx):
+        per, sums = [], None
+        for kk in range(K):
+            yy = y[kk, idx]
+            ok = np.isfinite(yy)
+            beta = fit_logistic(np.where(ok, yy, 0).sum(axis=0), ok.sum(axis=0), X)
+            P, S_r, S_t, D = _surface_derivatives(beta, f, degrees)
+            per.append((P, S_r, S_t, D))
+            part = np.array([P, S_r, S_t, D])
+            sums = part if sums is None else sums + part
+        return per, tuple(sums / K)
+
+    def named(P, S_r, S_t, D):
+        S_c = S_t + (1 - f) * D / p_t0
+        S_s = S_t - f * D / p_t0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return {
+                "P": P,
+                "S_r": S_r,
+                "S_t": S_t,
+                "D_f": D,
+                "S_c": S_c,
+                "S_s": S_s,
+                "S_c_rel": S_c / S_r,
+                "S_s_rel": S_s / S_r,
+                "sum_rel": (S_c + S_s) / S_r,
+            }
+
+    per, avg = curves(np.arange(S))
+    best = [named(*c) for c in per] + [named(*avg)]
+    boots = [[] for _ in best]
+    for _ in range(n_boot):
+        per_b, avg_b = curves(rng.integers(0, S, S))
+        for i, c in enumerate([*per_b, avg_b]):
+            boots[i].append(named(*c))
+    out = []
+    for i, vals in enumerate(best):
+        cov = {}
+        for name in vals:
+            draws = np.array([b[name] for b in boots[i]])
+            draws = draws[np.all(np.isfinite(draws), axis=1)]
+            cov[name] = (
+                np.atleast_2d(np.cov(draws.T, ddof=1))
+                if len(draws) > 1
+                else np.full((f.size, f.size), np.nan)
+            )
+        out.append(EfficacyCurves(f, vals, cov, S))
+    return out[:-1], out[-1]
+
+
 # --------------------------------------------------------------------------- energy scaling
 
 
@@ -393,48 +612,46 @@ def agreement_z(ours, cov, reference, reference_err=0.0) -> float:
     ours : (k,) float
         Our values.
     cov : (k, k) float
-        Their covariance (a scalar or (k,) is read as variances).
+        Their covariance (only the variances are used; a scalar or (k,) is read as variances).
     reference : (k,) float
         The reference values (the paper's), broadcast.
     reference_err : (k,) float
-        Their standard errors, taken as independent.
+        Their standard errors.
 
     Returns
     -------
     z : float
-        For k = 1, ``|ours - ref| / sqrt(err_ours^2 + err_ref^2)``. For k > 1 the chi-square
-        ``d^2 = delta^T (C + diag(err_ref^2))^+ delta`` with k degrees of freedom, expressed as
-        the two-sided normal deviate of the same tail probability (so that ``z < 2`` means the
-        same 95.4 % level whatever k). Points without error on either side count only if they
-        differ (z = inf). NaN when any input is not finite.
+        For k = 1, ``|ours - ref| / sqrt(err_ours^2 + err_ref^2)``. For k > 1 the largest of the
+        k per-point z, expressed as the two-sided normal deviate of its family-wise tail
+        probability ``1 - (1 - p_max)^k`` (Sidak), so that ``z < 2`` means the same 95.4 %
+        level whatever k. Sidak's inequality makes this valid (conservative) for normal errors
+        whatever their correlation, so no covariance matrix need be inverted (bootstrap
+        covariances of smooth curves are nearly singular). A point without error on either
+        side counts only if it differs (z = inf). NaN when any input is not finite.
     """
     y = np.atleast_1d(np.asarray(ours, float))
     k = y.size
     C = np.asarray(cov, float)
-    C = np.diag(np.broadcast_to(C, (k,))) if C.ndim < 2 else C
+    var = np.diag(C) if C.ndim == 2 else np.broadcast_to(C, (k,))
     ref = np.broadcast_to(np.asarray(reference, float), (k,))
     rerr = np.broadcast_to(np.asarray(reference_err, float), (k,))
-    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(C)) and np.all(np.isfinite(ref))):
+    finite = [np.all(np.isfinite(a)) for a in (y, var, ref, rerr)]
+    if not all(finite):
         return float("nan")
-    if not np.all(np.isfinite(rerr)):
-        return float("nan")
-    delta = y - ref
-    total = C + np.diag(rerr**2)
-    if k == 1:
-        s = float(np.sqrt(total[0, 0]))
-        if s == 0:
-            return 0.0 if delta[0] == 0 else float("inf")
-        return float(abs(delta[0]) / s)
-    certain = np.diag(total) == 0  # no error on either side: must match exactly
-    if np.any(delta[certain] != 0):
+    delta = np.abs(y - ref)
+    sigma = np.sqrt(var + rerr**2)
+    if np.any((sigma == 0) & (delta != 0)):
         return float("inf")
-    delta, total = delta[~certain], total[np.ix_(~certain, ~certain)]
-    k = delta.size
-    if k == 0:
+    zs = delta[sigma > 0] / sigma[sigma > 0]
+    if zs.size == 0:
         return 0.0
-    d2 = float(delta @ np.linalg.pinv(total) @ delta)
-    logp = float(stats.chi2.logsf(d2, k))
-    return float(stats.norm.isf(max(np.exp(logp) / 2, 1e-300)))
+    if k == 1:
+        return float(zs[0])
+    p_max = min(2.0 * stats.norm.sf(zs.max()), 1.0)  # two-sided tail of the largest
+    if p_max >= 1.0:
+        return 0.0
+    family = -np.expm1(k * np.log1p(-p_max))
+    return float(stats.norm.isf(max(family / 2, 1e-300)))
 
 
 def sign_z(value: float, err: float, sign: int) -> float:

@@ -10,8 +10,8 @@ The agreement rule, the same for every claim (:data:`RULE`)::
 
 ``err_paper`` is the paper's error bar where it gives one, the rounding of the printed value
 where it gives none (0.01 / sqrt(12) for two decimals), and 0 for an exact statement. A claim
-about several points (every f_c, every p_t) uses the chi-square of the deviations with their
-covariance, expressed as the normal deviate of the same tail probability; a claim about a sign
+about several points (every f_c, every p_t) uses its largest per-point z, expressed as the
+normal deviate of the family-wise tail probability (Sidak); a claim about a sign
 ("P rises with f_c") uses the distance of our value to the claimed side. Nothing here is tuned
 to agree.
 
@@ -39,9 +39,9 @@ RULE = (
     "A claim agrees when z = |ours - paper| / sqrt(err_ours^2 + err_paper^2) < 2, with the "
     "paper's error bar where it gives one, the rounding of its printed value where it does not "
     "(0.01/sqrt(12) for two decimals) and 0 for an exact statement (S_t/S_r = 0.5, a peak at "
-    "p_crit, a sum equal to 1). Claims about several points use the chi-square of the deviations "
-    "with our covariance, converted to the normal deviate of the same tail probability; claims "
-    "about a sign use our distance to the claimed side."
+    "p_crit, a sum equal to 1). A claim about k points uses its largest per-point z, converted to "
+    "the normal deviate of the family-wise probability 1 - (1 - p)^k (Sidak, valid whatever the "
+    "correlation between points); a claim about a sign uses our distance to the claimed side."
 )
 
 

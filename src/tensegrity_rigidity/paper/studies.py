@@ -12,11 +12,12 @@ Estimators (documented in :mod:`~tensegrity_rigidity.analysis.estimators`):
 * S_t/S_r (Fig. 1C): binomial-likelihood fit of P = F(p_r + lam p_t) to per-sample thresholds
   along p_r at p_t in {0, 0.1, 0.2, 0.3}; bootstrap errors over samples. The strain average
   pools the samples of five strains phi in {0, pi/4, pi/2, 3pi/4, pi}.
-* S_r, S_t, dP/df_c (Fig. 4): paired central differences on common random numbers at
-  (p_r, p_t) = (0.3, 0.6), with steps matched in x = p_r + p_t/2 (h_r = 0.025, h_t = 0.05) and
-  the strain average over phi in {0, pi/4, pi/2, 3pi/4, pi};
-  S_c = S_t + (1 - f_c) dP/df_c / p_t and S_s = S_t - f_c dP/df_c / p_t
-  (from S_t = f_c S_c + (1 - f_c) S_s and dP/df_c = p_t (S_c - S_s)).
+* S_r, S_t, dP/df_c (Fig. 4): a binomial-likelihood surface smooth in f_c, fitted to the
+  outcomes at (p_r, p_t) = (0.3, 0.6) and at steps matched in x = p_r + p_t/2 (h_r = 0.025,
+  h_t = 0.05) for f_c = 0, 1/8, ..., 1, on common random numbers; the strain average over phi
+  in {0, pi/4, pi/2, 3pi/4, pi}; S_c = S_t + (1 - f_c) dP/df_c / p_t and
+  S_s = S_t - f_c dP/df_c / p_t (from S_t = f_c S_c + (1 - f_c) S_s and
+  dP/df_c = p_t (S_c - S_s)). Errors: bootstrap over samples.
 * p_crit (Fig. 2): the median per-sample threshold (P = 1/2), bootstrap error.
 
 Undecided samples: a grid sample whose verdict lies below double-precision resolution is dropped
@@ -820,10 +821,13 @@ def study_fig3(out, scale: Scale, **kw) -> Fig3Result:
 
 FIG4_PHI = PHI5
 FIG4_FC = [i / 8 for i in range(9)]
-#: steps of the central differences, matched in the mean-field variable x = p_r + p_t / 2 (both
-#: move x by +-0.025): near the edge of the transition P is strongly curved and a secant is
-#: steeper the wider it is, so unmatched spans would bias S_t / S_r.
+FIG4_CENTRE = (0.3, 0.6)
+#: steps around the centre, matched in the mean-field variable x = p_r + p_t / 2 (both move x
+#: by +-0.025): near the edge of the transition P is strongly curved and a secant is steeper
+#: the wider it is, so unmatched spans would bias S_t / S_r.
 H_R, H_T = 0.025, 0.05
+#: polynomial degrees in f_c of the efficacy surface (logit at the centre; its slopes)
+FIG4_DEGREES = (4, 2)
 
 
 @dataclass(frozen=True, eq=False)
@@ -833,11 +837,17 @@ class Fig4Result:
     Attributes
     ----------
     per_phi : DataFrame
-        Per (phi, f_c): P, N, its Wilson interval (lo, hi), S_r, S_t, D_f = dP/df_c with
-        errors, S_c, S_s.
+        Per (phi, f_c): the measured P, N, its Wilson interval (lo, hi), and from the fitted
+        surface S_r, S_t, D_f = dP/df_c, S_c, S_s with errors (``<name>_err``).
     average, dilation, compression : DataFrame
-        Per f_c: S_r, S_c/S_r, S_s/S_r, (S_c + S_s)/S_r with errors, for the strain average and
-        the two pure strains.
+        Per f_c: S_r, S_c/S_r (``S_c_rel``), S_s/S_r, (S_c + S_s)/S_r (``sum_rel``) with errors,
+        for the strain average and the two pure strains, from the fitted surface
+        (:func:`~tensegrity_rigidity.analysis.estimators.fit_efficacies`).
+    curves : EfficacyCurves
+        The strain average with covariances over f_c.
+    differences : DataFrame
+        The strain average from paired central differences (one-sided at f_c = 0 and 1), the
+        estimator the surface replaces, kept as evidence of what the estimator changes.
     slopes : dict
         Strain name ("dilation", "compression") -> least-squares slope of P over f_c with its
         error (:func:`~tensegrity_rigidity.analysis.estimators.paired_slope`).
@@ -847,6 +857,8 @@ class Fig4Result:
     average: pd.DataFrame
     dilation: pd.DataFrame
     compression: pd.DataFrame
+    curves: an.EfficacyCurves
+    differences: pd.DataFrame
     slopes: dict[str, an.Derivative]
     n: int
     samples: int
@@ -854,9 +866,23 @@ class Fig4Result:
     measured: tuple[Measurement, ...] = ()
 
 
+def _ratio_frame(c: an.EfficacyCurves) -> pd.DataFrame:
+    cols = {"f_c": c.f_c, "S_r": c.values["S_r"], "S_r_err": c.err("S_r")}
+    for name in ("S_c_rel", "S_s_rel", "sum_rel"):
+        cols[name], cols[f"{name}_err"] = c.values[name], c.err(name)
+    return pd.DataFrame(cols)
+
+
 def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
-    """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies S_c, S_s from paired
-    differences on common random numbers."""
+    """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies S_r, S_t, S_c, S_s.
+
+    Three sweeps on the same samples (common random numbers): the centre, p_r +- H_R and
+    p_t +- H_T, each at f_c = 0, 1/8, ..., 1 and five strains. The efficacies come from a
+    binomial-likelihood surface smooth in f_c (see
+    :func:`~tensegrity_rigidity.analysis.estimators.fit_efficacies`), fitted to all 45 points of
+    each strain at once.
+    """
+    p_r0, p_t0 = FIG4_CENTRE
     base = {
         "n": scale.n_grid,
         "f_c": FIG4_FC,
@@ -866,15 +892,14 @@ def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
     }
     excluded = {}
     centre, excluded["fig4_centre"] = _run(
-        out, "fig4_centre", base | {"p_r": 0.3, "p_t": 0.6}, **kw
+        out, "fig4_centre", base | {"p_r": p_r0, "p_t": p_t0}, **kw
     )
     d_r, excluded["fig4_dpr"] = _run(
-        out, "fig4_dpr", base | {"p_r": [0.3 - H_R, 0.3 + H_R], "p_t": 0.6}, **kw
+        out, "fig4_dpr", base | {"p_r": [p_r0 - H_R, p_r0 + H_R], "p_t": p_t0}, **kw
     )
     d_t, excluded["fig4_dpt"] = _run(
-        out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H_T, 0.6 + H_T]}, **kw
+        out, "fig4_dpt", base | {"p_r": p_r0, "p_t": [p_t0 - H_T, p_t0 + H_T]}, **kw
     )
-
     samples = np.arange(1, scale.samples_fig4 + 1)
 
     def outcomes(df, **sel):
@@ -884,92 +909,43 @@ def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
             m &= np.isclose(df[key], val)
         return df[m].set_index("sample").rigid.astype(float).reindex(samples).to_numpy()
 
-    per_phi = []
-    for phi in FIG4_PHI:
+    design = [(centre, p_r0, p_t0)]
+    design += [(d_r, p_r0 + s * H_R, p_t0) for s in (-1, 1)]
+    design += [(d_t, p_r0, p_t0 + s * H_T) for s in (-1, 1)]
+    pr, pt, fc = (
+        np.array([p for _, p, _ in design for _ in FIG4_FC]),
+        np.array([t for _, _, t in design for _ in FIG4_FC]),
+        np.array(FIG4_FC * len(design)),
+    )
+    y = np.array(
+        [
+            np.column_stack(
+                [outcomes(df, phi=phi, f_c=f, p_r=a, p_t=b) for df, a, b in design for f in FIG4_FC]
+            )
+            for phi in FIG4_PHI
+        ]
+    )
+    per_strain, average = an.fit_efficacies(
+        y, pr, pt, fc, FIG4_CENTRE, np.array(FIG4_FC), FIG4_DEGREES, n_boot=scale.bootstrap
+    )
+    rows = []
+    for phi, c in zip(FIG4_PHI, per_strain, strict=True):
         for i, f in enumerate(FIG4_FC):
-            S_r = an.paired_derivative(
-                outcomes(d_r, phi=phi, f_c=f, p_r=0.3 - H_R),
-                outcomes(d_r, phi=phi, f_c=f, p_r=0.3 + H_R),
-                H_R,
-            )
-            S_t = an.paired_derivative(
-                outcomes(d_t, phi=phi, f_c=f, p_t=0.6 - H_T),
-                outcomes(d_t, phi=phi, f_c=f, p_t=0.6 + H_T),
-                H_T,
-            )
-            # dP/df_c: central difference inside, second-order one-sided at f_c = 0 and 1
-            last = len(FIG4_FC) - 1
-            if 0 < i < last:
-                coef = {i - 1: -1.0, i + 1: 1.0}
-                step = FIG4_FC[i + 1] - FIG4_FC[i - 1]
-            else:
-                j = (1, 2) if i == 0 else (last - 1, last - 2)
-                sign = 1.0 if i == 0 else -1.0
-                coef = {i: -3.0 * sign, j[0]: 4.0 * sign, j[1]: -1.0 * sign}
-                step = 2 * abs(FIG4_FC[j[0]] - FIG4_FC[i])
-            diff = sum(c * outcomes(centre, phi=phi, f_c=FIG4_FC[k]) for k, c in coef.items())
-            diff = diff[np.isfinite(diff)]
-            D_f = float(diff.mean() / step)
-            D_f_err = float(diff.std(ddof=1) / np.sqrt(diff.size) / step)
             P = outcomes(centre, phi=phi, f_c=f)
             P = P[np.isfinite(P)]
-            per_phi.append(
-                {
-                    "phi": phi,
-                    "f_c": f,
-                    "P": P.mean(),
-                    "N": P.size,
-                    "S_r": S_r.value,
-                    "S_r_err": S_r.err,
-                    "S_t": S_t.value,
-                    "S_t_err": S_t.err,
-                    "D_f": D_f,
-                    "D_f_err": D_f_err,
-                }
-            )
-    per_phi = pd.DataFrame(per_phi)
+            row = {"phi": phi, "f_c": f, "P": P.mean(), "N": P.size}
+            for name in ("S_r", "S_t", "D_f", "S_c", "S_s"):
+                row[name], row[f"{name}_err"] = c.values[name][i], c.err(name)[i]
+            rows.append(row)
+    per_phi = pd.DataFrame(rows)
     _, per_phi["lo"], per_phi["hi"] = an.wilson(per_phi.P * per_phi.N, per_phi.N)
-    p_t = 0.6
-    per_phi["S_c"] = per_phi.S_t + (1 - per_phi.f_c) * per_phi.D_f / p_t
-    per_phi["S_s"] = per_phi.S_t - per_phi.f_c * per_phi.D_f / p_t
-
-    def summarise(frame):
-        # average the derivatives over strains, then take ratios to S_r
-        g = frame.groupby("f_c")
-        out_rows = []
-        for f, sub in g:
-            k = len(sub)
-            S_r, S_r_e = sub.S_r.mean(), np.sqrt((sub.S_r_err**2).sum()) / k
-            S_t, S_t_e = sub.S_t.mean(), np.sqrt((sub.S_t_err**2).sum()) / k
-            D, D_e = sub.D_f.mean(), np.sqrt((sub.D_f_err**2).sum()) / k
-            S_c, S_s = S_t + (1 - f) * D / p_t, S_t - f * D / p_t
-            S_c_e = np.hypot(S_t_e, (1 - f) * D_e / p_t)
-            S_s_e = np.hypot(S_t_e, f * D_e / p_t)
-            rc, rs = S_c / S_r, S_s / S_r
-            out_rows.append(
-                {
-                    "f_c": f,
-                    "S_r": S_r,
-                    "S_c_rel": rc,
-                    "S_s_rel": rs,
-                    "S_c_rel_err": abs(rc) * np.hypot(S_c_e / S_c if S_c else 0, S_r_e / S_r),
-                    "S_s_rel_err": abs(rs) * np.hypot(S_s_e / S_s if S_s else 0, S_r_e / S_r),
-                    "sum_rel": (S_c + S_s) / S_r,
-                    "sum_rel_err": abs((S_c + S_s) / S_r)
-                    * np.hypot(
-                        np.hypot(S_c_e, S_s_e) / abs(S_c + S_s) if S_c + S_s else 0, S_r_e / S_r
-                    ),
-                }
-            )
-        return pd.DataFrame(out_rows)
-
     slopes = {
         name: an.paired_slope(
             np.column_stack([outcomes(centre, phi=phi, f_c=f) for f in FIG4_FC]), FIG4_FC
         )
         for name, phi in (("dilation", 0.0), ("compression", math.pi))
     }
-    average = summarise(per_phi)
+    differences = _fig4_differences(outcomes, centre, d_r, d_t)
     system = f"n = {scale.n_grid}, {scale.samples_fig4} samples per point"
     measured = [
         Measurement.scalar(
@@ -984,28 +960,94 @@ def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
             ("fig4a_compression_falls", "compression"),
         )
     ]
+    points = tuple(f"f_c = {f:.3f}" for f in FIG4_FC)
     measured.append(
         Measurement(
             "fig4c_sum_one",
-            average.sum_rel.to_numpy(float),
-            np.diag(average.sum_rel_err.to_numpy(float) ** 2),
+            average.values["sum_rel"],
+            average.cov["sum_rel"],
             system,
-            points=tuple(f"f_c = {f:.3f}" for f in average.f_c),
-            note="dP/df_c by central differences, second-order one-sided at f_c = 0 and 1; "
-            "errors taken as independent across f_c",
+            points=points,
+            note="binomial-likelihood surface smooth in f_c (logit quartic in f_c, slopes in p_r "
+            "and p_t quadratic) over the 45 points of each strain; strain average of S_r, S_t, "
+            "dP/df_c; covariance over f_c by a bootstrap over samples",
+        )
+    )
+    measured.append(
+        Measurement(
+            "fig4c_sum_one",
+            differences.sum_rel.to_numpy(float),
+            np.diag(differences.sum_rel_err.to_numpy(float) ** 2),
+            system,
+            factor="estimator",
+            label="paired central differences (one-sided at f_c = 0, 1)",
+            points=points,
         )
     )
     return Fig4Result(
         per_phi=per_phi,
-        average=average,
-        dilation=summarise(per_phi[np.isclose(per_phi.phi, 0.0)]),
-        compression=summarise(per_phi[np.isclose(per_phi.phi, math.pi)]),
+        average=_ratio_frame(average),
+        dilation=_ratio_frame(per_strain[0]),
+        compression=_ratio_frame(per_strain[-1]),
+        curves=average,
+        differences=differences,
         slopes=slopes,
         n=scale.n_grid,
         samples=scale.samples_fig4,
         excluded=excluded,
         measured=tuple(measured),
     )
+
+
+def _fig4_differences(outcomes, centre, d_r, d_t) -> pd.DataFrame:
+    """The strain average of (S_c + S_s)/S_r from paired central differences.
+
+    S_r, S_t by central differences over the steps H_R, H_T; dP/df_c by central differences
+    inside and second-order one-sided differences at f_c = 0 and 1; errors from the per-sample
+    differences, taken as independent across strains and f_c. Ratios where S_r = 0 are NaN.
+    """
+    p_r0, p_t0 = FIG4_CENTRE
+    last = len(FIG4_FC) - 1
+    rows = []
+    for i, f in enumerate(FIG4_FC):
+        parts = []
+        for phi in FIG4_PHI:
+            S_r = an.paired_derivative(
+                outcomes(d_r, phi=phi, f_c=f, p_r=p_r0 - H_R),
+                outcomes(d_r, phi=phi, f_c=f, p_r=p_r0 + H_R),
+                H_R,
+            )
+            S_t = an.paired_derivative(
+                outcomes(d_t, phi=phi, f_c=f, p_t=p_t0 - H_T),
+                outcomes(d_t, phi=phi, f_c=f, p_t=p_t0 + H_T),
+                H_T,
+            )
+            if 0 < i < last:
+                coef = {i - 1: -1.0, i + 1: 1.0}
+                step = FIG4_FC[i + 1] - FIG4_FC[i - 1]
+            else:
+                j = (1, 2) if i == 0 else (last - 1, last - 2)
+                sign = 1.0 if i == 0 else -1.0
+                coef = {i: -3.0 * sign, j[0]: 4.0 * sign, j[1]: -1.0 * sign}
+                step = 2 * abs(FIG4_FC[j[0]] - FIG4_FC[i])
+            diff = sum(c * outcomes(centre, phi=phi, f_c=FIG4_FC[k]) for k, c in coef.items())
+            diff = diff[np.isfinite(diff)]
+            D = diff.mean() / step
+            D_e = diff.std(ddof=1) / np.sqrt(diff.size) / step
+            parts.append((S_r.value, S_r.err, S_t.value, S_t.err, D, D_e))
+        a = np.array(parts)
+        k = len(a)
+        S_r, S_t, D = a[:, 0].mean(), a[:, 2].mean(), a[:, 4].mean()
+        S_r_e, S_t_e, D_e = (np.sqrt((a[:, c] ** 2).sum()) / k for c in (1, 3, 5))
+        total = 2 * S_t + (1 - 2 * f) * D / p_t0
+        total_e = np.hypot(2 * S_t_e, abs(1 - 2 * f) * D_e / p_t0)
+        if S_r != 0:
+            ratio = total / S_r
+            err = np.hypot(total_e / S_r, ratio * S_r_e / S_r)
+        else:
+            ratio = err = np.nan
+        rows.append({"f_c": f, "sum_rel": ratio, "sum_rel_err": abs(err)})
+    return pd.DataFrame(rows)
 
 
 STUDIES = {
