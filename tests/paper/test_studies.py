@@ -97,3 +97,47 @@ def test_drawn_samples_come_from_the_sweeps_and_are_solved(mini):
 def test_every_claim_names_its_source_and_a_study():
     for c in CLAIMS.values():
         assert c.source and c.study in studies.STUDIES, c.key
+
+
+# --------------------------------------------------------------------------- heavy tails
+
+
+def test_rows_without_minimum_norm_displacements_lose_their_nonaffinity():
+    rows = pd.DataFrame({"nonaffinity": [1.0, 2.0, 3.0], "energy": [0.0, 1.0, 2.0]})
+    same, count = studies.mask_min_norm(rows)
+    assert count is None and same.nonaffinity.tolist() == [1.0, 2.0, 3.0]
+    rows["min_norm_ok"] = [True, False, None]  # None: a part written before the column
+    masked, count = studies.mask_min_norm(rows)
+    assert count == 1
+    assert np.isnan(masked.nonaffinity[1]) and masked.nonaffinity[[0, 2]].tolist() == [1.0, 3.0]
+    assert masked.energy.tolist() == [0.0, 1.0, 2.0]
+
+
+def test_tail_statistics_show_what_the_mean_hangs_on():
+    at = pd.DataFrame(
+        {
+            "p_t": 0.2,
+            "p_r": 0.55,
+            "sample": range(1, 6),
+            "nonaffinity": [1.0, 2.0, 3.0, 4.0, 990.0],
+            "energy": [0.0, 0.0, 1.0, 1.0, 2.0],
+            "rigid": [False, False, True, True, True],
+        }
+    )
+    t = studies.tail_statistics(at)
+    g = t[t.observable == "Gamma"].iloc[0]
+    assert g["mean"] == 200.0 and g["median"] == 3.0 and g["top_share"] == 0.99
+    assert g["mean_without_top"] == 2.5 and (g["q25"], g["q75"]) == (2.0, 4.0)
+    assert studies.worst_tail(t)["top_share"] == 0.99
+
+
+def test_fig2_gives_quantiles_beside_the_mean(mini):
+    r = mini["fig2"]
+    c = r.curves
+    for stat in ("median", "q25", "q75"):
+        assert f"gamma_{stat}" in c and f"energy_{stat}" in c
+    ok = c.gamma_n > 0
+    assert (c.gamma_q25[ok] <= c.gamma_median[ok] + 1e-12).all()
+    assert (c.gamma_median[ok] <= c.gamma_q75[ok] + 1e-12).all()
+    assert r.min_norm_failed is None or r.min_norm_failed >= 0
+    assert set(r.at_pcrit.p_t) <= set(studies.PT4) and len(r.tails)

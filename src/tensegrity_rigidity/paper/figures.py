@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
-from matplotlib.colors import LinearSegmentedColormap, TwoSlopeNorm  # noqa: E402
+from matplotlib.colors import LinearSegmentedColormap, LogNorm, TwoSlopeNorm  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
@@ -140,7 +140,13 @@ def fig1c(r: dict, figdir: Path):
     return _save(fig, figdir, "1C")
 
 
-def fig2a(r: dict, figdir: Path):
+def fig2a(r, figdir: Path):
+    """Nonaffine displacements: unit arrows coloured by log10 |u| over a log-scaled background.
+
+    Near the transition a few nodes move 1e3-1e4 times more than the rest; arrows of true
+    length would show only those. Every arrow therefore has the same length and its colour
+    (and the background) gives |u| on a logarithmic scale.
+    """
     field = r.field
     inst, res = field.instance, field.result
     if inst is None:
@@ -148,46 +154,95 @@ def fig2a(r: dict, figdir: Path):
     pos = inst.network.positions
     u = res.displacements
     mag = np.hypot(u[:, 0], u[:, 1])
+    floor = max(float(mag.max()) * 1e-6, 1e-300)
+    mag_c = np.clip(mag, floor, None)
+    norm = LogNorm(vmin=mag_c.min(), vmax=mag_c.max())
     fig, ax = plt.subplots(figsize=(6, 5.2))
-    tri = ax.tripcolor(pos[:, 0], pos[:, 1], mag, shading="gouraud", cmap="Greys", alpha=0.8)
-    fig.colorbar(tri, ax=ax, label="|u_na|")
+    ax.tripcolor(pos[:, 0], pos[:, 1], mag_c, shading="gouraud", cmap="Greys", norm=norm, alpha=0.6)
     seg = _segments(inst)
     kinds = inst.network.kinds
-    ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=1))
+    ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=0.8))
     ax.add_collection(
         LineCollection(
-            seg[kinds == Element.CABLE], colors="tab:red", linewidths=1, linestyles=(0, (3, 2))
+            seg[kinds == Element.CABLE], colors="tab:red", linewidths=0.8, linestyles=(0, (3, 2))
         )
     )
-    ax.quiver(pos[:, 0], pos[:, 1], u[:, 0], u[:, 1], color="tab:blue", angles="xy")
+    unit = u / np.where(mag > 0, mag, 1.0)[:, None]
+    q = ax.quiver(
+        pos[:, 0],
+        pos[:, 1],
+        unit[:, 0],
+        unit[:, 1],
+        mag_c,
+        cmap="viridis",
+        norm=norm,
+        angles="xy",
+        scale_units="xy",
+        scale=2.2,
+        width=0.004,
+    )
+    fig.colorbar(q, ax=ax, label="|u_na| (log scale; arrows show direction only)")
     ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title(
-        f"2A  rods + cables, compression, p_r = {field.p_r:.2f}, p_t = {field.p_t}",
-        fontsize=9,
+        f"2A  rods + cables, compression, p_r = {field.p_r:.2f}, p_t = {field.p_t}; "
+        f"max |u| = {mag_c.max() / np.median(mag_c):.0f} x median",
+        fontsize=8,
     )
     return _save(fig, figdir, "2A")
 
 
-def fig2b(r: dict, figdir: Path):
+def fig2b(r, figdir: Path):
+    """Gamma versus p_r: median with the interquartile band, mean as open markers."""
     c = r.curves
     sub = c[np.isclose(c.phi, math.pi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for p_t, s in sub.groupby("p_t"):
-        line = ax.errorbar(
-            s.p_r, s.gamma, yerr=s.gamma_sem, marker="o", ms=3, capsize=2, label=f"p_t = {p_t:.1f}"
-        )
+        (line,) = ax.plot(s.p_r, s.gamma_median, "-", lw=1.5, label=f"p_t = {p_t:.1f} (median)")
+        colour = line.get_color()
+        ax.fill_between(s.p_r, s.gamma_q25, s.gamma_q75, color=colour, alpha=0.2, lw=0)
+        ax.plot(s.p_r, s.gamma, "o", mfc="none", ms=4, color=colour)
         pc = r.crit
         pc = pc[np.isclose(pc.phi, math.pi) & np.isclose(pc.p_t, p_t)].p_crit
         if len(pc):
-            ax.axvline(float(pc.iloc[0]), color=line[0].get_color(), ls="--", lw=1)
+            ax.axvline(float(pc.iloc[0]), color=colour, ls="--", lw=1)
+    ax.plot([], [], "o", mfc="none", color="grey", label="mean")
     ax.set_yscale("log")
     ax.set_xlabel("p_r")
     ax.set_ylabel("nonaffinity Gamma")
-    ax.legend(fontsize=8)
-    ax.set_title(f"2B  rods + cables under compression, n = {r.n} (dashed: p_crit)", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.set_title(
+        f"2B  rods + cables, compression, n = {r.n}: median, quartiles (band), mean (o); "
+        "dashed: p_crit",
+        fontsize=8,
+    )
     return _save(fig, figdir, "2B")
+
+
+def fig2e(r, figdir: Path):
+    """CCDF of Gamma over samples at the grid p_r nearest p_crit (compression), per p_t."""
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    at = r.at_pcrit
+    drawn = False
+    for p_t, sub in at.groupby("p_t"):
+        v = np.sort(sub.nonaffinity.to_numpy(float))
+        v = v[np.isfinite(v) & (v > 0)]
+        if not v.size:
+            continue
+        ccdf = 1.0 - np.arange(v.size) / v.size  # fraction of samples with Gamma >= v
+        ax.step(v, ccdf, where="post", label=f"p_t = {p_t:.1f}, p_r = {sub.p_r.iloc[0]:.2f}")
+        drawn = True
+    if drawn:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.legend(fontsize=7)
+    else:
+        ax.text(0.5, 0.5, "no nonaffinity at p_crit", ha="center", transform=ax.transAxes)
+    ax.set_xlabel("Gamma")
+    ax.set_ylabel("fraction of samples with a larger Gamma")
+    ax.set_title(f"2E  distribution of Gamma at p_crit (compression), n = {r.n}", fontsize=9)
+    return _save(fig, figdir, "2E")
 
 
 def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
@@ -323,6 +378,7 @@ def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
         out["2B"] = fig2b(results["fig2"], figdir)
         out["2C"] = fig2c(results["fig2"], figdir)
         out["2D"] = fig2d(results["fig2"], figdir)
+        out["2E"] = fig2e(results["fig2"], figdir)
     if "fig3" in results:
         out["3B"] = fig3b(results["fig3"], figdir)
     if "fig4" in results:

@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import base64
 import html
+from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ..analysis.single_node import class_weights, qbar_table
@@ -47,8 +49,12 @@ FIGURE_CAPTIONS = {
     "red (pulling) through green (zero) to blue (pushing).",
     "1B": "Probability of rigidity under shear at f_c = 0.5 with the mean-field line.",
     "1C": "S_t/S_r versus f_c for dilation, shear, compression and the strain average.",
-    "2A": "Nonaffine displacement field of a rods-and-cables network under compression.",
-    "2B": "Nonaffinity versus p_r for several p_t (rods + cables, compression).",
+    "2A": "Nonaffine displacement field of a rods-and-cables network under compression: arrows "
+    "of equal length give the direction, their colour and the background |u| on a log scale.",
+    "2B": "Nonaffinity versus p_r for several p_t (rods + cables, compression): median with the "
+    "interquartile band, the mean as open markers.",
+    "2E": "Not in the paper: the distribution (complementary CDF) of Gamma over samples at the "
+    "grid p_r nearest p_crit (rods + cables, compression).",
     "2C": "Energy versus p_r under compression; inset: log-log with power-law fits.",
     "2D": "Energy versus p_r under dilation; inset: log-log with power-law fits.",
     "3B": "Single three-coordinated node: P_N versus f_c.",
@@ -73,7 +79,10 @@ def tables_of(results: dict) -> dict[str, pd.DataFrame]:
         extra["efficacy_fits"] = results["fig1c"].fits
     if "fig2" in results:
         extra["energy_fits"] = results["fig2"].fits
+        extra["energy_fits_paper_estimators"] = results["fig2"].paper_estimators
         extra["fig2_curves"] = results["fig2"].curves
+        extra["fig2_tails"] = results["fig2"].tails
+        extra["fig2_at_pcrit"] = results["fig2"].at_pcrit
     if "fig3" in results:
         extra["single_node_qbar"] = pd.DataFrame(qbar_table())
         extra["single_node_simulation"] = results["fig3"].sim
@@ -81,7 +90,86 @@ def tables_of(results: dict) -> dict[str, pd.DataFrame]:
     if "fig4" in results:
         extra["fig4_average"] = results["fig4"].average
         extra["fig4_per_strain"] = results["fig4"].per_phi
+        extra["fig4_differences"] = results["fig4"].differences
     return extra
+
+
+@dataclass(frozen=True)
+class Section:
+    """A section of the report: a title, paragraphs and tables, rendered to Markdown and HTML."""
+
+    title: str
+    paragraphs: tuple[str, ...]
+    tables: tuple[pd.DataFrame, ...] = ()
+
+
+def _g(x: float) -> str:
+    return f"{x:.3g}" if np.isfinite(x) else "n/a"
+
+
+def tails_section(r) -> Section:
+    """Heavy tails of Gamma and the energy at the transition (from Fig. 2's study)."""
+    if r.min_norm_failed is None:
+        mn = (
+            "The sweep rows do not record whether the displacements are the verified "
+            "minimum-norm minimiser (min_norm_ok, absent in rows written before it existed): "
+            "every stored Gamma is used."
+        )
+    else:
+        mn = (
+            f"{r.min_norm_failed} grid samples have no verified minimum-norm displacements "
+            "(min_norm_ok = False); their Gamma is left out (NaN), their verdict and energy kept."
+        )
+    paragraphs = [mn]
+    w = r.worst_tail
+    if w is not None:
+        paragraphs.append(
+            f"Near the transition Gamma is heavy-tailed, so a mean over samples (what the paper "
+            f"plots in Fig. 2B) is set by its few largest samples. At p_crit "
+            f"(p_t = {w['p_t']:.1f}, p_r = {w['p_r']:.2f}) the largest of {w['N']} samples carries "
+            f"{100 * w['top_share']:.0f} % of the summed Gamma: leaving it out moves the mean "
+            f"from {_g(w['mean'])} to {_g(w['mean_without_top'])}, while the median is "
+            f"{_g(w['median'])} (quartiles {_g(w['q25'])}, {_g(w['q75'])}). The paper's mean is "
+            "therefore sensitive to the number of samples (a larger sample meets larger "
+            "outliers), to how far the minimiser is from the minimum-norm one along floppy "
+            "directions (an unconverged or non-minimum-norm displacement inflates exactly these "
+            "samples), and to the position of the grid point relative to p_crit; the median and "
+            "quartiles (Fig. 2B band, Fig. 2E) are not."
+        )
+    table = r.tails.copy()
+    for col in ("mean", "median", "q25", "q75", "max", "mean_without_top"):
+        if col in table:
+            table[col] = table[col].map(_g)
+    if "top_share" in table:
+        table["top_share"] = table["top_share"].map(
+            lambda x: f"{100 * x:.0f} %" if np.isfinite(x) else "n/a"
+        )
+    return Section(
+        "Heavy tails: Gamma and the energy at the transition", tuple(paragraphs), (table,)
+    )
+
+
+def sections_of(results: dict) -> list[Section]:
+    """The report's sections after the comparison table, for the studies that ran."""
+    out = []
+    if "fig2" in results:
+        out.append(tails_section(results["fig2"]))
+    return out
+
+
+def _md_section(sec: Section) -> list[str]:
+    lines = [f"## {sec.title}", ""]
+    for p in sec.paragraphs:
+        lines += [p, ""]
+    for t in sec.tables:
+        lines += [_md_table(t), ""]
+    return lines
+
+
+def _html_section(sec: Section) -> str:
+    body = "".join(f"<p>{html.escape(p)}</p>" for p in sec.paragraphs)
+    body += "".join(_html_table(t) for t in sec.tables)
+    return f"<h2>{html.escape(sec.title)}</h2>{body}"
 
 
 def write_report(
@@ -136,6 +224,7 @@ def write_report(
         "the median per-sample threshold (P = 1/2) while the paper takes the first p_r with "
         "positive mean energy; the single-node class labels follow the table, not the prose."
     )
+    sections = sections_of(results)
     md = [
         "# Tensegrity rigidity: reproduction report",
         "",
@@ -148,6 +237,8 @@ def write_report(
         _md_table(comp),
         "",
     ]
+    for sec in sections:
+        md += _md_section(sec)
     for fid, paths in figures.items():
         md += [
             f"## Figure {fid}",
@@ -171,8 +262,8 @@ def write_report(
     style = (
         "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
         "table{border-collapse:collapse;font-size:13px}td,th{border:1px solid #ccc;"
-        "padding:3px 6px;text-align:left}tr.agree td:nth-child(5){color:#060}"
-        "tr.disagree td:nth-child(5){color:#a00;font-weight:bold}"
+        "padding:3px 6px;text-align:left}tr.agree td:nth-child(6){color:#060}"
+        "tr.disagree td:nth-child(6){color:#a00;font-weight:bold}"
         "figure{display:inline-block;width:48%;margin:0.5%}img{width:100%}"
     )
     page = (
@@ -180,7 +271,8 @@ def write_report(
         f"report</title><style>{style}</style></head><body>"
         f"<h1>Tensegrity rigidity: reproduction report</h1><p>{html.escape(intro)}</p>"
         f"<p>{html.escape(notes)}</p><h2>Comparison with the paper</h2>{_html_table(comp)}"
-        f"<h2>Figures</h2>{''.join(figs_html)}</body></html>"
+        + "".join(_html_section(sec) for sec in sections)
+        + f"<h2>Figures</h2>{''.join(figs_html)}</body></html>"
     )
     (out / "report.html").write_text(page)
     return {

@@ -424,7 +424,9 @@ class Fig2Result:
     Attributes
     ----------
     curves : DataFrame
-        Per (phi, p_t, p_r): mean energy and nonaffinity with standard errors, P, N.
+        Per (phi, p_t, p_r): energy and nonaffinity: mean with standard error, median and
+        quartiles (``*_median``, ``*_q25``, ``*_q75``; both are heavy-tailed near the
+        transition), the number of samples with a nonaffinity (``gamma_n``), P, N.
     taut : DataFrame
         Per (phi, p_t, p_r): fraction of cables under tension in rigid samples (mean, sem, size).
     fits : DataFrame
@@ -439,6 +441,15 @@ class Fig2Result:
     peaks : dict
         Under compression, per p_t: where the mean and the median Gamma peak, with their joint
         covariance (see ``_gamma_peaks``).
+    at_pcrit : DataFrame
+        Per-sample Gamma and energy at the grid p_r nearest p_crit under compression, per p_t.
+    tails : DataFrame
+        :func:`tail_statistics` of ``at_pcrit``.
+    worst_tail : dict or None
+        Its Gamma row with the largest ``top_share`` (:func:`worst_tail`).
+    min_norm_failed : int or None
+        Grid samples whose displacements are not the verified minimum-norm minimiser (their
+        Gamma is NaN); None when the rows do not record it.
     taut_at_transition : tuple
         (mean, error, [(p_t, p_r), ...]): the fraction of taut cables in rigid samples at the grid
         p_r nearest p_crit under compression, averaged over p_t = 0.1, 0.2, 0.3; None when no
@@ -452,6 +463,10 @@ class Fig2Result:
     crit: pd.DataFrame
     paper_estimators: pd.DataFrame
     peaks: dict
+    at_pcrit: pd.DataFrame
+    tails: pd.DataFrame
+    worst_tail: dict | None
+    min_norm_failed: int | None
     taut_at_transition: tuple | None
     n: int
     samples: int
@@ -484,7 +499,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
             **kw,
         )
         grids.append(rows)
-    rows = pd.concat(grids, ignore_index=True)
+    rows, min_norm_failed = mask_min_norm(pd.concat(grids, ignore_index=True))
     th, excluded["fig2_thresholds"] = _run(
         out,
         "fig2_thresholds",
@@ -504,8 +519,15 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         .agg(
             energy=("energy", "mean"),
             energy_sem=("energy", "sem"),
+            energy_median=("energy", "median"),
+            energy_q25=("energy", _q25),
+            energy_q75=("energy", _q75),
             gamma=("nonaffinity", "mean"),
             gamma_sem=("nonaffinity", "sem"),
+            gamma_median=("nonaffinity", "median"),
+            gamma_q25=("nonaffinity", _q25),
+            gamma_q75=("nonaffinity", _q75),
+            gamma_n=("nonaffinity", "count"),
             P=("rigid", "mean"),
             N=("rigid", "size"),
         )
@@ -552,6 +574,8 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         )
     crit, fits, paper_est = pd.DataFrame(crit), pd.DataFrame(fits), pd.DataFrame(paper_est)
     peaks = _gamma_peaks(rows, crit, scale.bootstrap)
+    at_pcrit = _at_transition(rows, crit)
+    tails = tail_statistics(at_pcrit)
     taut_tr = _taut_at_transition(taut, crit)
     field_, excluded["fig2_field"], excluded["fig1a_field"] = _displacement_field(out, scale, **kw)
     return Fig2Result(
@@ -561,6 +585,10 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         crit=crit,
         paper_estimators=paper_est,
         peaks=peaks,
+        at_pcrit=at_pcrit,
+        tails=tails,
+        worst_tail=worst_tail(tails),
+        min_norm_failed=min_norm_failed,
         taut_at_transition=taut_tr,
         n=scale.n_grid,
         samples=scale.samples_grid,
@@ -570,6 +598,88 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         straddling=interval_straddles(th, p_r),
         measured=_fig2_measurements(scale, fits, paper_est, peaks, taut_tr),
     )
+
+
+def _q25(x: pd.Series) -> float:
+    return float(x.quantile(0.25))
+
+
+def _q75(x: pd.Series) -> float:
+    return float(x.quantile(0.75))
+
+
+def mask_min_norm(rows: pd.DataFrame) -> tuple[pd.DataFrame, int | None]:
+    """Nonaffinity NaN where the displacements are not the verified minimum-norm minimiser.
+
+    Rows with ``min_norm_ok == False`` carry whatever minimiser the solver stopped at, whose
+    Gamma can be off by orders of magnitude (issue 14): their ``nonaffinity`` becomes NaN and
+    they are counted. Returns (rows, count); the count is None when the rows have no
+    ``min_norm_ok`` column (written before it existed), and missing values in it count as ok.
+    """
+    if "min_norm_ok" not in rows:
+        return rows, None
+    bad = rows["min_norm_ok"].eq(False).to_numpy()
+    if bad.any():
+        rows = rows.copy()
+        rows.loc[bad, "nonaffinity"] = np.nan
+    return rows, int(bad.sum())
+
+
+def _at_transition(rows: pd.DataFrame, crit: pd.DataFrame) -> pd.DataFrame:
+    """Per-sample Gamma and energy at the grid p_r nearest p_crit (compression), per p_t."""
+    parts = []
+    for _, c in crit[np.isclose(crit.phi, math.pi)].sort_values("p_t").iterrows():
+        sub = rows[np.isclose(rows.phi, math.pi) & np.isclose(rows.p_t, c.p_t)]
+        grid = np.unique(sub.p_r)
+        if not grid.size or not np.isfinite(c.p_crit):
+            continue
+        p_r = grid[int(np.argmin(np.abs(grid - c.p_crit)))]
+        at = sub[np.isclose(sub.p_r, p_r)]
+        parts.append(at[["p_t", "p_r", "sample", "nonaffinity", "energy", "rigid"]])
+    cols = ["p_t", "p_r", "sample", "nonaffinity", "energy", "rigid"]
+    return pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=cols)
+
+
+def tail_statistics(at_pcrit: pd.DataFrame) -> pd.DataFrame:
+    """What a mean over samples at the transition is sensitive to, per p_t and observable.
+
+    For Gamma and the energy at p_crit: the number of samples, mean, median, quartiles,
+    largest value, the share of the sum carried by the largest sample (``top_share``) and the
+    mean with that sample left out (``mean_without_top``).
+    """
+    out = []
+    for p_t, sub in at_pcrit.groupby("p_t"):
+        for name, col in (("Gamma", "nonaffinity"), ("energy", "energy")):
+            v = sub[col].to_numpy(float)
+            v = v[np.isfinite(v)]
+            if not v.size:
+                continue
+            total = v.sum()
+            out.append(
+                {
+                    "p_t": p_t,
+                    "p_r": float(sub.p_r.iloc[0]),
+                    "observable": name,
+                    "N": v.size,
+                    "mean": v.mean(),
+                    "median": float(np.median(v)),
+                    "q25": float(np.quantile(v, 0.25)),
+                    "q75": float(np.quantile(v, 0.75)),
+                    "max": v.max(),
+                    "top_share": v.max() / total if total > 0 else np.nan,
+                    "mean_without_top": np.sort(v)[:-1].mean() if v.size > 1 else np.nan,
+                }
+            )
+    return pd.DataFrame(out)
+
+
+def worst_tail(tails: pd.DataFrame) -> dict | None:
+    """The row of :func:`tail_statistics` (Gamma) whose largest sample carries most of the sum."""
+    g = tails[tails.observable == "Gamma"] if len(tails) else tails
+    g = g[np.isfinite(g.top_share)] if len(g) else g
+    if not len(g):
+        return None
+    return g.loc[g.top_share.idxmax()].to_dict()
 
 
 def _gamma_peaks(rows: pd.DataFrame, crit: pd.DataFrame, n_boot: int) -> dict:
