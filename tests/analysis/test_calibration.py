@@ -289,3 +289,33 @@ def test_agreement_z_holds_its_level_under_the_null():
     assert 0.954 - 0.012 <= np.mean(z9 < 2) <= 0.995
     # the sign statistic: zero on the claimed side, a plain z on the other
     assert an.sign_z(0.1, 0.05, +1) == 0.0 and an.sign_z(-0.1, 0.05, +1) == pytest.approx(2.0)
+
+
+# --------------------------------------------------------------------------- method study
+
+
+def test_crossing_point_is_calibrated():
+    x = np.round(np.arange(0.5, 0.81, 0.025), 3)
+    est, err = [], []
+    for rep in range(30):
+        rng = np.random.default_rng(rep)
+        t = rng.logistic(0.65, 0.03, 40)  # thresholds: P(x) logistic, crossing 1/2 at 0.65
+        loc = an.crossing_point((x[None] > t[:, None]).astype(float), x, n_boot=100, rng=rng)
+        est.append(loc.value)
+        err.append(loc.err)
+    assert_calibrated(est, err, 0.65)
+
+
+def test_paired_bootstrap_gives_the_error_of_a_difference_on_the_same_samples():
+    diff, diff_err, a_err = [], [], []
+    for rep in range(40):
+        rng = np.random.default_rng(rep)
+        a = rng.normal(0.0, 1.0, 200)
+        b = a + 0.1 + rng.normal(0.0, 0.1, 200)  # b = a shifted, with small extra noise
+        est = an.paired_bootstrap(np.mean, a, b, n_boot=200, rng=rng)
+        diff.append(est.diff)
+        diff_err.append(est.diff_err)
+        a_err.append(est.a_err)
+    assert_calibrated(diff, diff_err, 0.1)
+    # the correlation makes the difference ten times better determined than either value
+    assert np.mean(diff_err) < 0.2 * np.mean(a_err)

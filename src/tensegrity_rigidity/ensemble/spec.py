@@ -10,6 +10,8 @@ Flat keys (each a scalar or a list; the grid is the product of the lists)::
     phi = ["dilation", "shear", "compression", 0.7]
     samples = 100           # eta runs per grid point; run k uses theta = 2 pi (k - 1) / eta
     seed = 1                # a list gives independent replicas
+    verdict = "exact"       # "paper": decide grid samples the paper's way instead
+                            # (solver.inexact: L-BFGS-B from u = 0, E > 1e-8 E(u = 0))
 
 Optional sections (defaults shown)::
 
@@ -29,7 +31,9 @@ Optional sections (defaults shown)::
     path = "p_r"            # "p_r": raise p_r at fixed p_t;  "total": raise p_r at fixed
                             # p_r + p_t = p_t (p_t then means the total occupation)
 
-In threshold mode the grid's ``p_r`` key is not used (omit it).
+In threshold mode the grid's ``p_r`` key is not used (omit it). ``verdict = "paper"`` applies to
+grid mode only (a bisection needs verdicts monotone in p_r, which the paper's are not); its rows
+hold the verdict, the energy reached, the affine energy and the iteration count.
 
 Randomness: sample k at grid point (n, delta, seed) draws its geometry and site uniforms from
 ``SeedSequence(seed, spawn_key=(n, bits(delta), k))``; it does not depend on ``p_r``, ``p_t``,
@@ -53,7 +57,8 @@ from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
 
 GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
-FLAT_KEYS = GRID_KEYS + ("samples",)
+FLAT_KEYS = GRID_KEYS + ("samples", "verdict")
+VERDICTS = ("exact", "paper")
 SECTIONS = {
     "lattice": {"kind"},
     "strain": {"gamma"},
@@ -93,6 +98,7 @@ class Spec:
     solver: dict = field(default_factory=dict)
     chunk_size: int = 32
     threshold: dict | None = None
+    verdict: str = "exact"
 
     @property
     def mode(self) -> str:
@@ -114,7 +120,7 @@ class Spec:
 
     def canonical(self) -> dict:
         """A plain, sorted description; two specs are the same sweep iff these are equal."""
-        return {
+        out = {
             "grid": self.grid,
             "samples": self.samples,
             "lattice": self.lattice,
@@ -123,6 +129,9 @@ class Spec:
             "chunk_size": self.chunk_size,
             "threshold": self.threshold,
         }
+        if self.verdict != "exact":  # absent by default: digests of existing sweeps unchanged
+            out["verdict"] = self.verdict
+        return out
 
     def digest(self) -> str:
         return hashlib.sha256(json.dumps(self.canonical(), sort_keys=True).encode()).hexdigest()
@@ -226,7 +235,12 @@ def parse_spec(data: dict) -> Spec:
     chunk = _number("chunk_size", data.get("output", {}).get("chunk_size", 32), integer=True)
     if chunk < 1:
         raise SpecError(f"[output] chunk_size must be at least 1, got {chunk}")
-    return Spec(grid, samples, lattice, gamma, solver, chunk, threshold)
+    verdict = data.get("verdict", "exact")
+    if verdict not in VERDICTS:
+        raise SpecError(f"'verdict' must be one of {', '.join(VERDICTS)}, got {verdict!r}")
+    if verdict != "exact" and threshold is not None:
+        raise SpecError("verdict = 'paper' needs grid mode: remove the [threshold] section")
+    return Spec(grid, samples, lattice, gamma, solver, chunk, threshold, verdict)
 
 
 def load_spec(path: str | Path) -> Spec:

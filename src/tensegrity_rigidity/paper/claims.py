@@ -131,6 +131,10 @@ class Measurement:
         The reference values when the claim's are computed by the study (single node).
     note : str
         How the value is defined, where that matters.
+    shift : bool
+        True when ``value`` is a change of the claim's value (an alternative measured as
+        "paper's way minus ours" on the same samples): the comparison adds it to our own
+        measurement, with both covariances.
     """
 
     claim: str
@@ -142,6 +146,7 @@ class Measurement:
     points: tuple[str, ...] = ()
     reference: np.ndarray | None = None
     note: str = ""
+    shift: bool = False
 
     @classmethod
     def scalar(cls, claim: str, value: float, err: float, system: str, **kw) -> Measurement:

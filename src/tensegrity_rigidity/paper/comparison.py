@@ -23,7 +23,7 @@ factor without such a measurement is "not yet tested".
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -129,11 +129,18 @@ def _ours(m: Measurement, claim: Claim, digits: int = 3) -> str:
     return ", ".join(parts)
 
 
-def _evidence(claim: Claim, alternatives: list[Measurement]) -> str:
+def _applied(ours: Measurement, shift: Measurement) -> Measurement:
+    """Our measurement moved by a measured shift (errors of both added)."""
+    if shift.value.size != ours.value.size:
+        return replace(shift, value=np.full(shift.value.size, np.nan))
+    return replace(shift, value=ours.value + shift.value, cov=ours.cov + shift.cov, shift=False)
+
+
+def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) -> str:
     """One clause per factor: the alternative measurements and whether they agree."""
     clauses = []
     for factor in FACTORS:
-        alts = [a for a in alternatives if a.factor == factor]
+        alts = [_applied(ours, a) if a.shift else a for a in alternatives if a.factor == factor]
         if not alts:
             clauses.append(f"{factor}: not yet tested")
             continue
@@ -182,7 +189,7 @@ def compare(results: dict) -> list[ComparisonRow]:
                 system=m.system,
                 z=z,
                 verdict=verdict,
-                explanation=_evidence(claim, others) if verdict == "disagree" else "",
+                explanation=_evidence(claim, m, others) if verdict == "disagree" else "",
                 note=m.note,
                 source=claim.source,
             )

@@ -11,9 +11,11 @@ import sys
 import time
 from pathlib import Path
 
+from ..errors import InputError
 from .figures import all_figures
+from .registry import STUDIES
 from .report import write_report
-from .studies import SCALES, STUDIES
+from .studies import SCALES
 
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
 EXPECTED = {
@@ -27,16 +29,18 @@ EXPECTED = {
 def reproduce(
     out, scale: str = "quick", workers=None, scheduler=None, progress=None, studies=None
 ) -> dict:
-    """Run the studies of ``scale`` into ``out`` and write report.md / report.html there."""
-    from ..errors import InputError
-
+    """Run the studies of ``scale`` (or the named ``studies``) into ``out`` and write
+    report.md / report.html there."""
     if scale not in SCALES:
         raise InputError(f"unknown scale {scale!r}; choose from {', '.join(SCALES)}")
     sc = SCALES[scale]
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     results, timings = {}, {}
-    names = list(studies or STUDIES)
+    names = list(studies or sc.studies)
+    unknown = [n for n in names if n not in STUDIES]
+    if unknown:
+        raise InputError(f"unknown study {unknown[0]!r}; choose from {', '.join(STUDIES)}")
     for i, name in enumerate(names, 1):
         print(f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True)
         start = time.perf_counter()

@@ -57,7 +57,11 @@ STRAIN_NAMES = {phi: name for name, phi in NAMED_STRAINS.items()}
 
 @dataclass(frozen=True)
 class Scale:
-    """System sizes and sample counts of a reproduction."""
+    """System sizes and sample counts of a reproduction, and which studies it runs.
+
+    ``studies`` lists the studies (keys of :data:`tensegrity_rigidity.paper.registry.STUDIES`)
+    that ``reproduce`` runs at this scale.
+    """
 
     name: str
     n_threshold: int  # lattice size of threshold studies (Figs. 1, 2 p_crit)
@@ -68,13 +72,40 @@ class Scale:
     p_r_step: float
     node_trials: int
     bootstrap: int
+    n_method: int = 5  # the paper's method beside ours (paper.method)
+    samples_method: int = 4
+    method_step: float = 0.1
+    fss_sizes: tuple[int, ...] = (4, 5, 6, 8)  # finite-size study (paper.finite_size)
+    samples_fss: int = 6
+    deltas: tuple[float, ...] = (0.1, 0.2, 0.3)  # node-disorder study
+    n_delta: int = 5
+    samples_delta: int = 6
+    studies: tuple[str, ...] = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 
 
+FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 SCALES = {
-    "tiny": Scale("tiny", 5, 5, 6, 4, 6, 0.1, 300, 10),
-    "quick": Scale("quick", 12, 12, 48, 24, 96, 0.05, 4000, 100),
-    "paper": Scale("paper", 32, 32, 400, 100, 800, 0.025, 40000, 200),
-}
+    "tiny": Scale(
+        "tiny", 5, 5, 6, 4, 6, 0.1, 300, 10,
+        studies=(*FIGURES, "method"),
+    ),
+    "quick": Scale(
+        "quick", 12, 12, 48, 24, 96, 0.05, 4000, 100,
+        n_method=12, samples_method=16, method_step=0.05,
+        studies=(*FIGURES, "method"),
+    ),
+    "paper": Scale(
+        "paper", 32, 32, 400, 100, 800, 0.025, 40000, 200,
+        n_method=16, samples_method=48, method_step=0.025,
+        studies=(*FIGURES, "method"),
+    ),
+    "fss": Scale(
+        "fss", 32, 32, 200, 0, 0, 0.025, 0, 200,
+        fss_sizes=(8, 16, 32, 64), samples_fss=200,
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=200,
+        studies=("fss", "delta"),
+    ),
+}  # fmt: skip
 
 #: threshold-interval columns of threshold rows (absent in rows written before they existed)
 INTERVAL = ("threshold_p_r_low", "threshold_p_r_high")
