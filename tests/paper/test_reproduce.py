@@ -8,7 +8,7 @@ import pytest
 
 from tensegrity_rigidity.cli.main import main
 
-FIGURES = ["1A", "1B", "1C", "2A", "2B", "2C", "2D", "2E", "3B", "4A", "4B", "4C"]
+FIGURES = ["1A", "1B", "1C", "2A", "2B", "2C", "2D", "2E", "3B", "4A", "4B", "4C", "FS"]
 
 
 @pytest.fixture(scope="module")

@@ -29,6 +29,13 @@ LITERATURE = {
         "pebble game on generic (disordered) triangular lattices; the paper cites it as "
         "jacobs1995generic",
     ),
+    "pc_javerzat_notarmuzi": LiteratureValue(
+        "rigidity threshold p_c of the generic bond-diluted triangular lattice",
+        0.66027,
+        None,
+        "Javerzat & Notarmuzi, as quoted in issue 15 of this project (not verified here)",
+        "the target of the finite-size extrapolation in issue 15",
+    ),
     "nu_jacobs_thorpe": LiteratureValue(
         "correlation-length exponent nu of generic rigidity percolation in 2D",
         1.21,

@@ -49,6 +49,12 @@ REFERENCES = {
         "pebble game': generic bond-diluted triangular lattice, pebble game (cited by the paper "
         "as jacobs1995generic)",
     ),
+    "pc_javerzat_notarmuzi": Reference(
+        0.66027,
+        None,
+        "Javerzat & Notarmuzi, generic rigidity percolation of the bond-diluted triangular "
+        "lattice, as quoted in issue 15 (0.66027; the reference was not verified here)",
+    ),
     "nu_jacobs_thorpe": Reference(
         1.21, 0.06, "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995): correlation-length exponent"
     ),

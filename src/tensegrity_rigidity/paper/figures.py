@@ -15,6 +15,7 @@ from matplotlib.colors import LinearSegmentedColormap, LogNorm, TwoSlopeNorm  # 
 from matplotlib.lines import Line2D  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
+from .claims import CLAIMS  # noqa: E402
 
 STRAIN_COLOURS = {
     "dilation": "tab:red",
@@ -364,6 +365,43 @@ def fig4c(r: dict, figdir: Path):
     return _save(fig, figdir, "4C")
 
 
+def fig_fss(r, figdir: Path):
+    """Finite size: the rods-only P = 1/2 point and S_t/S_r of the one-sided systems versus
+    n^(-1/nu), with the extrapolations to n -> infinity and the paper's values."""
+    ex = r.extrapolated.set_index("key")
+    pc = ex.loc["rods_only_pc"]
+    nu = pc.nu if np.isfinite(pc.nu) else 1.0
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    panels = (
+        (axes[0], ["rods_only_pc"], "rods-only P = 1/2 point"),
+        (
+            axes[1],
+            ["st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear"],
+            "S_t / S_r",
+        ),
+    )
+    for ax, keys, ylabel in panels:
+        for key in keys:
+            ref = CLAIMS[key].value
+            s = r.by_size[r.by_size.key == key].sort_values("n")
+            x = s.n.to_numpy(float) ** (-1 / nu)
+            line = ax.errorbar(x, s.value, yerr=s.err, marker="o", capsize=3, label=key)
+            colour = line[0].get_color()
+            f = ex.loc[key]
+            if np.isfinite(f.y_inf):
+                xs = np.linspace(0, x.max(), 50)
+                ax.plot(xs, f.y_inf + f.a * xs, "--", color=colour, lw=1)
+                ax.errorbar([0], [f.y_inf], yerr=[f.y_inf_err], fmt="s", color=colour, capsize=3)
+            ax.axhline(ref, color=colour, ls=":", lw=1)
+        ax.set_xlabel(f"n^(-1/nu), nu = {nu:.2f} (fitted to the rods-only points)")
+        ax.set_ylabel(ylabel)
+        ax.legend(fontsize=7)
+    axes[0].set_title(
+        f"FS  n = {', '.join(map(str, r.sizes))}; dotted: literature / paper", fontsize=9
+    )
+    return _save(fig, figdir, "FS")
+
+
 def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
     """Draw every figure; returns {figure id: [png, svg]}."""
     out = {}
@@ -385,4 +423,6 @@ def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
         out["4A"] = fig4a(results["fig4"], figdir)
         out["4B"] = fig4b(results["fig4"], figdir)
         out["4C"] = fig4c(results["fig4"], figdir)
+    if "fss" in results:
+        out["FS"] = fig_fss(results["fss"], figdir)
     return out

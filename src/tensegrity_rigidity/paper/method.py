@@ -32,7 +32,7 @@ import pandas as pd
 from ..analysis import estimators as an
 from ..solver.inexact import PAPER_THRESHOLD
 from .claims import Measurement
-from .studies import PT4, Scale, _p_r_grid, _run, strain_name
+from .studies import PT4, Scale, p_r_grid, strain_name, sweep_rows
 
 #: thresholds (relative to the affine energy) at which the paper's verdict is also read
 THRESHOLDS = (1e-6, PAPER_THRESHOLD, 1e-10)
@@ -75,7 +75,7 @@ class MethodResult:
 
 def study_method(out, scale: Scale, **kw) -> MethodResult:
     """Run the grid with both verdicts and compare them sample by sample."""
-    p_r = [p for p in _p_r_grid(scale.method_step, *P_R_RANGE)]
+    p_r = [p for p in p_r_grid(scale.method_step, *P_R_RANGE)]
     excluded, parts = {}, []
     for p_t in PT4:
         spec = {
@@ -88,8 +88,8 @@ def study_method(out, scale: Scale, **kw) -> MethodResult:
             "seed": 51,
         }
         name = f"method_exact_pt{p_t:.1f}"
-        exact, excluded[name] = _run(out, name, spec, **kw)
-        paper, _ = _run(out, f"method_paper_pt{p_t:.1f}", spec | {"verdict": "paper"}, **kw)
+        exact, excluded[name] = sweep_rows(out, name, spec, **kw)
+        paper, _ = sweep_rows(out, f"method_paper_pt{p_t:.1f}", spec | {"verdict": "paper"}, **kw)
         merged = exact[[*KEYS, "rigid", "energy", "affine_energy"]].merge(
             paper[[*KEYS, "rigid", "energy", "iterations", "converged"]].rename(
                 columns={"rigid": "paper_rigid", "energy": "paper_energy"}
@@ -221,11 +221,8 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
 
 def _measurements(claims: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]:
     """Shifts (paper's verdict - ours, same samples) as evidence for the factor "method"."""
-    label = (
-        f"with the paper's verdict (L-BFGS-B from u = 0, E > {PAPER_THRESHOLD:g} E_aff; shift "
-        "measured on the same samples)"
-    )
-    system = f"shift at n = {scale.n_method}, {scale.samples_method} samples per point"
+    label = f"ours + shift to the paper's verdict (L-BFGS-B, E > {PAPER_THRESHOLD:g} E_aff)"
+    system = f"shift from n = {scale.n_method}, {scale.samples_method} samples per point"
     return tuple(
         Measurement.scalar(
             row.key, row.shift, row.shift_err, system, factor="method", label=label, shift=True

@@ -22,6 +22,7 @@ from ..analysis.single_node import class_weights, qbar_table
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS
 from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame
+from .finite_size import NU_CHECK, PC_CHECK
 
 
 def _md_table(df: pd.DataFrame) -> str:
@@ -62,6 +63,10 @@ FIGURE_CAPTIONS = {
     "4A": "P versus f_c for strains from dilation (phi = 0) to compression (phi = pi).",
     "4B": "Efficacies of cables and struts relative to rods, averaged over strains.",
     "4C": "Combined efficacy (S_c + S_s)/S_r versus f_c.",
+    "FS": "Not in the paper: finite size. Left, the rods-only P = 1/2 point; right, S_t/S_r of "
+    "rods + cables (compression, dilation) and of f_c = 0.5 under shear; against n^(-1/nu) "
+    "with the extrapolation to n -> infinity (squares) and the paper's or the literature's "
+    "value (dotted).",
 }
 
 
@@ -88,6 +93,11 @@ def tables_of(results: dict) -> dict[str, pd.DataFrame]:
         extra["single_node_qbar"] = pd.DataFrame(qbar_table())
         extra["single_node_simulation"] = results["fig3"].sim
         extra["single_node_class_weights"] = pd.DataFrame([class_weights()])
+    if "fss" in results:
+        extra["fss_by_size"] = results["fss"].by_size
+        extra["fss_extrapolated"] = results["fss"].extrapolated
+    if "delta" in results:
+        extra["delta_by_delta"] = results["delta"].by_delta
     if "method" in results:
         extra["method_disagreement"] = results["method"].disagreement
         extra["method_claims"] = results["method"].claims
@@ -201,6 +211,53 @@ def _fmt(v: float, e: float) -> str:
     return f"{v:.3f} ± {e:.3f}" if np.isfinite(e) else f"{v:.3f}"
 
 
+def fss_section(r) -> Section:
+    """Finite size: the headline claims per n and extrapolated to n -> infinity."""
+    ex = r.extrapolated.set_index("key")
+    pc = ex.loc["rods_only_pc"]
+    paragraphs = (
+        f"The headline claims at n = {', '.join(map(str, r.sizes))} ({r.samples} samples per "
+        "size and point; exact per-sample thresholds, node disorder delta = "
+        f"{DEFAULT_DELTA}), each extrapolated with y(n) = y_inf + a n^(-1/nu). For the "
+        f"rods-only P = 1/2 point nu is fitted: p_c = {_fmt(pc.y_inf, pc.y_inf_err)}, "
+        f"nu = {_fmt(pc.nu, pc.nu_err)} (chi-square {pc.chi2:.2f} with {pc.dof} degree(s) of "
+        "freedom; errors from a parametric bootstrap). Checks, not inputs: nu against "
+        f"{NU_CHECK.value} ± {NU_CHECK.error} ({NU_CHECK.citation.split(',')[0]}): "
+        f"z = {r.nu_z:.2f}; p_c against {PC_CHECK.value} ({PC_CHECK.citation.split(',')[0]}): "
+        f"z = {r.pc_z:.2f} (within its error when z < 1). The other claims are extrapolated "
+        "with nu fixed at the fitted value, its error added. z_paper is the comparison's "
+        "statistic of the extrapolation against the paper's value.",
+    )
+    wide = r.by_size.pivot_table(index="key", columns="n", values="value")
+    err = r.by_size.pivot_table(index="key", columns="n", values="err")
+    table = pd.DataFrame({"claim": [CLAIMS[k].text for k in wide.index]})
+    table["paper"] = [CLAIMS[k].paper for k in wide.index]
+    for n in wide.columns:
+        table[f"n = {n}"] = [_fmt(v, e) for v, e in zip(wide[n], err[n], strict=True)]
+    table["n -> infinity"] = [_fmt(ex.loc[k].y_inf, ex.loc[k].y_inf_err) for k in wide.index]
+    table["z_paper"] = [f"{ex.loc[k].z_paper:.2f}" for k in wide.index]
+    return Section("Finite size", paragraphs, (table,))
+
+
+def delta_section(r) -> Section:
+    """The headline claims at each node disorder delta."""
+    paragraphs = (
+        f"The paper does not state its node disorder delta; ours is {DEFAULT_DELTA}. The headline "
+        f"claims at delta = {', '.join(f'{d:g}' for d in r.deltas)} (n = {r.n}, {r.samples} "
+        "samples per point); z_paper against the paper's value.",
+    )
+    wide = r.by_delta.pivot_table(index="key", columns="delta", values="value")
+    err = r.by_delta.pivot_table(index="key", columns="delta", values="err")
+    z = r.by_delta.pivot_table(index="key", columns="delta", values="z_paper")
+    table = pd.DataFrame({"claim": [CLAIMS[k].text for k in wide.index]})
+    table["paper"] = [CLAIMS[k].paper for k in wide.index]
+    for d in wide.columns:
+        table[f"delta = {d:g}"] = [
+            f"{_fmt(v, e)} (z = {zz:.1f})" for v, e, zz in zip(wide[d], err[d], z[d], strict=True)
+        ]
+    return Section("Node disorder delta", paragraphs, (table,))
+
+
 def sections_of(results: dict) -> list[Section]:
     """The report's sections after the comparison table, for the studies that ran."""
     out = []
@@ -208,6 +265,10 @@ def sections_of(results: dict) -> list[Section]:
         out.append(tails_section(results["fig2"]))
     if "method" in results:
         out.append(method_section(results["method"]))
+    if "fss" in results:
+        out.append(fss_section(results["fss"]))
+    if "delta" in results:
+        out.append(delta_section(results["delta"]))
     return out
 
 

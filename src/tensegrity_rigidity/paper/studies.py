@@ -87,7 +87,8 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 SCALES = {
     "tiny": Scale(
         "tiny", 5, 5, 6, 4, 6, 0.1, 300, 10,
-        studies=(*FIGURES, "method"),
+        fss_sizes=(4, 5, 6, 8), samples_fss=3, n_delta=5, samples_delta=3,
+        studies=(*FIGURES, "method", "fss", "delta"),
     ),
     "quick": Scale(
         "quick", 12, 12, 48, 24, 96, 0.05, 4000, 100,
@@ -101,8 +102,8 @@ SCALES = {
     ),
     "fss": Scale(
         "fss", 32, 32, 200, 0, 0, 0.025, 0, 200,
-        fss_sizes=(8, 16, 32, 64), samples_fss=200,
-        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=200,
+        fss_sizes=(8, 16, 32, 64), samples_fss=100,
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=100,  # n = 32 shared with fss
         studies=("fss", "delta"),
     ),
 }  # fmt: skip
@@ -159,7 +160,7 @@ def interval_straddles(df: pd.DataFrame, grid) -> int:
     return int(hit.any(axis=1).sum())
 
 
-def _run(out: Path, name: str, spec: dict, workers, scheduler, progress):
+def sweep_rows(out: Path, name: str, spec: dict, workers, scheduler, progress):
     """Run (or resume) one sweep; return its rows to analyse and the count excluded."""
     path = out / "studies" / name
     spec = {"delta": DEFAULT_DELTA} | spec
@@ -167,7 +168,7 @@ def _run(out: Path, name: str, spec: dict, workers, scheduler, progress):
     return keep_decided(load_results(path))
 
 
-def _p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
+def p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
     return [round(x, 6) for x in np.arange(lo, hi + 1e-9, step)]
 
 
@@ -237,7 +238,7 @@ class Fig1bResult:
 def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
     """P(p_r, p_t) at f_c = 0.5 under shear, from per-sample thresholds along p_r."""
     p_t = [round(x, 3) for x in np.arange(0.0, 0.81, 0.1)]
-    df, excluded = _run(
+    df, excluded = sweep_rows(
         out,
         "fig1b",
         {
@@ -333,7 +334,7 @@ class Fig1cResult:
 
 def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
     """S_t/S_r versus f_c for each strain and the strain average (collapse fits)."""
-    df, excluded = _run(
+    df, excluded = sweep_rows(
         out,
         "fig1c",
         {
@@ -510,12 +511,12 @@ class Fig2Result:
 
 def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     """Rods + cables (f_c = 1): nonaffinity, energies and engaged cables versus p_r."""
-    p_r = _p_r_grid(scale.p_r_step, 0.3, 0.95)
+    p_r = p_r_grid(scale.p_r_step, 0.3, 0.95)
     grids, excluded = [], {}
     for p_t in PT4:
         pr = [p for p in p_r if p + p_t <= 1 + 1e-12]
         name = f"fig2_pt{p_t:.1f}"
-        rows, excluded[name] = _run(
+        rows, excluded[name] = sweep_rows(
             out,
             name,
             {
@@ -531,7 +532,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         )
         grids.append(rows)
     rows, min_norm_failed = mask_min_norm(pd.concat(grids, ignore_index=True))
-    th, excluded["fig2_thresholds"] = _run(
+    th, excluded["fig2_thresholds"] = sweep_rows(
         out,
         "fig2_thresholds",
         {
@@ -850,7 +851,7 @@ def _displacement_field(out, scale: Scale, **kw) -> tuple[DisplacementField, int
     n = max(scale.n_grid, 8)
     base = {"n": n, "samples": FIELD_SAMPLES, "f_c": 1.0, "seed": 1000}
     spec_2a = base | {"p_t": FIELD_P_T, "phi": "compression", "threshold": {"path": "p_r"}}
-    th, ex_2a = _run(out, "fig2_field", spec_2a, **kw)
+    th, ex_2a = sweep_rows(out, "fig2_field", spec_2a, **kw)
     inst = res = None
     p_r = float("nan")
     ok = th[(th.threshold_p_r > 0) & (th.threshold_p_r + FIELD_STEP <= 1 - FIELD_P_T)]
@@ -860,7 +861,7 @@ def _displacement_field(out, scale: Scale, **kw) -> tuple[DisplacementField, int
         inst = _rebuild(spec_2a, row, p_r)
         res = solve(inst)
     spec_1a = base | {"p_r": 0.55, "p_t": 0.4, "f_c": 0.5, "phi": "shear", "seed": 2000}
-    grid, ex_1a = _run(out, "fig1a_field", spec_1a, **kw)
+    grid, ex_1a = sweep_rows(out, "fig1a_field", spec_1a, **kw)
     inst2 = res2 = None
     rigid = grid[grid.rigid]
     if len(rigid):
@@ -1032,13 +1033,13 @@ def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
         "seed": 41,
     }
     excluded = {}
-    centre, excluded["fig4_centre"] = _run(
+    centre, excluded["fig4_centre"] = sweep_rows(
         out, "fig4_centre", base | {"p_r": p_r0, "p_t": p_t0}, **kw
     )
-    d_r, excluded["fig4_dpr"] = _run(
+    d_r, excluded["fig4_dpr"] = sweep_rows(
         out, "fig4_dpr", base | {"p_r": [p_r0 - H_R, p_r0 + H_R], "p_t": p_t0}, **kw
     )
-    d_t, excluded["fig4_dpt"] = _run(
+    d_t, excluded["fig4_dpt"] = sweep_rows(
         out, "fig4_dpt", base | {"p_r": p_r0, "p_t": [p_t0 - H_T, p_t0 + H_T]}, **kw
     )
     samples = np.arange(1, scale.samples_fig4 + 1)
