@@ -2,18 +2,18 @@
 
 from __future__ import annotations
 
+import shutil
+
 import numpy as np
 import pytest
 
 from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.paper import finite_size as fs
 from tensegrity_rigidity.paper.claims import CLAIMS
-from tensegrity_rigidity.paper.studies import Scale
+from tensegrity_rigidity.paper.reproduce import reproduce
 
-TINY = Scale(
-    "mini", 4, 4, 3, 2, 3, 0.1, 50, 5,
-    fss_sizes=(4, 5, 6, 8), samples_fss=4, deltas=(0.1, 0.2), n_delta=4, samples_delta=3,
-)  # fmt: skip
+from .conftest import SERIAL, TINY
+
 KEYS = (
     {"rods_only_pc"}
     | {k for k, _, _ in fs.LAMBDA_CLAIMS}
@@ -22,10 +22,13 @@ KEYS = (
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory):
-    out = tmp_path_factory.mktemp("fss")
-    kw = dict(workers="serial", scheduler=None, progress=False)
-    return fs.study_fss(out, TINY, **kw), fs.study_delta(out, TINY, **kw), out
+def runs(tiny_out):
+    """Both studies on the session's tiny reproduction (their sweeps resume)."""
+    return (
+        fs.study_fss(tiny_out, TINY, **SERIAL),
+        fs.study_delta(tiny_out, TINY, **SERIAL),
+        tiny_out,
+    )
 
 
 def test_every_headline_claim_at_every_size(runs):
@@ -50,8 +53,8 @@ def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
 
 def test_delta_study_gives_evidence_for_the_other_deltas_only(runs):
     _, delta, _ = runs
-    assert set(delta.by_delta.delta) == {0.1, 0.2}
-    assert {m.label for m in delta.measured} == {"delta = 0.1"}
+    assert set(delta.by_delta.delta) == set(TINY.deltas) == {0.1, 0.2, 0.3}
+    assert {m.label for m in delta.measured} == {"delta = 0.1", "delta = 0.3"}
     assert all(m.factor == "delta" for m in delta.measured)
     assert np.isfinite(delta.by_delta.z_paper).any()
 
@@ -61,12 +64,20 @@ def test_same_samples_across_the_two_sweeps_of_one_size(runs):
     lattice in both (common random numbers): adding one-sided elements (p_t = 0.1) can only
     lower a sample's threshold, sample by sample."""
     fss, _, out = runs
-    rods = load_results(out / "studies" / "headline_n8_delta0.2_s4_rods")
+    rods = load_results(out / "studies" / "headline_n8_delta0.2_s3_rods")
     rods = rods[["phi", "sample", "threshold_p_r"]]
-    mixed = load_results(out / "studies" / "headline_n8_delta0.2_s4_mixed")
+    mixed = load_results(out / "studies" / "headline_n8_delta0.2_s3_mixed")
     mixed = mixed[np.isclose(mixed.p_t, 0.1)]
     for f_c, sub in mixed.groupby("f_c"):
         joined = sub.merge(rods, on=["phi", "sample"], suffixes=("", "_rods"))
         both = joined.dropna(subset=["threshold_p_r", "threshold_p_r_rods"])
         assert len(both) and (both.threshold_p_r <= both.threshold_p_r_rods + 1e-12).all(), f_c
     assert all(v >= 0 for v in fss.excluded.values())
+
+
+def test_a_report_of_the_finite_size_studies_alone(tiny_out, tmp_path):
+    shutil.copytree(tiny_out / "studies", tmp_path / "studies")  # resume: no new samples
+    res = reproduce(tmp_path, "tiny", workers="serial", progress=False, studies=["fss", "delta"])
+    md = res["report"]["md"].read_text()
+    assert "## Finite size" in md and "## Node disorder delta" in md and "## Figure FS" in md
+    assert (tmp_path / "tables" / "fss_extrapolated.csv").exists()

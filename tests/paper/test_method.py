@@ -9,21 +9,21 @@ import pytest
 from tensegrity_rigidity.paper import method
 from tensegrity_rigidity.paper.claims import CLAIMS
 from tensegrity_rigidity.paper.comparison import compare
-from tensegrity_rigidity.paper.studies import Scale
 
-MINI = Scale("mini", 4, 4, 3, 2, 3, 0.1, 50, 5, n_method=5, samples_method=3, method_step=0.2)
+from .conftest import SERIAL, TINY
 
 
 @pytest.fixture(scope="module")
-def result(tmp_path_factory):
-    out = tmp_path_factory.mktemp("method")
-    return method.study_method(out, MINI, workers="serial", scheduler=None, progress=False)
+def result(tiny_out):
+    """The method study on the session's tiny reproduction (its sweeps resume)."""
+    return method.study_method(tiny_out, TINY, **SERIAL)
 
 
 def test_both_verdicts_on_every_sample(result):
     rows = result.rows
-    points = sum(len([p for p in (0.4, 0.6, 0.8) if p + p_t <= 1 + 1e-12]) for p_t in method.PT4)
-    assert len(rows) == points * 2 * MINI.samples_method
+    p_r = method.p_r_grid(TINY.method_step, *method.P_R_RANGE)
+    points = sum(len([p for p in p_r if p + p_t <= 1 + 1e-12]) for p_t in method.PT4)
+    assert len(rows) == points * 2 * TINY.samples_method
     assert not rows.duplicated(method.KEYS).any()
     # the paper's minimiser never goes below the exact minimum
     assert (rows.paper_energy >= rows.energy - 1e-9 * rows.affine_energy).all()

@@ -12,13 +12,9 @@ FIGURES = ["1A", "1B", "1C", "2A", "2B", "2C", "2D", "2E", "3B", "4A", "4B", "4C
 
 
 @pytest.fixture(scope="module")
-def tiny(tmp_path_factory):
-    out = tmp_path_factory.mktemp("repro")
-    assert (
-        main(["reproduce", "--scale", "tiny", "--out", str(out), "--workers", "2", "--no-progress"])
-        == 0
-    )
-    return out
+def tiny(tiny_out):
+    """The session's tiny reproduction (tests/paper/conftest.py)."""
+    return tiny_out
 
 
 def test_every_figure_as_png_and_svg(tiny):

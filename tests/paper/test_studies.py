@@ -14,14 +14,12 @@ from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS
 from tensegrity_rigidity.paper.report import excluded_samples
 from tensegrity_rigidity.paper.studies import (
-    Scale,
     interval_straddles,
     keep_decided,
     strain_name,
 )
 
-#: smaller than the "tiny" scale: enough to exercise every code path in a few seconds
-MINI = Scale("mini", 4, 4, 3, 2, 3, 0.1, 50, 3)
+from .conftest import SERIAL, TINY
 
 
 def _threshold_rows(decided, est, lo=None, hi=None):
@@ -60,7 +58,9 @@ def test_threshold_interval_keeps_undecided_samples():
     # only intervals of positive width straddle a grid value
     assert interval_straddles(kept, [0.6, 0.65]) == 1
     assert interval_straddles(kept, [0.5, 0.7]) == 0
-    assert interval_straddles(_threshold_rows([True], [0.6]), [0.6]) == 0
+    assert interval_straddles(_threshold_rows([True], [0.6], [0.6], [0.6]), [0.6]) == 0
+    # rows written before the interval columns existed: not recorded, not zero
+    assert interval_straddles(_threshold_rows([True], [0.6]), [0.6]) is None
 
 
 def test_strain_names_come_from_the_model():
@@ -70,10 +70,9 @@ def test_strain_names_come_from_the_model():
 
 
 @pytest.fixture(scope="module")
-def mini(tmp_path_factory):
-    out = tmp_path_factory.mktemp("mini")
-    kw = dict(workers="serial", scheduler=None, progress=False)
-    return {name: fn(out, MINI, **kw) for name, fn in studies.STUDIES.items()}
+def mini(tiny_out):
+    """The figure studies on the session's tiny reproduction (sweeps resume)."""
+    return {name: fn(tiny_out, TINY, **SERIAL) for name, fn in studies.STUDIES.items()}
 
 
 def test_results_are_frozen_dataclasses_that_carry_their_exclusions(mini):
@@ -91,7 +90,7 @@ def test_drawn_samples_come_from_the_sweeps_and_are_solved(mini):
     assert field.instance is not None and field.result.rigid
     assert field.p_t == studies.FIELD_P_T
     assert field.mixed_result is not None and field.mixed_result.rigid
-    assert field.instance.network.n_nodes == max(MINI.n_grid, 8) ** 2
+    assert field.instance.network.n_nodes == max(TINY.n_grid, 8) ** 2
 
 
 def test_every_claim_names_its_source_and_a_study():

@@ -78,6 +78,12 @@ def excluded_samples(results: dict) -> dict[str, int]:
     return out
 
 
+def straddling_of(results: dict) -> dict[str, int | None]:
+    """Study name -> threshold samples whose interval straddles a grid value (None: the
+    threshold rows do not record intervals), for the studies that record it."""
+    return {k: r.straddling for k, r in results.items() if hasattr(r, "straddling")}
+
+
 def tables_of(results: dict) -> dict[str, pd.DataFrame]:
     """The CSV tables written beside the report (name -> frame), from the study results."""
     extra = {}
@@ -310,6 +316,23 @@ def write_report(
     for name, df in extra.items():
         df.to_csv(tables / f"{name}.csv", index=False)
     undecided = excluded_samples(results)
+    straddling = straddling_of(results)
+    recorded = {k: v for k, v in straddling.items() if v is not None}
+    if not straddling:
+        intervals = ""
+    elif not recorded:
+        intervals = (
+            " The threshold rows do not record the interval of each threshold (written before "
+            "those columns existed), so samples with an undecided configuration on their "
+            "bisection path are excluded above."
+        )
+    else:
+        intervals = (
+            " Threshold samples kept at their estimate whose interval straddles a grid value, "
+            "so that P there is uncertain by one sample each: "
+            + ", ".join(f"{k}: {v}" for k, v in recorded.items())
+            + "."
+        )
 
     n_agree = sum(r.verdict == "agree" for r in rows)
     n_dis = sum(r.verdict == "disagree" for r in rows)
@@ -331,6 +354,7 @@ def write_report(
             )
             + "."
         )
+        + intervals
     )
     notes = (
         f"Conventions (MODEL.md): node disorder delta = {DEFAULT_DELTA}; f_c is the cable fraction "

@@ -19,10 +19,13 @@ from .studies import SCALES
 
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
 EXPECTED = {
-    "tiny": "under a minute",
-    "quick": "about 7 minutes (measured 6.9 min)",
+    "tiny": "about a minute",
+    "quick": "about 8 minutes (6.9 min measured before the method study, which adds about a "
+    "minute of L-BFGS-B)",
     "paper": "about 10-20 hours (estimated from the n = 32 solve times in BENCHMARKS.md; "
     "spread it over a Dask cluster with --scheduler)",
+    "fss": "not yet timed: finite size at n = 8 to 64 and node disorder at n = 32, hours on 2 "
+    "cores with the current solver; meant for a Dask cluster",
 }
 
 

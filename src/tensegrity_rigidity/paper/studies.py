@@ -144,13 +144,16 @@ def keep_decided(df: pd.DataFrame) -> tuple[pd.DataFrame, int]:
     return df[~bad].reset_index(drop=True), int(bad.sum())
 
 
-def interval_straddles(df: pd.DataFrame, grid) -> int:
+def interval_straddles(df: pd.DataFrame, grid) -> int | None:
     """Samples whose threshold interval (when recorded) contains a value of ``grid``.
 
     Such a sample's outcome at that grid value is not determined by double precision; the
-    count bounds the change of P there (count / samples). 0 when the columns are absent.
+    count bounds the change of P there (count / samples). None when the rows do not record
+    the interval (written before the columns existed).
     """
-    if df.empty or not all(c in df for c in INTERVAL):
+    if not all(c in df for c in INTERVAL):
+        return None
+    if df.empty:
         return 0
     lo = df[INTERVAL[0]].to_numpy(float)[:, None]
     hi = df[INTERVAL[1]].to_numpy(float)[:, None]
@@ -218,8 +221,9 @@ class Fig1bResult:
         The threshold rows analysed.
     excluded : dict
         Sweep name -> samples excluded as undecided.
-    straddling : int
-        Samples whose threshold interval straddles a grid value (see :func:`interval_straddles`).
+    straddling : int or None
+        Samples whose threshold interval straddles a grid value (see :func:`interval_straddles`;
+        None when the rows do not record intervals). The other results' ``straddling`` alike.
     """
 
     p_r: np.ndarray
@@ -231,7 +235,7 @@ class Fig1bResult:
     samples: int
     rows: pd.DataFrame
     excluded: dict[str, int]
-    straddling: int = 0
+    straddling: int | None = None
     measured: tuple[Measurement, ...] = ()
 
 
@@ -322,7 +326,7 @@ class Fig1cResult:
     samples: int
     rows: pd.DataFrame
     excluded: dict[str, int]
-    straddling: int = 0
+    straddling: int | None = None
     measured: tuple[Measurement, ...] = ()
 
     def lam(self, f_c: float, strain: str) -> tuple[float, float]:
@@ -505,7 +509,7 @@ class Fig2Result:
     rows: pd.DataFrame
     field: DisplacementField
     excluded: dict[str, int]
-    straddling: int = 0
+    straddling: int | None = None
     measured: tuple[Measurement, ...] = ()
 
 
