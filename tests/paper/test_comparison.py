@@ -77,8 +77,8 @@ def test_explanation_names_every_factor_with_its_evidence():
     clauses = row.explanation.split("; ")
     assert [c.split(":")[0] for c in clauses] == list(FACTORS)
     assert "finite size: not yet tested" in clauses and "delta: not yet tested" in clauses
-    assert "paper's verdict" in row.explanation and "accounts for it" in clauses[2]
-    assert "does not account for it" in clauses[3]
+    assert "paper's verdict" in row.explanation and "then agrees" in clauses[2]
+    assert "still disagrees" in clauses[3]
 
 
 def test_agreeing_rows_need_no_explanation_and_missing_values_are_na():

@@ -17,8 +17,10 @@ to agree.
 
 Where a claim disagrees, the ``explanation`` names, for each factor that could account for it
 (finite size, node disorder delta, the paper's method, the estimator), the evidence the studies
-provide: the same claim measured with that factor changed, and whether it then agrees; a
-factor without such a measurement is "not yet tested".
+provide: the same claim measured with that factor changed, with its z, and whether it "then
+agrees" or "still disagrees" (a large error can make it agree without explaining much: the
+value and its error are shown for that reason); a factor without such a measurement is "not
+yet tested".
 """
 
 from __future__ import annotations
@@ -148,7 +150,7 @@ def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) 
         for a in alts:
             z = z_score(claim, a)
             judged = (
-                ("accounts for it" if z < AGREE_BELOW else "does not account for it")
+                ("then agrees" if z < AGREE_BELOW else "still disagrees")
                 if np.isfinite(z)
                 else "no value"
             )
