@@ -8,17 +8,13 @@ import pytest
 
 from tensegrity_rigidity.cli.main import main
 
-FIGURES = ["1A", "1B", "1C", "2A", "2B", "2C", "2D", "3B", "4A", "4B", "4C"]
+FIGURES = ["1A", "1B", "1C", "2A", "2B", "2C", "2D", "2E", "3B", "4A", "4B", "4C", "FS"]
 
 
 @pytest.fixture(scope="module")
-def tiny(tmp_path_factory):
-    out = tmp_path_factory.mktemp("repro")
-    assert (
-        main(["reproduce", "--scale", "tiny", "--out", str(out), "--workers", "2", "--no-progress"])
-        == 0
-    )
-    return out
+def tiny(tiny_out):
+    """The session's tiny reproduction (tests/paper/conftest.py)."""
+    return tiny_out
 
 
 def test_every_figure_as_png_and_svg(tiny):
@@ -55,3 +51,16 @@ def test_rerun_resumes_without_new_samples(tiny):
     )
     after = sorted(p.stat().st_mtime_ns for p in (tiny / "studies").rglob("part-*.parquet"))
     assert before == after
+
+
+def test_one_agreement_rule_stated_once_and_an_explanation_column(tiny):
+    import pandas as pd
+
+    from tensegrity_rigidity.paper.comparison import RULE
+
+    md = (tiny / "report.md").read_text()
+    assert md.count(RULE) == 1
+    comp = pd.read_csv(tiny / "tables" / "comparison.csv")
+    assert {"z", "verdict", "explanation", "source"} <= set(comp.columns)
+    dis = comp[comp.verdict == "disagree"]
+    assert dis.explanation.str.contains("finite size").all()

@@ -6,6 +6,7 @@ uncertainties; each states its estimator.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -174,6 +175,225 @@ def paired_derivative(minus: np.ndarray, plus: np.ndarray, h: float) -> Derivati
     return Derivative(float(d.mean() / (2 * h)), float(err / (2 * h)))
 
 
+# --------------------------------------------------------------------------- efficacy surface
+
+
+def fit_logistic(k: np.ndarray, m: np.ndarray, X: np.ndarray, max_iter: int = 100) -> np.ndarray:
+    """Firth-penalised maximum-likelihood logistic regression on binomial counts.
+
+    Parameters
+    ----------
+    k, m : (G,) float
+        Successes and trials at each design point.
+    X : (G, q) float
+        Design matrix.
+
+    Returns
+    -------
+    beta : (q,) float
+        Coefficients of ``logit P = X beta`` (NaN if Newton's method does not converge).
+
+    Notes
+    -----
+    Firth's penalty (half the log-determinant of the Fisher information) keeps the estimate
+    finite when the outcomes are separated (P = 0 or 1 at every point, as happens with few
+    samples) and removes the O(1/m) bias of the maximum-likelihood estimate; its effect vanishes
+    as the counts grow. Newton steps on the modified score
+    ``X^T (k - m p + h (1/2 - p))`` (h: leverages), halved until the penalised likelihood rises.
+    """
+    k, m, X = (np.asarray(a, float) for a in (k, m, X))
+    beta = np.zeros(X.shape[1])
+
+    def penalised(b):
+        eta = X @ b
+        w = m * _sigmoid(eta) * _sigmoid(-eta)
+        sign, logdet = np.linalg.slogdet(X.T @ (w[:, None] * X))
+        ll = float(np.sum(k * -np.logaddexp(0, -eta) + (m - k) * -np.logaddexp(0, eta)))
+        return ll + 0.5 * logdet if sign > 0 else -np.inf
+
+    current = penalised(beta)
+    for _ in range(max_iter):
+        p = _sigmoid(X @ beta)
+        w = m * p * (1 - p)
+        info = X.T @ (w[:, None] * X)
+        try:
+            inv = np.linalg.inv(info)
+        except np.linalg.LinAlgError:
+            return np.full(X.shape[1], np.nan)
+        h = w * np.einsum("ij,jk,ik->i", X, inv, X)
+        step = inv @ (X.T @ (k - m * p + h * (0.5 - p)))
+        t = 1.0
+        while t > 1e-8:
+            trial = penalised(beta + t * step)
+            if trial >= current - 1e-12:
+                break
+            t /= 2
+        beta = beta + t * step
+        current = penalised(beta)
+        if np.max(np.abs(t * step)) < 1e-9:
+            return beta
+    return np.full(X.shape[1], np.nan)
+
+
+def _sigmoid(x):
+    return 0.5 * (1 + np.tanh(0.5 * np.asarray(x, float)))
+
+
+@dataclass(frozen=True, eq=False)
+class EfficacyCurves:
+    """Efficacies along f_c at a point (p_r0, p_t0), with bootstrap covariances.
+
+    Attributes
+    ----------
+    f_c : (F,) float
+        Where the curves are evaluated.
+    values : dict
+        Name -> (F,) float: "P", "S_r", "S_t", "D_f" (dP/df_c), "S_c", "S_s", "S_c_rel"
+        (S_c/S_r), "S_s_rel", "sum_rel" ((S_c + S_s)/S_r).
+    cov : dict
+        Name -> (F, F) bootstrap covariance of ``values[name]`` over f_c.
+    n_samples : int
+        Samples (rows) behind the fit.
+    """
+
+    f_c: np.ndarray
+    values: dict
+    cov: dict
+    n_samples: int
+
+    def err(self, name: str) -> np.ndarray:
+        """(F,) standard errors of one curve."""
+        return np.sqrt(np.diag(self.cov[name]))
+
+
+def _surface_design(p_r, p_t, f_c, centre, degrees):
+    d_eta, d_slope = degrees
+    dr, dt = np.asarray(p_r) - centre[0], np.asarray(p_t) - centre[1]
+    f = np.asarray(f_c, float)
+    cols = [f**j for j in range(d_eta + 1)]
+    cols += [dr * f**j for j in range(d_slope + 1)]
+    cols += [dt * f**j for j in range(d_slope + 1)]
+    return np.column_stack(cols)
+
+
+def _surface_derivatives(beta, f, degrees):
+    """P, dP/dp_r, dP/dp_t, dP/df at the centre, each (F,), from the coefficients."""
+    d_eta, d_slope = degrees
+    c = beta[: d_eta + 1]
+    a = beta[d_eta + 1 : d_eta + d_slope + 2]
+    b = beta[d_eta + d_slope + 2 :]
+    eta = sum(c[j] * f**j for j in range(d_eta + 1))
+    deta = sum(j * c[j] * f ** (j - 1) for j in range(1, d_eta + 1))
+    P = _sigmoid(eta)
+    dF = P * (1 - P)
+    slope_r = sum(a[j] * f**j for j in range(d_slope + 1))
+    slope_t = sum(b[j] * f**j for j in range(d_slope + 1))
+    return P, dF * slope_r, dF * slope_t, dF * deta
+
+
+def fit_efficacies(
+    outcomes: np.ndarray,
+    p_r: np.ndarray,
+    p_t: np.ndarray,
+    f_c: np.ndarray,
+    centre: tuple[float, float],
+    f_eval: np.ndarray,
+    degrees: tuple[int, int] = (4, 2),
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+) -> tuple[list[EfficacyCurves], EfficacyCurves]:
+    """S_r, S_t, S_c, S_s along f_c from a likelihood fit smooth in f_c, per strain and averaged.
+
+    Parameters
+    ----------
+    outcomes : (K, S, G) float
+        Rigidity (0/1, NaN where missing) of sample s under strain k at design point g; the
+        same S samples under every strain and at every point (common random numbers).
+    p_r, p_t, f_c : (G,) float
+        Design points around ``centre = (p_r0, p_t0)``, at several f_c.
+    f_eval : (F,) float
+        Where to evaluate the curves.
+    degrees : (int, int)
+        Polynomial degrees in f_c of the logit at the centre and of its slopes in p_r, p_t.
+
+    Returns
+    -------
+    per_strain : list of EfficacyCurves
+        One per strain.
+    average : EfficacyCurves
+        S_r, S_t, dP/df_c averaged over the strains, and the ratios formed from the averages.
+
+    Notes
+    -----
+    Model, for each strain: ``logit P = eta(f_c) + a(f_c) (p_r - p_r0) + b(f_c) (p_t - p_t0)``
+    with eta a polynomial of degree ``degrees[0]`` and a, b of degree ``degrees[1]``, fitted by
+    :func:`fit_logistic` to the pooled counts (a pseudo-likelihood: outcomes of one sample are
+    correlated). At the centre ``S_r = P (1 - P) a``, ``S_t = P (1 - P) b``,
+    ``dP/df_c = P (1 - P) eta'``; ``S_c = S_t + (1 - f_c) dP/df_c / p_t0`` and
+    ``S_s = S_t - f_c dP/df_c / p_t0``. The curves are smooth in f_c, so the ends f_c = 0, 1 use
+    every point, unlike one-sided differences. Covariances: a bootstrap over samples, the same
+    resampled samples for every strain (it keeps the correlations of common random numbers
+    across points, f_c and strains). Missing outcomes are left out of the counts.
+    """
+    rng = rng or np.random.default_rng(5)
+    y = np.asarray(outcomes, float)
+    if y.ndim == 2:
+        y = y[None]
+    K, S, _ = y.shape
+    X = _surface_design(p_r, p_t, f_c, centre, degrees)
+    f = np.asarray(f_eval, float)
+    p_t0 = centre[1]
+
+    def curves(idx):
+        per, sums = [], None
+        for kk in range(K):
+            yy = y[kk, idx]
+            ok = np.isfinite(yy)
+            beta = fit_logistic(np.where(ok, yy, 0).sum(axis=0), ok.sum(axis=0), X)
+            P, S_r, S_t, D = _surface_derivatives(beta, f, degrees)
+            per.append((P, S_r, S_t, D))
+            part = np.array([P, S_r, S_t, D])
+            sums = part if sums is None else sums + part
+        return per, tuple(sums / K)
+
+    def named(P, S_r, S_t, D):
+        S_c = S_t + (1 - f) * D / p_t0
+        S_s = S_t - f * D / p_t0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return {
+                "P": P,
+                "S_r": S_r,
+                "S_t": S_t,
+                "D_f": D,
+                "S_c": S_c,
+                "S_s": S_s,
+                "S_c_rel": S_c / S_r,
+                "S_s_rel": S_s / S_r,
+                "sum_rel": (S_c + S_s) / S_r,
+            }
+
+    per, avg = curves(np.arange(S))
+    best = [named(*c) for c in per] + [named(*avg)]
+    boots = [[] for _ in best]
+    for _ in range(n_boot):
+        per_b, avg_b = curves(rng.integers(0, S, S))
+        for i, c in enumerate([*per_b, avg_b]):
+            boots[i].append(named(*c))
+    out = []
+    for i, vals in enumerate(best):
+        cov = {}
+        for name in vals:
+            draws = np.array([b[name] for b in boots[i]])
+            draws = draws[np.all(np.isfinite(draws), axis=1)]
+            cov[name] = (
+                np.atleast_2d(np.cov(draws.T, ddof=1))
+                if len(draws) > 1
+                else np.full((f.size, f.size), np.nan)
+            )
+        out.append(EfficacyCurves(f, vals, cov, S))
+    return out[:-1], out[-1]
+
+
 # --------------------------------------------------------------------------- energy scaling
 
 
@@ -228,3 +448,450 @@ def probability_curve(thresholds: np.ndarray, p_grid: np.ndarray):
     t = np.asarray(thresholds, float)
     k = probability_from_thresholds(t, p_grid) * t.size
     return wilson(k, np.full_like(k, t.size))
+
+
+# --------------------------------------------------------------------------- paired statistics
+
+
+def paired_slope(outcomes: np.ndarray, x: np.ndarray) -> Derivative:
+    """Least-squares slope of mean outcome over ``x``, with its standard error.
+
+    Parameters
+    ----------
+    outcomes : (S, G) float
+        Outcome (e.g. rigidity 0/1) of sample s at point g; the same samples at every point
+        (common random numbers). Samples with any NaN are dropped.
+    x : (G,) float
+        Coordinates of the points.
+
+    Notes
+    -----
+    The least-squares slope is linear in the outcomes, so the slope of the mean curve equals the
+    mean of the per-sample slopes ``b_s = sum_g (x_g - xbar) y_sg / sum_g (x_g - xbar)^2``; its
+    standard error is the standard error of that mean (samples are independent, points of one
+    sample are not).
+    """
+    y = np.asarray(outcomes, float)
+    x = np.asarray(x, float)
+    y = y[np.all(np.isfinite(y), axis=1)]
+    dx = x - x.mean()
+    b = y @ dx / float(dx @ dx)
+    err = b.std(ddof=1) / np.sqrt(b.size) if b.size > 1 else np.nan
+    return Derivative(float(b.mean()) if b.size else np.nan, float(err))
+
+
+@dataclass(frozen=True)
+class Location:
+    """A point estimate on the parameter axis (a crossing, a slope of a contour) and its error."""
+
+    value: float
+    err: float
+
+
+def peak_locations(
+    values: list[np.ndarray],
+    x: list[np.ndarray],
+    statistic: str = "mean",
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Grid points where several curves have their maximum, with their joint covariance.
+
+    Parameters
+    ----------
+    values : list of (S, G_j) float
+        Per-sample observable of curve j (NaN where missing) at its grid points ``x[j]``
+        (G_j,); row s of every curve is the same sample (common random numbers).
+    statistic : str
+        "mean" or "median" over samples: the curve whose maximum is located.
+
+    Returns
+    -------
+    peaks : (J,) float
+        Grid point of each curve's maximum.
+    cov : (J, J) float
+        Bootstrap covariance of the peaks (resampling samples jointly for all curves) plus the
+        grid resolution ``h_j^2 / 12`` on the diagonal (the maximum lies anywhere within half a
+        step of the grid point).
+    """
+    rng = rng or np.random.default_rng(2)
+    reduce = {"mean": np.nanmean, "median": np.nanmedian}[statistic]
+    vals = [np.asarray(v, float) for v in values]
+    xs = [np.asarray(g, float) for g in x]
+    S = vals[0].shape[0]
+
+    def peaks(idx):
+        out = []
+        for v, g in zip(vals, xs, strict=True):
+            m = reduce(v[idx], axis=0)
+            out.append(g[int(np.nanargmax(m))] if np.isfinite(m).any() else np.nan)
+        return out
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN columns
+        best = np.array(peaks(np.arange(S)))
+        boots = np.array([peaks(rng.integers(0, S, S)) for _ in range(n_boot)])
+    boots = boots[np.all(np.isfinite(boots), axis=1)]
+    J = len(vals)
+    cov = np.cov(boots.T, ddof=1).reshape(J, J) if len(boots) > 1 else np.full((J, J), np.nan)
+    h = np.array([np.min(np.diff(np.sort(g))) if g.size > 1 else 0.0 for g in xs])
+    return best, cov + np.diag(h**2 / 12)
+
+
+def first_positive(
+    values: np.ndarray, x: np.ndarray, n_boot: int = 200, rng: np.random.Generator | None = None
+) -> Location:
+    """Smallest grid point where the mean of ``values`` over samples is positive.
+
+    The paper's p_crit ("the value of p_r at which E first becomes positive") applied to
+    per-sample energies ``values`` (S, G) on the grid ``x`` (G,); NaN when no mean is positive.
+    The error is a bootstrap over samples. Unlike the median threshold (P = 1/2) this is an
+    extreme-value statistic: it moves to smaller p_r as the number of samples grows. The
+    error combines the bootstrap spread with the grid's resolution ``h / sqrt(12)``.
+    """
+    rng = rng or np.random.default_rng(4)
+    v = np.nan_to_num(np.asarray(values, float), nan=0.0)
+    x = np.asarray(x, float)
+
+    def first(rows):
+        pos = np.flatnonzero(rows.mean(axis=0) > 0)
+        return float(x[pos[0]]) if pos.size else np.nan
+
+    best = first(v)
+    S = v.shape[0]
+    boots = np.array([first(v[rng.integers(0, S, S)]) for _ in range(n_boot)])
+    boots = boots[np.isfinite(boots)]
+    sd = float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan
+    h = float(np.min(np.diff(np.sort(x)))) if x.size > 1 else 0.0
+    return Location(best, float(np.hypot(sd, h / np.sqrt(12))))
+
+
+def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rng=None) -> Location:
+    """S_t/S_r as minus the slope of the P = 1/2 contour, p_r*(p_t) = x0 - lam p_t.
+
+    Parameters
+    ----------
+    thresholds : (S, J) float
+        Per-sample threshold in p_r (NaN: never rigid) of the same S samples at J values of
+        ``p_t`` (J,).
+
+    Notes
+    -----
+    Model-free alternative to :func:`fit_collapse`: at each p_t the median threshold is where P
+    crosses 1/2; ``lam`` is minus the least-squares slope of the medians over p_t (exactly
+    S_t/S_r when P = F(p_r + lam p_t)). The error is a bootstrap over samples, which keeps the
+    correlation of the medians through common random numbers.
+    """
+    rng = rng or np.random.default_rng(3)
+    t = np.asarray(thresholds, float)
+    t = np.where(np.isnan(t), np.inf, t)
+    p_t = np.asarray(p_t, float)
+
+    def lam(rows):
+        med = np.median(rows, axis=0)
+        ok = np.isfinite(med)
+        if ok.sum() < 2:
+            return np.nan
+        d = p_t[ok] - p_t[ok].mean()
+        return -float(d @ med[ok] / (d @ d))
+
+    best = lam(t)
+    boots = [lam(t[rng.integers(0, t.shape[0], t.shape[0])]) for _ in range(n_boot)]
+    boots = np.array(boots)[np.isfinite(boots)]
+    return Location(best, float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan)
+
+
+def crossing_point(
+    outcomes: np.ndarray, x: np.ndarray, n_boot: int = 200, rng: np.random.Generator | None = None
+) -> Location:
+    """Where P(x) crosses 1/2, from a logistic fit to outcomes on a grid, with a bootstrap error.
+
+    Parameters
+    ----------
+    outcomes : (S, G) float
+        Outcome (0/1, NaN where missing) of sample s at grid point x[g] (G,).
+
+    Notes
+    -----
+    Fits ``logit P = b0 + b1 (x - xbar)`` (:func:`fit_logistic`) to the pooled counts and
+    returns ``xbar - b0 / b1``; NaN when P does not increase. Needs no per-sample threshold, so
+    it applies to verdicts that need not be monotone in x (an inexact minimiser's). Errors: a
+    bootstrap over samples.
+    """
+    rng = rng or np.random.default_rng(6)
+    y = np.asarray(outcomes, float)
+    x = np.asarray(x, float)
+    X = np.column_stack([np.ones(x.size), x - x.mean()])
+
+    def cross(rows):
+        ok = np.isfinite(rows)
+        b0, b1 = fit_logistic(np.where(ok, rows, 0).sum(axis=0), ok.sum(axis=0), X)
+        return float(x.mean() - b0 / b1) if b1 > 0 else np.nan
+
+    best = cross(y)
+    S = y.shape[0]
+    boots = np.array([cross(y[rng.integers(0, S, S)]) for _ in range(n_boot)])
+    boots = boots[np.isfinite(boots)]
+    return Location(best, float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan)
+
+
+@dataclass(frozen=True)
+class PairedEstimate:
+    """A statistic computed two ways on the same samples, and the difference b - a."""
+
+    a: float
+    a_err: float
+    b: float
+    b_err: float
+    diff: float
+    diff_err: float
+
+
+def paired_bootstrap(
+    statistic, a: np.ndarray, b: np.ndarray, n_boot: int = 200, rng=None
+) -> PairedEstimate:
+    """``statistic`` of two data sets of the same samples, with errors of each and of b - a.
+
+    Parameters
+    ----------
+    statistic : callable
+        Maps an array of samples (rows) to a float.
+    a, b : (S, ...) array
+        The same S samples measured two ways (e.g. exact and inexact verdicts).
+
+    Notes
+    -----
+    Each bootstrap replica resamples the same rows of ``a`` and ``b``, so the error of the
+    difference keeps their correlation (most samples get the same verdict both ways, and the
+    difference is far better determined than either value).
+    """
+    rng = rng or np.random.default_rng(7)
+    a, b = np.asarray(a), np.asarray(b)
+    va, vb = statistic(a), statistic(b)
+    S = a.shape[0]
+    draws = []
+    for _ in range(n_boot):
+        idx = rng.integers(0, S, S)
+        draws.append((statistic(a[idx]), statistic(b[idx])))
+    d = np.array(draws, float).reshape(-1, 2)
+    d = d[np.all(np.isfinite(d), axis=1)]
+    sd = d.std(axis=0, ddof=1) if len(d) > 1 else np.full(2, np.nan)
+    dd = float(np.std(d[:, 1] - d[:, 0], ddof=1)) if len(d) > 1 else np.nan
+    return PairedEstimate(float(va), float(sd[0]), float(vb), float(sd[1]), float(vb - va), dd)
+
+
+# --------------------------------------------------------------------------- finite size
+
+
+#: range of 1/nu allowed to the free finite-size fit: nu in [0.5, 3], which brackets every
+#: exponent of 2D percolation-type transitions (connectivity 4/3, generic rigidity 1.16-1.21)
+THETA = (1 / 3, 2.0)
+
+
+@dataclass(frozen=True)
+class FiniteSizeFit:
+    """y(n) = y_inf + a n^(-1/nu), weighted least squares.
+
+    ``nu_fixed`` tells whether nu was an input (its error then the one given with it, used
+    only to widen ``y_inf_err``); ``chi2`` and ``dof`` judge the form.
+    """
+
+    y_inf: float
+    y_inf_err: float
+    a: float
+    a_err: float
+    nu: float
+    nu_err: float
+    nu_fixed: bool
+    chi2: float
+    dof: int
+
+
+def fit_finite_size(
+    n: np.ndarray,
+    y: np.ndarray,
+    err: np.ndarray,
+    nu: float | None = None,
+    nu_err: float = 0.0,
+    n_boot: int = 300,
+    rng: np.random.Generator | None = None,
+) -> FiniteSizeFit:
+    """Extrapolate a size-dependent estimate to n -> infinity.
+
+    Parameters
+    ----------
+    n : (K,) float
+        Linear sizes.
+    y, err : (K,) float
+        Estimates at each size and their standard errors (independent samples per size).
+    nu : float, optional
+        Exponent of the correction. None: fitted with y_inf and a (needs K >= 3); given: the
+        fit is linear in (y_inf, a), and ``nu_err`` widens ``y_inf_err`` by half the change of
+        y_inf between nu - nu_err and nu + nu_err.
+
+    Notes
+    -----
+    The standard finite-size form of a percolation threshold defined at fixed P (here the
+    median threshold, P = 1/2): ``p_c(n) = p_c + a n^(-1/nu)``. With nu given, errors are the
+    weighted-least-squares ones (the given errors taken as right, not rescaled by chi-square).
+    With nu fitted, errors are the standard deviations of a parametric bootstrap
+    (``n_boot`` refits of y + N(0, err)): with four sizes and three parameters the
+    least-squares curvature understates the spread several times. NaN where the fit fails
+    (too few sizes, errors not finite).
+    """
+    n, y, err = (np.asarray(a, float) for a in (n, y, err))
+    ok = np.isfinite(y) & np.isfinite(err) & (err > 0)
+    n, y, err = n[ok], y[ok], err[ok]
+    nan = FiniteSizeFit(*[np.nan] * 6, nu is not None, np.nan, 0)
+
+    def linear(nu_):
+        X = np.column_stack([np.ones(n.size), n ** (-1.0 / nu_)])
+        W = 1 / err**2
+        cov = np.linalg.inv(X.T @ (W[:, None] * X))
+        beta = cov @ (X.T @ (W * y))
+        chi2 = float(np.sum(W * (y - X @ beta) ** 2))
+        return beta, cov, chi2
+
+    if nu is not None:
+        if n.size < 2:
+            return nan
+        beta, cov, chi2 = linear(nu)
+        extra = 0.0
+        if nu_err and np.isfinite(nu_err):
+            lo, hi = linear(max(nu - nu_err, 0.05))[0][0], linear(nu + nu_err)[0][0]
+            extra = 0.5 * abs(hi - lo)
+        return FiniteSizeFit(
+            float(beta[0]),
+            float(np.hypot(np.sqrt(cov[0, 0]), extra)),
+            float(beta[1]),
+            float(np.sqrt(cov[1, 1])),
+            float(nu),
+            float(nu_err),
+            True,
+            chi2,
+            int(n.size - 2),
+        )
+    if n.size < 3:
+        return nan
+
+    def model(nn, y_inf, a, theta):
+        return y_inf + a * nn ** (-theta)
+
+    start = [y[np.argmax(n)], (y[np.argmin(n)] - y[np.argmax(n)]) * n.min() ** 0.85, 0.85]
+    try:
+        popt, pcov = optimize.curve_fit(
+            model,
+            n,
+            y,
+            p0=start,
+            sigma=err,
+            absolute_sigma=True,
+            bounds=([-np.inf, -np.inf, THETA[0]], [np.inf, np.inf, THETA[1]]),
+            maxfev=20000,
+        )
+    except (RuntimeError, ValueError):
+        return nan
+    chi2 = float(np.sum(((y - model(n, *popt)) / err) ** 2))
+    # parametric bootstrap: with few sizes the three parameters are strongly correlated and
+    # their distribution far from normal, so the curvature errors understate the spread
+    rng = rng or np.random.default_rng(8)
+    draws = []
+    for _ in range(n_boot):
+        yb = y + rng.normal(0.0, err)
+        try:
+            pb, _ = optimize.curve_fit(
+                model,
+                n,
+                yb,
+                p0=popt,
+                sigma=err,
+                absolute_sigma=True,
+                bounds=([-np.inf, -np.inf, THETA[0]], [np.inf, np.inf, THETA[1]]),
+                maxfev=20000,
+            )
+        except (RuntimeError, ValueError):
+            continue
+        draws.append([pb[0], pb[1], 1 / pb[2]])
+    draws = np.array(draws).reshape(-1, 3)
+
+    def spread(col):
+        return float(np.std(draws[:, col], ddof=1)) if len(draws) >= 10 else np.nan
+
+    return FiniteSizeFit(
+        float(popt[0]),
+        spread(0),
+        float(popt[1]),
+        spread(1),
+        float(1 / popt[2]),
+        spread(2),
+        False,
+        chi2,
+        int(n.size - 3),
+    )
+
+
+# --------------------------------------------------------------------------- agreement
+
+
+def agreement_z(ours, cov, reference, reference_err=0.0) -> float:
+    """Distance between our values and a reference in units of both error bars.
+
+    Parameters
+    ----------
+    ours : (k,) float
+        Our values.
+    cov : (k, k) float
+        Their covariance (only the variances are used; a scalar or (k,) is read as variances).
+    reference : (k,) float
+        The reference values (the paper's), broadcast.
+    reference_err : (k,) float
+        Their standard errors.
+
+    Returns
+    -------
+    z : float
+        For k = 1, ``|ours - ref| / sqrt(err_ours^2 + err_ref^2)``. For k > 1 the largest of the
+        k per-point z, expressed as the two-sided normal deviate of its family-wise tail
+        probability ``1 - (1 - p_max)^k`` (Sidak), so that ``z < 2`` means the same 95.4 %
+        level whatever k. Sidak's inequality makes this valid (conservative) for normal errors
+        whatever their correlation, so no covariance matrix need be inverted (bootstrap
+        covariances of smooth curves are nearly singular). A point without error on either
+        side counts only if it differs (z = inf). NaN when any input is not finite.
+    """
+    y = np.atleast_1d(np.asarray(ours, float))
+    k = y.size
+    C = np.asarray(cov, float)
+    var = np.diag(C) if C.ndim == 2 else np.broadcast_to(C, (k,))
+    ref = np.broadcast_to(np.asarray(reference, float), (k,))
+    rerr = np.broadcast_to(np.asarray(reference_err, float), (k,))
+    finite = [np.all(np.isfinite(a)) for a in (y, var, ref, rerr)]
+    if not all(finite):
+        return float("nan")
+    delta = np.abs(y - ref)
+    sigma = np.sqrt(var + rerr**2)
+    if np.any((sigma == 0) & (delta != 0)):
+        return float("inf")
+    zs = delta[sigma > 0] / sigma[sigma > 0]
+    if zs.size == 0:
+        return 0.0
+    if k == 1:
+        return float(zs[0])
+    p_max = min(2.0 * stats.norm.sf(zs.max()), 1.0)  # two-sided tail of the largest
+    if p_max >= 1.0:
+        return 0.0
+    family = -np.expm1(k * np.log1p(-p_max))
+    return float(stats.norm.isf(max(family / 2, 1e-300)))
+
+
+def sign_z(value: float, err: float, sign: int) -> float:
+    """z of a claim that a quantity has a sign: its distance to the claimed half-line.
+
+    ``max(0, -sign * value) / err``: zero when the value lies on the claimed side, else the
+    number of standard errors by which it lies on the other side.
+    """
+    if not (np.isfinite(value) and np.isfinite(err)):
+        return float("nan")
+    gap = max(0.0, -sign * value)
+    if gap == 0:
+        return 0.0
+    return float(gap / err) if err > 0 else float("inf")

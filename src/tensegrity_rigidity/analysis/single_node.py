@@ -23,6 +23,7 @@ from math import factorial
 import numpy as np
 
 from ..errors import InputError
+from ..model.lattice import DEFAULT_DELTA
 
 ROD, CABLE, STRUT = "r", "c", "s"
 
@@ -116,7 +117,12 @@ def single_node_probability(p_r: float, p_c: float, p_s: float) -> float:
 
 
 def simulate_single_node(
-    p_r: float, p_c: float, p_s: float, trials: int, rng: np.random.Generator, delta: float = 0.2
+    p_r: float,
+    p_c: float,
+    p_s: float,
+    trials: int,
+    rng: np.random.Generator,
+    delta: float = DEFAULT_DELTA,
 ) -> tuple[int, int]:
     """Monte Carlo of the supplement: (rigid count, trials).
 

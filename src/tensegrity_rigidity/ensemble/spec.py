@@ -10,6 +10,8 @@ Flat keys (each a scalar or a list of distinct values; the grid is the product o
     phi = ["dilation", "shear", "compression", 0.7]
     samples = 100           # samples k = 1 .. samples per grid point
     seed = 1                # a list gives independent replicas (non-negative integers)
+    verdict = "exact"       # "paper": decide grid samples the paper's way instead
+                            # (solver.inexact: L-BFGS-B from u = 0, E > 1e-8 E(u = 0))
 
 Optional sections (defaults shown)::
 
@@ -30,7 +32,9 @@ Optional sections (defaults shown)::
     path = "p_r"            # "p_r": raise p_r at fixed p_t;  "total": raise p_r at fixed
                             # p_r + p_t = p_t (p_t then means the total occupation)
 
-In threshold mode the grid's ``p_r`` key is not used (omit it).
+In threshold mode the grid's ``p_r`` key is not used (omit it). ``verdict = "paper"`` applies to
+grid mode only (a bisection needs verdicts monotone in p_r, which the paper's are not); its rows
+hold the verdict, the energy reached, the affine energy and the iteration count.
 
 Strain angles. Sample ``k`` is strained along principal axes at angle ``theta_k``:
 
@@ -80,7 +84,8 @@ from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
 
 GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
-FLAT_KEYS = GRID_KEYS + ("samples",)
+FLAT_KEYS = GRID_KEYS + ("samples", "verdict")
+VERDICTS = ("exact", "paper")
 SECTIONS = {
     "lattice": {"kind"},
     "strain": {"gamma", "angles"},
@@ -149,6 +154,7 @@ class Spec:
     chunk_size: int = 32
     threshold: dict | None = None
     angles: str = "golden"
+    verdict: str = "exact"
 
     @property
     def mode(self) -> str:
@@ -191,6 +197,7 @@ class Spec:
             "lattice": self.lattice,
             "gamma": self.gamma,
             "angles": self.angles,
+            "verdict": self.verdict,
             "solver": asdict(self.solver_options()),
         }
 
@@ -206,7 +213,7 @@ class Spec:
 
     def canonical(self) -> dict:
         """A plain, sorted description of the whole spec (JSON-ready)."""
-        return {
+        out = {
             "grid": self.grid,
             "samples": self.samples,
             "lattice": self.lattice,
@@ -216,6 +223,9 @@ class Spec:
             "chunk_size": self.chunk_size,
             "threshold": self.threshold,
         }
+        if self.verdict != "exact":  # absent by default: digests of existing sweeps unchanged
+            out["verdict"] = self.verdict
+        return out
 
     def n_samples(self) -> int:
         return self.n_points() * self.samples
@@ -335,7 +345,12 @@ def parse_spec(data: dict) -> Spec:
             UserWarning,
             stacklevel=2,
         )
-    return Spec(grid, samples, lattice, gamma, solver, chunk, threshold, angles)
+    verdict = data.get("verdict", "exact")
+    if verdict not in VERDICTS:
+        raise SpecError(f"'verdict' must be one of {', '.join(VERDICTS)}, got {verdict!r}")
+    if verdict != "exact" and threshold is not None:
+        raise SpecError("verdict = 'paper' needs grid mode: remove the [threshold] section")
+    return Spec(grid, samples, lattice, gamma, solver, chunk, threshold, angles, verdict)
 
 
 def _check_distinct(key: str, values: list) -> None:

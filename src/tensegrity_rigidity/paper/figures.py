@@ -11,9 +11,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
-from matplotlib.colors import LinearSegmentedColormap, TwoSlopeNorm  # noqa: E402
+from matplotlib.colors import LinearSegmentedColormap, LogNorm, TwoSlopeNorm  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
+from .claims import CLAIMS  # noqa: E402
 
 STRAIN_COLOURS = {
     "dilation": "tab:red",
@@ -44,10 +46,21 @@ def _segments(inst):
     return np.stack([start, start + net.bond_vectors()], axis=1)
 
 
-def fig1a(field: dict, figdir: Path):
+def _placeholder(fid: str, text: str, figdir: Path) -> list[Path]:
+    """A figure that says why it is empty (no sample of its sweep qualified)."""
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    ax.text(0.5, 0.5, text, ha="center", va="center", wrap=True)
+    ax.set_axis_off()
+    ax.set_title(fid, fontsize=9)
+    return _save(fig, figdir, fid)
+
+
+def fig1a(field, figdir: Path):
     """A force-balanced configuration: rods solid, cables dashed, struts hollow; red/green/blue
     for positive/zero/negative tension."""
-    inst, res = field["mixed_instance"], field["mixed_result"]
+    inst, res = field.mixed_instance, field.mixed_result
+    if inst is None:
+        return _placeholder("1A", "no rigid sample in the Fig. 1A sweep", figdir)
     seg = _segments(inst)
     kinds = inst.network.kinds
     t = res.tensions
@@ -76,8 +89,6 @@ def fig1a(field: dict, figdir: Path):
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title("1A  rigid sample under shear (red pulls, blue pushes)", fontsize=9)
-    from matplotlib.lines import Line2D
-
     ax.legend(
         handles=[
             Line2D([], [], color="k", lw=2, label="rod"),
@@ -93,24 +104,24 @@ def fig1a(field: dict, figdir: Path):
 
 def fig1b(r: dict, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
-    P = np.ma.masked_invalid(r["P"])
-    mesh = ax.pcolormesh(r["p_r"], r["p_t"], P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
+    P = np.ma.masked_invalid(r.P)
+    mesh = ax.pcolormesh(r.p_r, r.p_t, P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
     fig.colorbar(mesh, ax=ax, label="P (shear, f_c = 0.5)")
-    ax.contour(r["p_r"], r["p_t"], P, levels=[0.5], colors="white", linewidths=1)
+    ax.contour(r.p_r, r.p_t, P, levels=[0.5], colors="white", linewidths=1)
     # the mean-field line p_r + p_t / 2 = const through P = 1/2 at p_t = 0
-    x0 = float(np.interp(0.5, np.nan_to_num(r["P"][0]), r["p_r"]))
-    pt = np.linspace(0, r["p_t"].max(), 50)
+    x0 = float(np.interp(0.5, np.nan_to_num(r.P[0]), r.p_r))
+    pt = np.linspace(0, r.p_t.max(), 50)
     ax.plot(x0 - pt / 2, pt, color="orange", lw=2, label=r"$p_r + p_t/2$ = const")
     ax.set_xlim(0, 1)
     ax.set_xlabel("p_r")
     ax.set_ylabel("p_t")
     ax.legend(loc="upper right", fontsize=8)
-    ax.set_title(f"1B  P(p_r, p_t), n = {r['n']}, {r['samples']} samples per p_t", fontsize=9)
+    ax.set_title(f"1B  P(p_r, p_t), n = {r.n}, {r.samples} samples per p_t", fontsize=9)
     return _save(fig, figdir, "1B")
 
 
 def fig1c(r: dict, figdir: Path):
-    fits = r["fits"]
+    fits = r.fits
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for strain, sub in fits.groupby("strain"):
         ax.errorbar(
@@ -126,61 +137,118 @@ def fig1c(r: dict, figdir: Path):
     ax.set_xlabel("f_c (cable fraction)")
     ax.set_ylabel("S_t / S_r")
     ax.legend(fontsize=8)
-    ax.set_title(f"1C  efficacy of one-sided elements, n = {r['n']}", fontsize=9)
+    ax.set_title(f"1C  efficacy of one-sided elements, n = {r.n}", fontsize=9)
     return _save(fig, figdir, "1C")
 
 
-def fig2a(r: dict, figdir: Path):
-    field = r["field"]
-    inst, res = field["instance"], field["result"]
+def fig2a(r, figdir: Path):
+    """Nonaffine displacements: unit arrows coloured by log10 |u| over a log-scaled background.
+
+    Near the transition a few nodes move 1e3-1e4 times more than the rest; arrows of true
+    length would show only those. Every arrow therefore has the same length and its colour
+    (and the background) gives |u| on a logarithmic scale.
+    """
+    field = r.field
+    inst, res = field.instance, field.result
+    if inst is None:
+        return _placeholder("2A", "no sample of the Fig. 2A sweep has a usable threshold", figdir)
     pos = inst.network.positions
     u = res.displacements
     mag = np.hypot(u[:, 0], u[:, 1])
+    floor = max(float(mag.max()) * 1e-6, 1e-300)
+    mag_c = np.clip(mag, floor, None)
+    norm = LogNorm(vmin=mag_c.min(), vmax=mag_c.max())
     fig, ax = plt.subplots(figsize=(6, 5.2))
-    tri = ax.tripcolor(pos[:, 0], pos[:, 1], mag, shading="gouraud", cmap="Greys", alpha=0.8)
-    fig.colorbar(tri, ax=ax, label="|u_na|")
+    ax.tripcolor(pos[:, 0], pos[:, 1], mag_c, shading="gouraud", cmap="Greys", norm=norm, alpha=0.6)
     seg = _segments(inst)
     kinds = inst.network.kinds
-    ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=1))
+    ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=0.8))
     ax.add_collection(
         LineCollection(
-            seg[kinds == Element.CABLE], colors="tab:red", linewidths=1, linestyles=(0, (3, 2))
+            seg[kinds == Element.CABLE], colors="tab:red", linewidths=0.8, linestyles=(0, (3, 2))
         )
     )
-    ax.quiver(pos[:, 0], pos[:, 1], u[:, 0], u[:, 1], color="tab:blue", angles="xy")
+    unit = u / np.where(mag > 0, mag, 1.0)[:, None]
+    q = ax.quiver(
+        pos[:, 0],
+        pos[:, 1],
+        unit[:, 0],
+        unit[:, 1],
+        mag_c,
+        cmap="viridis",
+        norm=norm,
+        angles="xy",
+        scale_units="xy",
+        scale=2.2,
+        width=0.004,
+    )
+    fig.colorbar(q, ax=ax, label="|u_na| (log scale; arrows show direction only)")
     ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title(
-        f"2A  rods + cables, compression, p_r = {field['p_r']:.2f}, p_t = {field['p_t']}",
-        fontsize=9,
+        f"2A  rods + cables, compression, p_r = {field.p_r:.2f}, p_t = {field.p_t}; "
+        f"max |u| = {mag_c.max() / np.median(mag_c):.0f} x median",
+        fontsize=8,
     )
     return _save(fig, figdir, "2A")
 
 
-def fig2b(r: dict, figdir: Path):
-    c = r["curves"]
+def fig2b(r, figdir: Path):
+    """Gamma versus p_r: median with the interquartile band, mean as open markers."""
+    c = r.curves
     sub = c[np.isclose(c.phi, math.pi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for p_t, s in sub.groupby("p_t"):
-        line = ax.errorbar(
-            s.p_r, s.gamma, yerr=s.gamma_sem, marker="o", ms=3, capsize=2, label=f"p_t = {p_t:.1f}"
-        )
-        pc = r["crit"]
+        (line,) = ax.plot(s.p_r, s.gamma_median, "-", lw=1.5, label=f"p_t = {p_t:.1f} (median)")
+        colour = line.get_color()
+        ax.fill_between(s.p_r, s.gamma_q25, s.gamma_q75, color=colour, alpha=0.2, lw=0)
+        ax.plot(s.p_r, s.gamma, "o", mfc="none", ms=4, color=colour)
+        pc = r.crit
         pc = pc[np.isclose(pc.phi, math.pi) & np.isclose(pc.p_t, p_t)].p_crit
         if len(pc):
-            ax.axvline(float(pc.iloc[0]), color=line[0].get_color(), ls="--", lw=1)
+            ax.axvline(float(pc.iloc[0]), color=colour, ls="--", lw=1)
+    ax.plot([], [], "o", mfc="none", color="grey", label="mean")
     ax.set_yscale("log")
     ax.set_xlabel("p_r")
     ax.set_ylabel("nonaffinity Gamma")
-    ax.legend(fontsize=8)
-    ax.set_title(f"2B  rods + cables under compression, n = {r['n']} (dashed: p_crit)", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.set_title(
+        f"2B  rods + cables, compression, n = {r.n}: median, quartiles (band), mean (o); "
+        "dashed: p_crit",
+        fontsize=8,
+    )
     return _save(fig, figdir, "2B")
 
 
+def fig2e(r, figdir: Path):
+    """CCDF of Gamma over samples at the grid p_r nearest p_crit (compression), per p_t."""
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    at = r.at_pcrit
+    drawn = False
+    for p_t, sub in at.groupby("p_t"):
+        v = np.sort(sub.nonaffinity.to_numpy(float))
+        v = v[np.isfinite(v) & (v > 0)]
+        if not v.size:
+            continue
+        ccdf = 1.0 - np.arange(v.size) / v.size  # fraction of samples with Gamma >= v
+        ax.step(v, ccdf, where="post", label=f"p_t = {p_t:.1f}, p_r = {sub.p_r.iloc[0]:.2f}")
+        drawn = True
+    if drawn:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.legend(fontsize=7)
+    else:
+        ax.text(0.5, 0.5, "no nonaffinity at p_crit", ha="center", transform=ax.transAxes)
+    ax.set_xlabel("Gamma")
+    ax.set_ylabel("fraction of samples with a larger Gamma")
+    ax.set_title(f"2E  distribution of Gamma at p_crit (compression), n = {r.n}", fontsize=9)
+    return _save(fig, figdir, "2E")
+
+
 def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
-    c = r["curves"]
-    fits = r["fits"]
+    c = r.curves
+    fits = r.fits
     sub = c[np.isclose(c.phi, phi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     inset = ax.inset_axes([0.12, 0.5, 0.35, 0.4])
@@ -207,7 +275,7 @@ def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
     ax.set_ylabel("mean energy E (gamma = 1)")
     ax.legend(fontsize=8, loc="lower right")
     name = "compression" if phi == math.pi else "dilation"
-    ax.set_title(f"{fid}  energy, rods + cables, {name}, n = {r['n']}", fontsize=9)
+    ax.set_title(f"{fid}  energy, rods + cables, {name}, n = {r.n}", fontsize=9)
     return _save(fig, figdir, fid)
 
 
@@ -221,9 +289,9 @@ def fig2d(r: dict, figdir: Path):
 
 def fig3b(r: dict, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    sim = r["sim"]
-    for p_r, curve in r["analytic"].items():
-        line = ax.plot(r["f_c"], curve, label=f"p_r = {p_r}")
+    sim = r.sim
+    for p_r, curve in r.analytic.items():
+        line = ax.plot(r.f_c, curve, label=f"p_r = {p_r}")
         s = sim[np.isclose(sim.p_r, p_r)]
         ax.errorbar(
             s.f_c,
@@ -237,22 +305,19 @@ def fig3b(r: dict, figdir: Path):
     ax.set_xlabel("f_c")
     ax.set_ylabel("P_N")
     ax.legend(fontsize=8)
-    ax.set_title(f"3B  single node: theory (lines), {r['trials']} trials (95%)", fontsize=9)
+    ax.set_title(f"3B  single node: theory (lines), {r.trials} trials (95%)", fontsize=9)
     return _save(fig, figdir, "3B")
 
 
 def fig4a(r: dict, figdir: Path):
-    pp = r["per_phi"]
+    pp = r.per_phi
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     cmap = plt.get_cmap("coolwarm")
     for phi, s in pp.groupby("phi"):
-        from ..analysis.estimators import wilson
-
-        P, lo, hi = wilson(s.P * s.N, s.N)
         ax.errorbar(
             s.f_c,
-            P,
-            yerr=_yerr(P, lo, hi),
+            s.P,
+            yerr=_yerr(s.P, s.lo, s.hi),
             marker="o",
             ms=3,
             capsize=2,
@@ -262,12 +327,12 @@ def fig4a(r: dict, figdir: Path):
     ax.set_xlabel("f_c")
     ax.set_ylabel("P")
     ax.legend(fontsize=6, ncol=2)
-    ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r['n']}, {r['samples']} samples", fontsize=9)
+    ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r.n}, {r.samples} samples", fontsize=9)
     return _save(fig, figdir, "4A")
 
 
 def fig4b(r: dict, figdir: Path):
-    a = r["average"]
+    a = r.average
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     ax.errorbar(a.f_c, a.S_c_rel, yerr=a.S_c_rel_err, marker="o", capsize=3, label="S_c / S_r")
     ax.errorbar(a.f_c, a.S_s_rel, yerr=a.S_s_rel_err, marker="s", capsize=3, label="S_s / S_r")
@@ -282,7 +347,7 @@ def fig4b(r: dict, figdir: Path):
 def fig4c(r: dict, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for name in ("average", "dilation", "compression"):
-        s = r[name]
+        s = getattr(r, name)
         ax.errorbar(
             s.f_c,
             s.sum_rel,
@@ -300,11 +365,48 @@ def fig4c(r: dict, figdir: Path):
     return _save(fig, figdir, "4C")
 
 
+def fig_fss(r, figdir: Path):
+    """Finite size: the rods-only P = 1/2 point and S_t/S_r of the one-sided systems versus
+    n^(-1/nu), with the extrapolations to n -> infinity and the paper's values."""
+    ex = r.extrapolated.set_index("key")
+    pc = ex.loc["rods_only_pc"]
+    nu = pc.nu if np.isfinite(pc.nu) else 1.0
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    panels = (
+        (axes[0], ["rods_only_pc"], "rods-only P = 1/2 point"),
+        (
+            axes[1],
+            ["st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear"],
+            "S_t / S_r",
+        ),
+    )
+    for ax, keys, ylabel in panels:
+        for key in keys:
+            ref = CLAIMS[key].value
+            s = r.by_size[r.by_size.key == key].sort_values("n")
+            x = s.n.to_numpy(float) ** (-1 / nu)
+            line = ax.errorbar(x, s.value, yerr=s.err, marker="o", capsize=3, label=key)
+            colour = line[0].get_color()
+            f = ex.loc[key]
+            if np.isfinite(f.y_inf):
+                xs = np.linspace(0, x.max(), 50)
+                ax.plot(xs, f.y_inf + f.a * xs, "--", color=colour, lw=1)
+                ax.errorbar([0], [f.y_inf], yerr=[f.y_inf_err], fmt="s", color=colour, capsize=3)
+            ax.axhline(ref, color=colour, ls=":", lw=1)
+        ax.set_xlabel(f"n^(-1/nu), nu = {nu:.2f} (fitted to the rods-only points)")
+        ax.set_ylabel(ylabel)
+        ax.legend(fontsize=7)
+    axes[0].set_title(
+        f"FS  n = {', '.join(map(str, r.sizes))}; dotted: literature / paper", fontsize=9
+    )
+    return _save(fig, figdir, "FS")
+
+
 def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
     """Draw every figure; returns {figure id: [png, svg]}."""
     out = {}
     if "fig2" in results:
-        out["1A"] = fig1a(results["fig2"]["field"], figdir)
+        out["1A"] = fig1a(results["fig2"].field, figdir)
     if "fig1b" in results:
         out["1B"] = fig1b(results["fig1b"], figdir)
     if "fig1c" in results:
@@ -314,10 +416,13 @@ def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
         out["2B"] = fig2b(results["fig2"], figdir)
         out["2C"] = fig2c(results["fig2"], figdir)
         out["2D"] = fig2d(results["fig2"], figdir)
+        out["2E"] = fig2e(results["fig2"], figdir)
     if "fig3" in results:
         out["3B"] = fig3b(results["fig3"], figdir)
     if "fig4" in results:
         out["4A"] = fig4a(results["fig4"], figdir)
         out["4B"] = fig4b(results["fig4"], figdir)
         out["4C"] = fig4c(results["fig4"], figdir)
+    if "fss" in results:
+        out["FS"] = fig_fss(results["fss"], figdir)
     return out

@@ -1,9 +1,8 @@
 """The reproduction report: our numbers beside the paper's, figures, tables.
 
-:func:`comparison_table` turns study results into one row per quantitative claim of the paper
-(MODEL.md): the paper's value, ours with its uncertainty and system size, and a verdict. Two
-numbers *agree* when they differ by less than twice their combined standard error (the paper's
-error where it gives one, else ours alone). Nothing here is tuned to agree.
+The report renders; it computes nothing. The studies (:mod:`~tensegrity_rigidity.paper.studies`)
+compute every statistic, :mod:`~tensegrity_rigidity.paper.comparison` pairs them with the
+paper's claims (:mod:`~tensegrity_rigidity.paper.claims`) into typed rows.
 
 :func:`write_report` writes ``report.md``, a self-contained ``report.html`` (figures embedded as
 base64 PNG; no external reference of any kind) and the tables as CSV.
@@ -13,229 +12,17 @@ from __future__ import annotations
 
 import base64
 import html
-import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-PAPER_PCRIT = {
-    "compression": {0.0: 0.66, 0.1: 0.60, 0.2: 0.56, 0.3: 0.51},
-    "dilation": {0.0: 0.65, 0.1: 0.59, 0.2: 0.53, 0.3: 0.46},
-}
-PAPER_ALPHA = {
-    "compression": {
-        0.0: (1.100, 0.015),
-        0.1: (1.478, 0.070),
-        0.2: (1.582, 0.085),
-        0.3: (1.806, 0.130),
-    },
-    "dilation": {
-        0.0: (1.257, 0.029),
-        0.1: (1.033, 0.032),
-        0.2: (0.867, 0.019),
-        0.3: (0.673, 0.025),
-    },
-}
-
-
-def _verdict(ours, err, paper, paper_err=0.0):
-    if ours is None or not np.isfinite(ours):
-        return "n/a"
-    sigma = math.hypot(err if np.isfinite(err) else 0.0, paper_err)
-    if sigma == 0:
-        return "agree" if abs(ours - paper) < 1e-12 else "disagree"
-    return "agree" if abs(ours - paper) <= 2 * sigma else "disagree"
-
-
-def _fmt(value, err=None, digits=3):
-    if value is None or (isinstance(value, float) and not np.isfinite(value)):
-        return "n/a"
-    if err is None or not np.isfinite(err):
-        return f"{value:.{digits}f}"
-    return f"{value:.{digits}f} ± {err:.{digits}f}"
-
-
-def comparison_table(results: dict) -> pd.DataFrame:
-    """One row per claim: claim, paper, ours, system, verdict."""
-    rows = []
-
-    def add(claim, paper, ours, system, verdict, note=""):
-        rows.append(
-            {
-                "claim": claim,
-                "paper": paper,
-                "ours": ours,
-                "system": system,
-                "verdict": verdict,
-                "note": note,
-            }
-        )
-
-    if "fig1c" in results:
-        r = results["fig1c"]
-        fits = r["fits"]
-        sys_ = f"n = {r['n']}, {r['samples']} samples x 4 p_t"
-
-        def lam(f_c, strain):
-            row = fits[np.isclose(fits.f_c, f_c) & (fits.strain == strain)].iloc[0]
-            return float(row.lam), float(row.lam_err)
-
-        for strain in ("dilation", "shear", "compression", "average"):
-            v, e = lam(0.5, strain)
-            add(
-                f"S_t/S_r = 0.5 at f_c = 0.5 ({strain})",
-                "0.5",
-                _fmt(v, e),
-                sys_,
-                _verdict(v, e, 0.5),
-            )
-        v, e = lam(1.0, "compression")
-        add(
-            "rods + cables, compression: S_t/S_r",
-            "0.372 ± 0.013",
-            _fmt(v, e),
-            sys_,
-            _verdict(v, e, 0.372, 0.013),
-        )
-        v, e = lam(0.0, "dilation")
-        add(
-            "rods + struts, dilation: S_t/S_r",
-            "0.359 ± 0.015",
-            _fmt(v, e),
-            sys_,
-            _verdict(v, e, 0.359, 0.015),
-            "identical to rods + cables under compression by an exact symmetry: compression is "
-            "minus dilation, and e -> -e swaps cables and struts sample by sample",
-        )
-        v, e = lam(1.0, "dilation")
-        add(
-            "rods + cables, dilation: S_t/S_r",
-            "about 0.67",
-            _fmt(v, e),
-            sys_,
-            _verdict(v, e, 0.67),
-            "paper gives no error bar",
-        )
-        pc, pc_e = r["rods_only_pc"]
-        add(
-            "rods only: p_c (Jacobs & Thorpe 1995: 0.6602)",
-            "0.66",
-            _fmt(pc, pc_e),
-            f"n = {r['n']}, {r['rods_only_samples']} thresholds",
-            _verdict(pc, pc_e, 0.6602),
-            "finite-size threshold (median of per-sample thresholds)",
-        )
-    if "fig1b" in results:
-        r = results["fig1b"]
-        # does P depend on p_r + p_t/2 only? compare x where P = 1/2 across p_t
-        xs = []
-        for i, pt in enumerate(r["p_t"]):
-            P = r["P"][i]
-            ok = np.isfinite(P)
-            if ok.sum() > 2 and P[ok].max() >= 0.5:
-                xs.append(float(np.interp(0.5, P[ok], r["p_r"][ok])) + pt / 2)
-        spread = float(np.std(xs)) if xs else float("nan")
-        add(
-            "shear, f_c = 0.5: P depends on p_r + p_t/2 only (Fig. 1B)",
-            "P = 1/2 contour along p_r + p_t/2 = const",
-            f"p_r + p_t/2 at P = 1/2: mean {np.mean(xs):.3f}, spread {spread:.3f} over "
-            f"{len(xs)} values of p_t",
-            f"n = {r['n']}, {r['samples']} samples per p_t",
-            "agree" if spread < 0.02 else "disagree",
-            "spread below 0.02 counts as agreement",
-        )
-    if "fig2" in results:
-        r = results["fig2"]
-        sys_ = f"n = {r['n']}, {r['samples']} samples per point"
-        fits = r["fits"]
-        for strain in ("compression", "dilation"):
-            for p_t, paper in PAPER_PCRIT[strain].items():
-                row = fits[(fits.strain == strain) & np.isclose(fits.p_t, p_t)].iloc[0]
-                add(
-                    f"p_crit, rods + cables, {strain}, p_t = {p_t}",
-                    f"{paper:.2f}",
-                    _fmt(row.p_crit, row.p_crit_err),
-                    sys_,
-                    _verdict(row.p_crit, row.p_crit_err, paper, 0.005),
-                    "ours: P = 1/2; paper: first positive energy (reads off to 0.01)",
-                )
-                pa, pe = PAPER_ALPHA[strain][p_t]
-                add(
-                    f"energy exponent alpha, {strain}, p_t = {p_t}",
-                    _fmt(pa, pe),
-                    _fmt(row.alpha, row.alpha_err),
-                    f"{sys_}; {row.n_points} fit points",
-                    _verdict(row.alpha, row.alpha_err, pa, pe),
-                )
-        taut = r["taut"]
-        crit = r["crit"]
-        vals = []
-        for p_t in (0.1, 0.2, 0.3):
-            pc = crit[np.isclose(crit.phi, math.pi) & np.isclose(crit.p_t, p_t)].p_crit
-            sub = taut[np.isclose(taut.phi, math.pi) & np.isclose(taut.p_t, p_t)]
-            if len(pc) and len(sub):
-                row = sub.iloc[int(np.argmin(np.abs(sub.p_r - float(pc.iloc[0]))))]
-                vals.append((row["mean"], row["sem"], p_t, row.p_r))
-        if vals:
-            v = float(np.mean([x[0] for x in vals]))
-            e = float(np.sqrt(np.nansum([x[1] ** 2 for x in vals])) / len(vals))
-            add(
-                "cables under tension at the transition (rods + cables, compression)",
-                "about 37 %",
-                f"{100 * v:.1f} % ± {100 * e:.1f} %",
-                sys_ + "; rigid samples at p_r nearest p_crit, mean over p_t = 0.1, 0.2, 0.3",
-                _verdict(v, e, 0.37),
-                "paper gives no error bar",
-            )
-        peaks = crit[np.isclose(crit.phi, math.pi)]
-        dist = np.abs(peaks.gamma_peak_p_r - peaks.p_crit)
-        add(
-            "nonaffinity Gamma peaks at the transition (compression)",
-            "peak at p_crit",
-            "peak - p_crit: "
-            + ", ".join(f"{d:+.3f}" for d in (peaks.gamma_peak_p_r - peaks.p_crit)),
-            sys_,
-            "agree" if (dist <= 0.1 + 1e-9).all() else "disagree",
-            "agreement: every peak within 0.1 of p_crit",
-        )
-    if "fig4" in results:
-        r = results["fig4"]
-        sys_ = f"n = {r['n']}, {r['samples']} samples per point"
-        pp = r["per_phi"]
-        for name, phi, sign in (("dilation", 0.0, 1), ("compression", math.pi, -1)):
-            s = pp[np.isclose(pp.phi, phi)].sort_values("f_c")
-            slope = float(np.polyfit(s.f_c, s.P, 1)[0])
-            add(
-                f"Fig. 4A: P {'rises' if sign > 0 else 'falls'} with f_c under {name}",
-                "rises" if sign > 0 else "falls",
-                f"slope dP/df_c = {slope:+.3f}",
-                sys_,
-                "agree" if slope * sign > 0 else "disagree",
-            )
-        a = r["average"]
-        dev = a.sum_rel - 1.0
-        add(
-            "Fig. 4C: (S_c + S_s)/S_r = 1, strain average, every f_c",
-            "1 for every f_c",
-            ", ".join(f"{v:.2f}±{e:.2f}" for v, e in zip(a.sum_rel, a.sum_rel_err, strict=False)),
-            sys_,
-            "agree" if (np.abs(dev) <= 2 * a.sum_rel_err + 1e-12).all() else "disagree",
-            "per f_c = 0, 1/8, ..., 1; dP/df_c by central differences, second-order one-sided "
-            "at f_c = 0 and 1, where P(f_c) is steep and the estimate is least reliable",
-        )
-    if "fig3" in results:
-        s = results["fig3"]["sim"]
-        z = (s.P - s.analytic) / ((s.hi - s.lo) / (2 * 1.96))
-        add(
-            "single node: analytic P_N equals simulation",
-            "agree (Fig. 3B)",
-            f"max |z| = {np.nanmax(np.abs(z)):.2f} over {len(s)} points",
-            f"{results['fig3']['trials']} trials per point",
-            "agree" if np.nanmax(np.abs(z)) < 3.5 else "disagree",
-            "z = (simulated - analytic) / binomial standard error",
-        )
-    return pd.DataFrame(rows)
+from ..analysis.single_node import class_weights, qbar_table
+from ..model.lattice import DEFAULT_DELTA
+from .claims import CLAIMS
+from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame
+from .finite_size import NU_CHECK, PC_CHECK
 
 
 def _md_table(df: pd.DataFrame) -> str:
@@ -264,15 +51,246 @@ FIGURE_CAPTIONS = {
     "red (pulling) through green (zero) to blue (pushing).",
     "1B": "Probability of rigidity under shear at f_c = 0.5 with the mean-field line.",
     "1C": "S_t/S_r versus f_c for dilation, shear, compression and the strain average.",
-    "2A": "Nonaffine displacement field of a rods-and-cables network under compression.",
-    "2B": "Nonaffinity versus p_r for several p_t (rods + cables, compression).",
+    "2A": "Nonaffine displacement field of a rods-and-cables network under compression: arrows "
+    "of equal length give the direction, their colour and the background |u| on a log scale.",
+    "2B": "Nonaffinity versus p_r for several p_t (rods + cables, compression): median with the "
+    "interquartile band, the mean as open markers.",
+    "2E": "Not in the paper: the distribution (complementary CDF) of Gamma over samples at the "
+    "grid p_r nearest p_crit (rods + cables, compression).",
     "2C": "Energy versus p_r under compression; inset: log-log with power-law fits.",
     "2D": "Energy versus p_r under dilation; inset: log-log with power-law fits.",
     "3B": "Single three-coordinated node: P_N versus f_c.",
     "4A": "P versus f_c for strains from dilation (phi = 0) to compression (phi = pi).",
     "4B": "Efficacies of cables and struts relative to rods, averaged over strains.",
     "4C": "Combined efficacy (S_c + S_s)/S_r versus f_c.",
+    "FS": "Not in the paper: finite size. Left, the rods-only P = 1/2 point; right, S_t/S_r of "
+    "rods + cables (compression, dilation) and of f_c = 0.5 under shear; against n^(-1/nu) "
+    "with the extrapolation to n -> infinity (squares) and the paper's or the literature's "
+    "value (dotted).",
 }
+
+
+def excluded_samples(results: dict) -> dict[str, int]:
+    """Sweep name -> samples excluded as undecided, over every study result."""
+    out: dict[str, int] = {}
+    for r in results.values():
+        out.update(r.excluded)
+    return out
+
+
+def straddling_of(results: dict) -> dict[str, int | None]:
+    """Study name -> threshold samples whose interval straddles a grid value (None: the
+    threshold rows do not record intervals), for the studies that record it."""
+    return {k: r.straddling for k, r in results.items() if hasattr(r, "straddling")}
+
+
+def tables_of(results: dict) -> dict[str, pd.DataFrame]:
+    """The CSV tables written beside the report (name -> frame), from the study results."""
+    extra = {}
+    if "fig1c" in results:
+        extra["efficacy_fits"] = results["fig1c"].fits
+    if "fig2" in results:
+        extra["energy_fits"] = results["fig2"].fits
+        extra["energy_fits_paper_estimators"] = results["fig2"].paper_estimators
+        extra["fig2_curves"] = results["fig2"].curves
+        extra["fig2_tails"] = results["fig2"].tails
+        extra["fig2_at_pcrit"] = results["fig2"].at_pcrit
+    if "fig3" in results:
+        extra["single_node_qbar"] = pd.DataFrame(qbar_table())
+        extra["single_node_simulation"] = results["fig3"].sim
+        extra["single_node_class_weights"] = pd.DataFrame([class_weights()])
+    if "fss" in results:
+        extra["fss_by_size"] = results["fss"].by_size
+        extra["fss_extrapolated"] = results["fss"].extrapolated
+    if "delta" in results:
+        extra["delta_by_delta"] = results["delta"].by_delta
+    if "method" in results:
+        extra["method_disagreement"] = results["method"].disagreement
+        extra["method_claims"] = results["method"].claims
+    if "fig4" in results:
+        extra["fig4_average"] = results["fig4"].average
+        extra["fig4_per_strain"] = results["fig4"].per_phi
+        extra["fig4_differences"] = results["fig4"].differences
+    return extra
+
+
+@dataclass(frozen=True)
+class Section:
+    """A section of the report: a title, paragraphs and tables, rendered to Markdown and HTML."""
+
+    title: str
+    paragraphs: tuple[str, ...]
+    tables: tuple[pd.DataFrame, ...] = ()
+
+
+def _g(x: float) -> str:
+    return f"{x:.3g}" if np.isfinite(x) else "n/a"
+
+
+def tails_section(r) -> Section:
+    """Heavy tails of Gamma and the energy at the transition (from Fig. 2's study)."""
+    if r.min_norm_failed is None:
+        mn = (
+            "The sweep rows do not record whether the displacements are the verified "
+            "minimum-norm minimiser (min_norm_ok, absent in rows written before it existed): "
+            "every stored Gamma is used."
+        )
+    else:
+        mn = (
+            f"{r.min_norm_failed} grid samples have no verified minimum-norm displacements "
+            "(min_norm_ok = False); their Gamma is left out (NaN), their verdict and energy kept."
+        )
+    paragraphs = [mn]
+    w = r.worst_tail
+    if w is not None:
+        paragraphs.append(
+            f"Near the transition Gamma is heavy-tailed, so a mean over samples (what the paper "
+            f"plots in Fig. 2B) is set by its few largest samples. At p_crit "
+            f"(p_t = {w['p_t']:.1f}, p_r = {w['p_r']:.2f}) the largest of {w['N']} samples carries "
+            f"{100 * w['top_share']:.0f} % of the summed Gamma: leaving it out moves the mean "
+            f"from {_g(w['mean'])} to {_g(w['mean_without_top'])}, while the median is "
+            f"{_g(w['median'])} (quartiles {_g(w['q25'])}, {_g(w['q75'])}). The paper's mean is "
+            "therefore sensitive to the number of samples (a larger sample meets larger "
+            "outliers), to how far the minimiser is from the minimum-norm one along floppy "
+            "directions (an unconverged or non-minimum-norm displacement inflates exactly these "
+            "samples), and to the position of the grid point relative to p_crit; the median and "
+            "quartiles (Fig. 2B band, Fig. 2E) are not."
+        )
+    table = r.tails.copy()
+    for col in ("mean", "median", "q25", "q75", "max", "mean_without_top"):
+        if col in table:
+            table[col] = table[col].map(_g)
+    if "top_share" in table:
+        table["top_share"] = table["top_share"].map(
+            lambda x: f"{100 * x:.0f} %" if np.isfinite(x) else "n/a"
+        )
+    return Section(
+        "Heavy tails: Gamma and the energy at the transition", tuple(paragraphs), (table,)
+    )
+
+
+def method_section(r) -> Section:
+    """The paper's verdict beside ours on the same samples (from the method study)."""
+    it = r.iterations
+    main = r.disagreement[
+        (r.disagreement.threshold == r.threshold) & (r.disagreement.region == "all")
+    ].iloc[0]
+    near = r.disagreement[
+        (r.disagreement.threshold == r.threshold) & (r.disagreement.region != "all")
+    ].iloc[0]
+    paragraphs = (
+        "The paper decided each sample by minimising the energy (Mathematica's FindMinimum) and "
+        "calling it rigid when the energy is above 0. Here the same grid (rods + cables, "
+        f"compression and dilation, p_t = 0 to 0.3, p_r = 0.40 to 0.80, n = {r.n}, {r.samples} "
+        "samples per point) is decided twice on identical samples: by our certificates, and by "
+        "SciPy's L-BFGS-B with its default tolerances and the exact gradient from u = 0, rigid "
+        f"when the energy it stops at exceeds {r.threshold:g} of the affine energy. That "
+        "threshold is the resolution of a minimiser stopped at default tolerances (about half "
+        "the machine digits relative to the energy scale; FindMinimum's default precision goal "
+        "is 8 digits); 100x above and below it are shown too.",
+        f"At that threshold {main.differ} of {main.samples} verdicts differ "
+        f"({100 * main.fraction:.1f} %, 95 % interval {100 * main.lo:.1f} to "
+        f"{100 * main.hi:.1f} %); where the exact P lies between 0.1 and 0.9, {near.differ} of "
+        f"{near.samples} ({100 * near.fraction:.1f} %). {main.exact_floppy_paper_rigid} floppy "
+        f"samples are called rigid (the minimiser stopped above the threshold) and "
+        f"{main.exact_rigid_paper_floppy} rigid samples floppy. L-BFGS-B took a median of "
+        f"{it['median']:.0f} iterations (at most {it['max']}); {it['not_converged']} runs "
+        "stopped without meeting its tolerances.",
+        "How each claim moves (same samples, same estimator; shift = paper's verdict - ours, "
+        "with a paired bootstrap error). The comparison table's explanation column adds these "
+        "shifts to our values as the evidence for the factor 'method'.",
+    )
+    dis = r.disagreement.copy()
+    for col in ("fraction", "lo", "hi"):
+        dis[col] = dis[col].map(lambda x: f"{100 * x:.1f} %" if np.isfinite(x) else "n/a")
+    claims = r.claims.copy()
+    claims.insert(1, "claim", [CLAIMS[k].text for k in claims.key])
+    for col in ("exact", "paper", "shift"):
+        claims[col] = [_fmt(v, e) for v, e in zip(claims[col], claims[f"{col}_err"], strict=True)]
+    claims = claims[["claim", "exact", "paper", "shift", "note"]]
+    return Section("The paper's method beside ours", paragraphs, (dis, claims))
+
+
+def _fmt(v: float, e: float) -> str:
+    if not np.isfinite(v):
+        return "n/a"
+    return f"{v:.3f} ± {e:.3f}" if np.isfinite(e) else f"{v:.3f}"
+
+
+def fss_section(r) -> Section:
+    """Finite size: the headline claims per n and extrapolated to n -> infinity."""
+    ex = r.extrapolated.set_index("key")
+    pc = ex.loc["rods_only_pc"]
+    paragraphs = (
+        f"The headline claims at n = {', '.join(map(str, r.sizes))} ({r.samples} samples per "
+        "size and point; exact per-sample thresholds, node disorder delta = "
+        f"{DEFAULT_DELTA}), each extrapolated with y(n) = y_inf + a n^(-1/nu). For the "
+        f"rods-only P = 1/2 point nu is fitted: p_c = {_fmt(pc.y_inf, pc.y_inf_err)}, "
+        f"nu = {_fmt(pc.nu, pc.nu_err)} (chi-square {pc.chi2:.2f} with {pc.dof} degree(s) of "
+        "freedom; errors from a parametric bootstrap). Checks, not inputs: nu against "
+        f"{NU_CHECK.value} ± {NU_CHECK.error} ({NU_CHECK.citation.split(',')[0]}): "
+        f"z = {r.nu_z:.2f}; p_c against {PC_CHECK.value} ({PC_CHECK.citation.split(',')[0]}): "
+        f"z = {r.pc_z:.2f} (within its error when z < 1). The other claims are extrapolated "
+        "with nu fixed at the fitted value, its error added. z_paper is the comparison's "
+        "statistic of the extrapolation against the paper's value.",
+    )
+    wide = r.by_size.pivot_table(index="key", columns="n", values="value")
+    err = r.by_size.pivot_table(index="key", columns="n", values="err")
+    table = pd.DataFrame({"claim": [CLAIMS[k].text for k in wide.index]})
+    table["paper"] = [CLAIMS[k].paper for k in wide.index]
+    for n in wide.columns:
+        table[f"n = {n}"] = [_fmt(v, e) for v, e in zip(wide[n], err[n], strict=True)]
+    table["n -> infinity"] = [_fmt(ex.loc[k].y_inf, ex.loc[k].y_inf_err) for k in wide.index]
+    table["z_paper"] = [f"{ex.loc[k].z_paper:.2f}" for k in wide.index]
+    return Section("Finite size", paragraphs, (table,))
+
+
+def delta_section(r) -> Section:
+    """The headline claims at each node disorder delta."""
+    paragraphs = (
+        f"The paper does not state its node disorder delta; ours is {DEFAULT_DELTA}. The headline "
+        f"claims at delta = {', '.join(f'{d:g}' for d in r.deltas)} (n = {r.n}, {r.samples} "
+        "samples per point); z_paper against the paper's value.",
+    )
+    wide = r.by_delta.pivot_table(index="key", columns="delta", values="value")
+    err = r.by_delta.pivot_table(index="key", columns="delta", values="err")
+    z = r.by_delta.pivot_table(index="key", columns="delta", values="z_paper")
+    table = pd.DataFrame({"claim": [CLAIMS[k].text for k in wide.index]})
+    table["paper"] = [CLAIMS[k].paper for k in wide.index]
+    for d in wide.columns:
+        table[f"delta = {d:g}"] = [
+            f"{_fmt(v, e)} (z = {zz:.1f})" for v, e, zz in zip(wide[d], err[d], z[d], strict=True)
+        ]
+    return Section("Node disorder delta", paragraphs, (table,))
+
+
+def sections_of(results: dict) -> list[Section]:
+    """The report's sections after the comparison table, for the studies that ran."""
+    out = []
+    if "fig2" in results:
+        out.append(tails_section(results["fig2"]))
+    if "method" in results:
+        out.append(method_section(results["method"]))
+    if "fss" in results:
+        out.append(fss_section(results["fss"]))
+    if "delta" in results:
+        out.append(delta_section(results["delta"]))
+    return out
+
+
+def _md_section(sec: Section) -> list[str]:
+    lines = [f"## {sec.title}", ""]
+    for p in sec.paragraphs:
+        lines += [p, ""]
+    for t in sec.tables:
+        lines += [_md_table(t), ""]
+    return lines
+
+
+def _html_section(sec: Section) -> str:
+    body = "".join(f"<p>{html.escape(p)}</p>" for p in sec.paragraphs)
+    body += "".join(_html_table(t) for t in sec.tables)
+    return f"<h2>{html.escape(sec.title)}</h2>{body}"
 
 
 def write_report(
@@ -281,60 +299,71 @@ def write_report(
     figures: dict,
     scale_name: str,
     timings: dict[str, float],
-    undecided: dict[str, int] | None = None,
 ) -> dict[str, Path]:
-    """Write report.md, report.html and the CSV tables; returns their paths."""
+    """Write report.md, report.html and the CSV tables; returns their paths.
+
+    ``results`` maps study names to the studies' frozen results; the samples each study
+    excluded travel inside them.
+    """
     out = Path(out)
     tables = out / "tables"
     tables.mkdir(parents=True, exist_ok=True)
-    comp = comparison_table(results)
-    comp.to_csv(tables / "comparison.csv", index=False)
-    extra = {}
-    if "fig1c" in results:
-        extra["efficacy_fits"] = results["fig1c"]["fits"]
-    if "fig2" in results:
-        extra["energy_fits"] = results["fig2"]["fits"]
-        extra["fig2_curves"] = results["fig2"]["curves"]
-    if "fig3" in results:
-        from ..analysis.single_node import class_weights, qbar_table
-
-        extra["single_node_qbar"] = pd.DataFrame(qbar_table())
-        extra["single_node_simulation"] = results["fig3"]["sim"]
-        extra["single_node_class_weights"] = pd.DataFrame([class_weights()])
-    if "fig4" in results:
-        extra["fig4_average"] = results["fig4"]["average"]
-        extra["fig4_per_strain"] = results["fig4"]["per_phi"]
+    rows = compare(results)
+    full = comparison_frame(rows)
+    full.to_csv(tables / "comparison.csv", index=False)
+    comp = full[TABLE_COLUMNS] if len(full) else pd.DataFrame(columns=TABLE_COLUMNS)
+    extra = tables_of(results)
     for name, df in extra.items():
         df.to_csv(tables / f"{name}.csv", index=False)
+    undecided = excluded_samples(results)
+    straddling = straddling_of(results)
+    recorded = {k: v for k, v in straddling.items() if v is not None}
+    if not straddling:
+        intervals = ""
+    elif not recorded:
+        intervals = (
+            " The threshold rows do not record the interval of each threshold (written before "
+            "those columns existed), so samples with an undecided configuration on their "
+            "bisection path are excluded above."
+        )
+    else:
+        intervals = (
+            " Threshold samples kept at their estimate whose interval straddles a grid value, "
+            "so that P there is uncertain by one sample each: "
+            + ", ".join(f"{k}: {v}" for k, v in recorded.items())
+            + "."
+        )
 
-    n_agree = int((comp.verdict == "agree").sum())
-    n_dis = int((comp.verdict == "disagree").sum())
+    n_agree = sum(r.verdict == "agree" for r in rows)
+    n_dis = sum(r.verdict == "disagree" for r in rows)
     intro = (
         f"Reproduction of *Rigidity of generic random tensegrity structures* at scale "
         f"**{scale_name}**. Every verdict is exact (certified by an admissible self-stress or a "
         f"zero-energy displacement), so differences from the paper are statistical, finite-size "
-        f"or definitional, not solver noise. {n_agree} claims agree within two combined standard "
-        f"errors, {n_dis} do not. Study wall times: "
+        f"or definitional, not solver noise. {n_agree} claims agree, {n_dis} do not. "
+        f"{RULE} Study wall times: "
         + ", ".join(f"{k} {v:.0f} s" for k, v in timings.items())
         + ". "
         + (
             f"Samples excluded because a configuration's verdict lay below double-precision "
-            f"resolution (no certificate to tolerance): {sum((undecided or {}).values())}"
+            f"resolution (no certificate to tolerance): {sum(undecided.values())}"
             + (
-                " (" + ", ".join(f"{k}: {v}" for k, v in (undecided or {}).items() if v) + ")"
-                if any((undecided or {}).values())
+                " (" + ", ".join(f"{k}: {v}" for k, v in undecided.items() if v) + ")"
+                if any(undecided.values())
                 else ""
             )
             + "."
         )
+        + intervals
     )
     notes = (
-        "Conventions (MODEL.md): node disorder delta = 0.2; f_c is the cable fraction (rods + "
-        "cables is f_c = 1; the supplement's tables say 0.0); energies are totals at gamma = 1, so "
-        "the intercept beta depends on system size and is not compared; p_crit is the median "
-        "per-sample threshold (P = 1/2) while the paper takes the first p_r with positive mean "
-        "energy; the single-node class labels follow the table, not the prose."
+        f"Conventions (MODEL.md): node disorder delta = {DEFAULT_DELTA}; f_c is the cable fraction "
+        "(rods + cables is f_c = 1; the supplement's tables say 0.0); energies are totals at "
+        "gamma = 1, so the intercept beta depends on system size and is not compared; p_crit is "
+        "the median per-sample threshold (P = 1/2) while the paper takes the first p_r with "
+        "positive mean energy; the single-node class labels follow the table, not the prose."
     )
+    sections = sections_of(results)
     md = [
         "# Tensegrity rigidity: reproduction report",
         "",
@@ -347,6 +376,8 @@ def write_report(
         _md_table(comp),
         "",
     ]
+    for sec in sections:
+        md += _md_section(sec)
     for fid, paths in figures.items():
         md += [
             f"## Figure {fid}",
@@ -370,8 +401,8 @@ def write_report(
     style = (
         "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
         "table{border-collapse:collapse;font-size:13px}td,th{border:1px solid #ccc;"
-        "padding:3px 6px;text-align:left}tr.agree td:nth-child(5){color:#060}"
-        "tr.disagree td:nth-child(5){color:#a00;font-weight:bold}"
+        "padding:3px 6px;text-align:left}tr.agree td:nth-child(6){color:#060}"
+        "tr.disagree td:nth-child(6){color:#a00;font-weight:bold}"
         "figure{display:inline-block;width:48%;margin:0.5%}img{width:100%}"
     )
     page = (
@@ -379,7 +410,8 @@ def write_report(
         f"report</title><style>{style}</style></head><body>"
         f"<h1>Tensegrity rigidity: reproduction report</h1><p>{html.escape(intro)}</p>"
         f"<p>{html.escape(notes)}</p><h2>Comparison with the paper</h2>{_html_table(comp)}"
-        f"<h2>Figures</h2>{''.join(figs_html)}</body></html>"
+        + "".join(_html_section(sec) for sec in sections)
+        + f"<h2>Figures</h2>{''.join(figs_html)}</body></html>"
     )
     (out / "report.html").write_text(page)
     return {

@@ -11,32 +11,39 @@ import sys
 import time
 from pathlib import Path
 
+from ..errors import InputError
 from .figures import all_figures
+from .registry import STUDIES
 from .report import write_report
-from .studies import SCALES, STUDIES, UNDECIDED
+from .studies import SCALES
 
 #: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
 EXPECTED = {
-    "tiny": "under a minute",
-    "quick": "about 7 minutes (measured 6.9 min)",
+    "tiny": "about a minute",
+    "quick": "about 8 minutes (6.9 min measured before the method study, which adds about a "
+    "minute of L-BFGS-B)",
     "paper": "about 10-20 hours (estimated from the n = 32 solve times in BENCHMARKS.md; "
     "spread it over a Dask cluster with --scheduler)",
+    "fss": "not yet timed: finite size at n = 8 to 64 and node disorder at n = 32, hours on 2 "
+    "cores with the current solver; meant for a Dask cluster",
 }
 
 
 def reproduce(
     out, scale: str = "quick", workers=None, scheduler=None, progress=None, studies=None
 ) -> dict:
-    """Run the studies of ``scale`` into ``out`` and write report.md / report.html there."""
-    from ..errors import InputError
-
+    """Run the studies of ``scale`` (or the named ``studies``) into ``out`` and write
+    report.md / report.html there."""
     if scale not in SCALES:
         raise InputError(f"unknown scale {scale!r}; choose from {', '.join(SCALES)}")
     sc = SCALES[scale]
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     results, timings = {}, {}
-    names = list(studies or STUDIES)
+    names = list(studies or sc.studies)
+    unknown = [n for n in names if n not in STUDIES]
+    if unknown:
+        raise InputError(f"unknown study {unknown[0]!r}; choose from {', '.join(STUDIES)}")
     for i, name in enumerate(names, 1):
         print(f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True)
         start = time.perf_counter()
@@ -46,5 +53,5 @@ def reproduce(
         timings[name] = time.perf_counter() - start
     print("drawing figures and writing the report", file=sys.stderr, flush=True)
     figures = all_figures(results, out / "figures")
-    paths = write_report(out, results, figures, scale, timings, dict(UNDECIDED))
+    paths = write_report(out, results, figures, scale, timings)
     return {"results": results, "figures": figures, "report": paths, "timings": timings}

@@ -2,26 +2,35 @@
 
 Each study is a set of sweep specs (run by :func:`tensegrity_rigidity.ensemble.sweep.run_sweep` into
 ``DIR/studies/<name>``, so an interrupted reproduction resumes) and a function that turns the
-rows into the numbers the figures and the comparison table need. Sizes and sample counts come
-from a :class:`Scale`.
+rows into a frozen result (:class:`Fig1bResult`, ...) holding the numbers the figures and the
+comparison need. Sizes and sample counts come from a :class:`Scale`. Every result carries the
+number of samples it excluded (``excluded``: sweep name -> count), so nothing is shared through
+module state.
 
 Estimators (documented in :mod:`~tensegrity_rigidity.analysis.estimators`):
 
 * S_t/S_r (Fig. 1C): binomial-likelihood fit of P = F(p_r + lam p_t) to per-sample thresholds
   along p_r at p_t in {0, 0.1, 0.2, 0.3}; bootstrap errors over samples. The strain average
   pools the samples of five strains phi in {0, pi/4, pi/2, 3pi/4, pi}.
-* S_r, S_t, dP/df_c (Fig. 4): paired central differences on common random numbers at
-  (p_r, p_t) = (0.3, 0.6), with steps matched in x = p_r + p_t/2 (h_r = 0.025, h_t = 0.05) and
-  the strain average over phi in {0, pi/4, pi/2, 3pi/4, pi};
-  S_c = S_t + (1 - f_c) dP/df_c / p_t and S_s = S_t - f_c dP/df_c / p_t
-  (from S_t = f_c S_c + (1 - f_c) S_s and dP/df_c = p_t (S_c - S_s)).
+* S_r, S_t, dP/df_c (Fig. 4): a binomial-likelihood surface smooth in f_c, fitted to the
+  outcomes at (p_r, p_t) = (0.3, 0.6) and at steps matched in x = p_r + p_t/2 (h_r = 0.025,
+  h_t = 0.05) for f_c = 0, 1/8, ..., 1, on common random numbers; the strain average over phi
+  in {0, pi/4, pi/2, 3pi/4, pi}; S_c = S_t + (1 - f_c) dP/df_c / p_t and
+  S_s = S_t - f_c dP/df_c / p_t (from S_t = f_c S_c + (1 - f_c) S_s and
+  dP/df_c = p_t (S_c - S_s)). Errors: bootstrap over samples.
 * p_crit (Fig. 2): the median per-sample threshold (P = 1/2), bootstrap error.
+
+Undecided samples: a grid sample whose verdict lies below double-precision resolution is dropped
+and counted. A threshold sample whose bisection met such a configuration is dropped and counted
+too, unless the rows carry the threshold's interval (``threshold_p_r_low``,
+``threshold_p_r_high``): then it is kept at its estimate, and the samples whose interval
+straddles a grid value are counted as a stated uncertainty of P.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -29,17 +38,30 @@ import pandas as pd
 
 from ..analysis import estimators as an
 from ..analysis.single_node import simulate_single_node, single_node_probability
+from ..ensemble.runner import sample_geometry
 from ..ensemble.spec import parse_spec
 from ..ensemble.sweep import load_results, run_sweep
+from ..model.elements import place_elements
+from ..model.lattice import DEFAULT_DELTA
+from ..model.network import Instance
+from ..model.strain import NAMED_STRAINS, strain_tensor
+from ..solver.core import SolveResult, solve
+from .claims import Measurement
 
 PHI5 = [0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4, math.pi]
 FC5 = [0.0, 0.25, 0.5, 0.75, 1.0]
 PT4 = [0.0, 0.1, 0.2, 0.3]
+#: the names of the strains in :data:`~tensegrity_rigidity.model.strain.NAMED_STRAINS`, by phi
+STRAIN_NAMES = {phi: name for name, phi in NAMED_STRAINS.items()}
 
 
 @dataclass(frozen=True)
 class Scale:
-    """System sizes and sample counts of a reproduction."""
+    """System sizes and sample counts of a reproduction, and which studies it runs.
+
+    ``studies`` lists the studies (keys of :data:`tensegrity_rigidity.paper.registry.STUDIES`)
+    that ``reproduce`` runs at this scale.
+    """
 
     name: str
     n_threshold: int  # lattice size of threshold studies (Figs. 1, 2 p_crit)
@@ -50,40 +72,177 @@ class Scale:
     p_r_step: float
     node_trials: int
     bootstrap: int
+    n_method: int = 5  # the paper's method beside ours (paper.method)
+    samples_method: int = 4
+    method_step: float = 0.1
+    fss_sizes: tuple[int, ...] = (4, 5, 6, 8)  # finite-size study (paper.finite_size)
+    samples_fss: int = 6
+    deltas: tuple[float, ...] = (0.1, 0.2, 0.3)  # node-disorder study
+    n_delta: int = 5
+    samples_delta: int = 6
+    studies: tuple[str, ...] = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 
 
+FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 SCALES = {
-    "tiny": Scale("tiny", 5, 5, 6, 4, 6, 0.1, 300, 10),
-    "quick": Scale("quick", 12, 12, 48, 24, 96, 0.05, 4000, 100),
-    "paper": Scale("paper", 32, 32, 400, 100, 800, 0.025, 40000, 200),
-}
+    "tiny": Scale(
+        "tiny", 5, 5, 6, 4, 6, 0.1, 300, 10,
+        fss_sizes=(4, 5, 6, 8), samples_fss=3, n_delta=5, samples_delta=3,
+        studies=(*FIGURES, "method", "fss", "delta"),
+    ),
+    "quick": Scale(
+        "quick", 12, 12, 48, 24, 96, 0.05, 4000, 100,
+        n_method=12, samples_method=16, method_step=0.05,
+        studies=(*FIGURES, "method"),
+    ),
+    "paper": Scale(
+        "paper", 32, 32, 400, 100, 800, 0.025, 40000, 200,
+        n_method=16, samples_method=48, method_step=0.025,
+        studies=(*FIGURES, "method"),
+    ),
+    "fss": Scale(
+        "fss", 32, 32, 200, 0, 0, 0.025, 0, 200,
+        fss_sizes=(8, 16, 32, 64), samples_fss=100,
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=100,  # n = 32 shared with fss
+        studies=("fss", "delta"),
+    ),
+}  # fmt: skip
+
+#: threshold-interval columns of threshold rows (absent in rows written before they existed)
+INTERVAL = ("threshold_p_r_low", "threshold_p_r_high")
 
 
-#: samples excluded because a verdict was below double-precision resolution, per study
-UNDECIDED: dict[str, int] = {}
+def strain_name(phi: float) -> str:
+    """ "dilation", "shear" or "compression" for the named strains, else phi to 3 decimals."""
+    for value, name in STRAIN_NAMES.items():
+        if math.isclose(phi, value, abs_tol=1e-12):
+            return name
+    return f"{phi:.3f}"
 
 
-def _run(out: Path, name: str, spec: dict, workers, scheduler, progress) -> pd.DataFrame:
-    """Run (or resume) one sweep; drop and count undecided samples."""
-    path = out / "studies" / name
-    run_sweep(parse_spec(spec), path, executor=workers, scheduler=scheduler, progress=progress)
-    df = load_results(path)
+def keep_decided(df: pd.DataFrame) -> tuple[pd.DataFrame, int]:
+    """Rows to analyse and the number of samples excluded as undecided.
+
+    Grid rows: samples with ``decided == False`` are dropped. Threshold rows with the interval
+    columns (:data:`INTERVAL`): an undecided sample is kept when its interval is finite, at the
+    row's estimate ``threshold_p_r`` (the interval's midpoint if the estimate is missing);
+    without them every undecided sample is dropped.
+    """
+    if df.empty or "decided" not in df:
+        return df.reset_index(drop=True), 0
     bad = ~df["decided"].astype(bool)
-    UNDECIDED[name] = int(bad.sum())
-    return df[~bad].reset_index(drop=True)
+    if "threshold_p_r" in df and all(c in df for c in INTERVAL):
+        lo, hi = df[INTERVAL[0]].to_numpy(float), df[INTERVAL[1]].to_numpy(float)
+        usable = bad.to_numpy() & np.isfinite(lo) & np.isfinite(hi)
+        if usable.any():
+            df = df.copy()
+            est = df["threshold_p_r"].to_numpy(float, copy=True)
+            fill = usable & ~np.isfinite(est)
+            est[fill] = 0.5 * (lo[fill] + hi[fill])
+            df["threshold_p_r"] = est
+            bad = bad & ~usable
+    return df[~bad].reset_index(drop=True), int(bad.sum())
 
 
-def _p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
+def interval_straddles(df: pd.DataFrame, grid) -> int | None:
+    """Samples whose threshold interval (when recorded) contains a value of ``grid``.
+
+    Such a sample's outcome at that grid value is not determined by double precision; the
+    count bounds the change of P there (count / samples). None when the rows do not record
+    the interval (written before the columns existed).
+    """
+    if not all(c in df for c in INTERVAL):
+        return None
+    if df.empty:
+        return 0
+    lo = df[INTERVAL[0]].to_numpy(float)[:, None]
+    hi = df[INTERVAL[1]].to_numpy(float)[:, None]
+    g = np.asarray(grid, float)[None, :]
+    with np.errstate(invalid="ignore"):
+        hit = (lo < g) & (g <= hi)
+    return int(hit.any(axis=1).sum())
+
+
+def sweep_rows(out: Path, name: str, spec: dict, workers, scheduler, progress):
+    """Run (or resume) one sweep; return its rows to analyse and the count excluded."""
+    path = out / "studies" / name
+    spec = {"delta": DEFAULT_DELTA} | spec
+    run_sweep(parse_spec(spec), path, executor=workers, scheduler=scheduler, progress=progress)
+    return keep_decided(load_results(path))
+
+
+def p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
     return [round(x, 6) for x in np.arange(lo, hi + 1e-9, step)]
+
+
+def threshold_matrix(rows: pd.DataFrame, p_t: list[float]) -> np.ndarray:
+    """(S, J) thresholds of the samples present at every p_t (NaN: never rigid).
+
+    Rows of one strain and f_c from a threshold sweep along p_r; samples are matched by index.
+    """
+    groups = [rows[np.isclose(rows.p_t, pt)].set_index("sample").threshold_p_r for pt in p_t]
+    common = sorted(set.intersection(*(set(g.index) for g in groups))) if groups else []
+    return np.column_stack([g.reindex(common).to_numpy(float) for g in groups])
+
+
+def per_sample(rows: pd.DataFrame, column: str, samples=None) -> tuple[np.ndarray, np.ndarray]:
+    """(S, G) values of ``column`` by sample (rows) and p_r (columns) of one curve, and p_r (G,).
+
+    ``samples`` (S,) fixes the rows (NaN for a sample missing from ``rows``), so that curves of
+    the same samples line up row by row.
+    """
+    table = rows.pivot_table(index="sample", columns="p_r", values=column, dropna=False)
+    if samples is not None:
+        table = table.reindex(samples)
+    return table.to_numpy(float), table.columns.to_numpy(float)
 
 
 # --------------------------------------------------------------------------- Fig. 1
 
 
-def study_fig1b(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class Fig1bResult:
+    """P(p_r, p_t) at f_c = 0.5 under shear.
+
+    Attributes
+    ----------
+    p_r : (K,) float
+        Grid of p_r.
+    p_t : (J,) float
+        Values of p_t (one threshold sweep each).
+    P : (J, K) float
+        Fraction of rigid samples; NaN where p_r + p_t > 1.
+    half_x : (H,) float
+        p_r + p_t/2 where P crosses 1/2, for each p_t whose P reaches 1/2 (linear
+        interpolation on the grid).
+    collapse : CollapseFit
+        Fit of P = F(p_r + lam p_t) to every p_t: lam = S_t/S_r under shear at f_c = 0.5.
+    rows : DataFrame
+        The threshold rows analysed.
+    excluded : dict
+        Sweep name -> samples excluded as undecided.
+    straddling : int or None
+        Samples whose threshold interval straddles a grid value (see :func:`interval_straddles`;
+        None when the rows do not record intervals). The other results' ``straddling`` alike.
+    """
+
+    p_r: np.ndarray
+    p_t: np.ndarray
+    P: np.ndarray
+    half_x: np.ndarray
+    collapse: an.CollapseFit
+    n: int
+    samples: int
+    rows: pd.DataFrame
+    excluded: dict[str, int]
+    straddling: int | None = None
+    measured: tuple[Measurement, ...] = ()
+
+
+def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
     """P(p_r, p_t) at f_c = 0.5 under shear, from per-sample thresholds along p_r."""
     p_t = [round(x, 3) for x in np.arange(0.0, 0.81, 0.1)]
-    df = _run(
+    df, excluded = sweep_rows(
         out,
         "fig1b",
         {
@@ -103,19 +262,83 @@ def study_fig1b(out, scale: Scale, **kw) -> dict:
         t = df[np.isclose(df.p_t, pt)].threshold_p_r.to_numpy()
         ok = p_r + pt <= 1 + 1e-12
         P[i, ok] = an.probability_from_thresholds(t, p_r[ok])
-    return {
-        "p_r": p_r,
-        "p_t": np.array(p_t),
-        "P": P,
-        "rows": df,
-        "n": scale.n_threshold,
-        "samples": scale.samples_threshold,
-    }
+    half = []
+    for i, pt in enumerate(p_t):
+        ok = np.isfinite(P[i])
+        if ok.sum() > 2 and P[i, ok].max() >= 0.5:
+            half.append(float(np.interp(0.5, P[i, ok], p_r[ok])) + pt / 2)
+    y, pr, pt = an.outcomes_from_thresholds(df, np.arange(0.0, 1.0001, 0.01))
+    collapse = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
+    system = f"n = {scale.n_threshold}, {collapse.n_samples} samples x {len(p_t)} p_t"
+    half = np.array(half)
+    note = (
+        f"collapse fit over p_t = 0 ... 0.8; p_r + p_t/2 at P = 1/2: mean {half.mean():.3f}, "
+        f"spread {half.std():.3f} over {half.size} values of p_t"
+        if half.size
+        else "collapse fit over p_t = 0 ... 0.8"
+    )
+    measured = (
+        Measurement.scalar(
+            "collapse_shear_half", collapse.lam, collapse.lam_err, system, note=note
+        ),
+    )
+    return Fig1bResult(
+        p_r=p_r,
+        p_t=np.array(p_t),
+        P=P,
+        half_x=half,
+        collapse=collapse,
+        n=scale.n_threshold,
+        samples=scale.samples_threshold,
+        rows=df,
+        excluded={"fig1b": excluded},
+        straddling=interval_straddles(df, p_r),
+        measured=measured,
+    )
 
 
-def study_fig1c(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class Fig1cResult:
+    """S_t/S_r versus f_c for each strain and the strain average.
+
+    Attributes
+    ----------
+    fits : DataFrame
+        One row per (f_c, strain): the fields of
+        :class:`~tensegrity_rigidity.analysis.estimators.CollapseFit` plus ``f_c``, ``strain``,
+        ``phi`` (NaN for the average).
+    rods_only_pc, rods_only_pc_err : float
+        Median threshold of the rods-only samples (p_t = 0, every strain) and its bootstrap error.
+    rods_only_samples : int
+        Number of rods-only thresholds.
+    contour : DataFrame
+        Per (f_c, strain): ``lam``, ``lam_err`` from the slope of the P = 1/2 contour
+        (:func:`~tensegrity_rigidity.analysis.estimators.contour_slope`), the model-free
+        alternative to the collapse fit.
+    """
+
+    fits: pd.DataFrame
+    contour: pd.DataFrame
+    rods_only_pc: float
+    rods_only_pc_err: float
+    rods_only_samples: int
+    n: int
+    samples: int
+    rows: pd.DataFrame
+    excluded: dict[str, int]
+    straddling: int | None = None
+    measured: tuple[Measurement, ...] = ()
+
+    def lam(self, f_c: float, strain: str) -> tuple[float, float]:
+        """(S_t/S_r, its error) of one fit."""
+        fits = self.fits
+        row = fits[np.isclose(fits.f_c, f_c) & (fits.strain == strain)].iloc[0]
+        return float(row.lam), float(row.lam_err)
+
+
+def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
     """S_t/S_r versus f_c for each strain and the strain average (collapse fits)."""
-    df = _run(
+    df, excluded = sweep_rows(
         out,
         "fig1c",
         {
@@ -130,60 +353,190 @@ def study_fig1c(out, scale: Scale, **kw) -> dict:
         **kw,
     )
     grid = np.arange(0.3, 0.9001, 0.01)
-    fits = []
+    fits, contour = [], []
     for f_c in FC5:
-        pooled = []
+        pooled, pooled_t = [], []
         for phi in PHI5:
             sub = df[np.isclose(df.f_c, f_c) & np.isclose(df.phi, phi)]
             y, pr, pt = an.outcomes_from_thresholds(sub, grid)
+            t = threshold_matrix(sub, PT4)
             pooled.append(y)
+            pooled_t.append(t)
             if phi in (0.0, math.pi / 2, math.pi):
                 fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
-                fits.append({"f_c": f_c, "strain": _strain_name(phi), "phi": phi, **fit.__dict__})
+                fits.append({"f_c": f_c, "strain": strain_name(phi), "phi": phi, **fit.__dict__})
+                c = an.contour_slope(t, np.array(PT4), n_boot=scale.bootstrap)
+                contour.append(
+                    {"f_c": f_c, "strain": strain_name(phi), "lam": c.value, "lam_err": c.err}
+                )
         fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap)
         fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
+        c = an.contour_slope(np.vstack(pooled_t), np.array(PT4), n_boot=scale.bootstrap)
+        contour.append({"f_c": f_c, "strain": "average", "lam": c.value, "lam_err": c.err})
     rods_only = df[np.isclose(df.p_t, 0.0)].drop_duplicates(["phi", "sample"])
-    return {
-        "fits": pd.DataFrame(fits),
-        "rows": df,
-        "n": scale.n_threshold,
-        "samples": scale.samples_threshold,
-        "rods_only_pc": an.critical_point(rods_only.threshold_p_r.to_numpy()),
-        "rods_only_samples": len(rods_only),
-    }
-
-
-def _strain_name(phi: float) -> str:
-    return {0.0: "dilation", math.pi / 2: "shear", math.pi: "compression"}.get(phi, f"{phi:.3f}")
+    pc, pc_err = an.critical_point(rods_only.threshold_p_r.to_numpy())
+    fits, contour = pd.DataFrame(fits), pd.DataFrame(contour)
+    system = f"n = {scale.n_threshold}, {scale.samples_threshold} samples x 4 p_t"
+    measured = []
+    for key, f_c, strain in [
+        *((f"st_sr_half_{s_}", 0.5, s_) for s_ in ("dilation", "shear", "compression", "average")),
+        ("st_sr_cables_compression", 1.0, "compression"),
+        ("st_sr_struts_dilation", 0.0, "dilation"),
+        ("st_sr_cables_dilation", 1.0, "dilation"),
+    ]:
+        row = fits[np.isclose(fits.f_c, f_c) & (fits.strain == strain)].iloc[0]
+        note = (
+            "identical to rods + cables under compression by an exact symmetry: compression is "
+            "minus dilation, and e -> -e swaps cables and struts sample by sample"
+            if key == "st_sr_struts_dilation"
+            else "collapse fit P = F(p_r + lam p_t) over p_t = 0, 0.1, 0.2, 0.3"
+        )
+        measured.append(Measurement.scalar(key, row.lam, row.lam_err, system, note=note))
+        row = contour[np.isclose(contour.f_c, f_c) & (contour.strain == strain)].iloc[0]
+        measured.append(
+            Measurement.scalar(
+                key,
+                row.lam,
+                row.lam_err,
+                system,
+                factor="estimator",
+                label="slope of the P = 1/2 contour instead of the logistic collapse fit",
+            )
+        )
+    measured.append(
+        Measurement.scalar(
+            "rods_only_pc",
+            pc,
+            pc_err,
+            f"n = {scale.n_threshold}, {len(rods_only)} thresholds",
+            note="finite-size threshold (median of per-sample thresholds, every strain)",
+        )
+    )
+    return Fig1cResult(
+        fits=fits,
+        contour=contour,
+        rods_only_pc=pc,
+        rods_only_pc_err=pc_err,
+        rods_only_samples=len(rods_only),
+        n=scale.n_threshold,
+        samples=scale.samples_threshold,
+        rows=df,
+        excluded={"fig1c": excluded},
+        straddling=interval_straddles(df, grid),
+        measured=tuple(measured),
+    )
 
 
 # --------------------------------------------------------------------------- Fig. 2
 
 
-def study_fig2(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class DisplacementField:
+    """Samples drawn in Figs. 1A and 2A, rebuilt from sweep samples and solved.
+
+    Attributes
+    ----------
+    instance, result : Instance, SolveResult
+        A rods + cables sample under compression just above its own threshold (Fig. 2A), or
+        None when no sample of the field sweep qualified.
+    p_r, p_t : float
+        Where that sample was solved.
+    mixed_instance, mixed_result : Instance, SolveResult
+        A rigid sample of rods, cables and struts under shear (Fig. 1A), or None.
+    """
+
+    instance: Instance | None
+    result: SolveResult | None
+    p_r: float
+    p_t: float
+    mixed_instance: Instance | None
+    mixed_result: SolveResult | None
+
+
+@dataclass(frozen=True, eq=False)
+class Fig2Result:
+    """Rods + cables (f_c = 1): energies, nonaffinity, engaged cables versus p_r.
+
+    Attributes
+    ----------
+    curves : DataFrame
+        Per (phi, p_t, p_r): energy and nonaffinity: mean with standard error, median and
+        quartiles (``*_median``, ``*_q25``, ``*_q75``; both are heavy-tailed near the
+        transition), the number of samples with a nonaffinity (``gamma_n``), P, N.
+    taut : DataFrame
+        Per (phi, p_t, p_r): fraction of cables under tension in rigid samples (mean, sem, size).
+    fits : DataFrame
+        Per (phi, p_t): the power-law fit of the mean energy above p_crit
+        (:class:`~tensegrity_rigidity.analysis.estimators.PowerLawFit` fields) and ``p_crit_err``.
+    crit : DataFrame
+        Per (phi, p_t): ``p_crit`` (median threshold) and ``gamma_peak_p_r`` (grid p_r of the
+        largest mean nonaffinity).
+    paper_estimators : DataFrame
+        Per (phi, p_t): the paper's estimators on our grid rows: ``p_crit`` where the mean
+        energy first becomes positive and ``alpha`` fitted from it (with errors).
+    peaks : dict
+        Under compression, per p_t: where the mean and the median Gamma peak, with their joint
+        covariance (see ``_gamma_peaks``).
+    at_pcrit : DataFrame
+        Per-sample Gamma and energy at the grid p_r nearest p_crit under compression, per p_t.
+    tails : DataFrame
+        :func:`tail_statistics` of ``at_pcrit``.
+    worst_tail : dict or None
+        Its Gamma row with the largest ``top_share`` (:func:`worst_tail`).
+    min_norm_failed : int or None
+        Grid samples whose displacements are not the verified minimum-norm minimiser (their
+        Gamma is NaN); None when the rows do not record it.
+    taut_at_transition : tuple
+        (mean, error, [(p_t, p_r), ...]): the fraction of taut cables in rigid samples at the grid
+        p_r nearest p_crit under compression, averaged over p_t = 0.1, 0.2, 0.3; None when no
+        such sample exists.
+    field : DisplacementField
+    """
+
+    curves: pd.DataFrame
+    taut: pd.DataFrame
+    fits: pd.DataFrame
+    crit: pd.DataFrame
+    paper_estimators: pd.DataFrame
+    peaks: dict
+    at_pcrit: pd.DataFrame
+    tails: pd.DataFrame
+    worst_tail: dict | None
+    min_norm_failed: int | None
+    taut_at_transition: tuple | None
+    n: int
+    samples: int
+    rows: pd.DataFrame
+    field: DisplacementField
+    excluded: dict[str, int]
+    straddling: int | None = None
+    measured: tuple[Measurement, ...] = ()
+
+
+def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     """Rods + cables (f_c = 1): nonaffinity, energies and engaged cables versus p_r."""
-    p_r = _p_r_grid(scale.p_r_step, 0.3, 0.95)
-    grids = []
+    p_r = p_r_grid(scale.p_r_step, 0.3, 0.95)
+    grids, excluded = [], {}
     for p_t in PT4:
         pr = [p for p in p_r if p + p_t <= 1 + 1e-12]
-        grids.append(
-            _run(
-                out,
-                f"fig2_pt{p_t:.1f}",
-                {
-                    "n": scale.n_grid,
-                    "p_r": pr,
-                    "p_t": p_t,
-                    "f_c": 1.0,
-                    "phi": ["compression", "dilation"],
-                    "samples": scale.samples_grid,
-                    "seed": 21,
-                },
-                **kw,
-            )
+        name = f"fig2_pt{p_t:.1f}"
+        rows, excluded[name] = sweep_rows(
+            out,
+            name,
+            {
+                "n": scale.n_grid,
+                "p_r": pr,
+                "p_t": p_t,
+                "f_c": 1.0,
+                "phi": ["compression", "dilation"],
+                "samples": scale.samples_grid,
+                "seed": 21,
+            },
+            **kw,
         )
-    rows = pd.concat(grids, ignore_index=True)
-    th = _run(
+        grids.append(rows)
+    rows, min_norm_failed = mask_min_norm(pd.concat(grids, ignore_index=True))
+    th, excluded["fig2_thresholds"] = sweep_rows(
         out,
         "fig2_thresholds",
         {
@@ -202,8 +555,15 @@ def study_fig2(out, scale: Scale, **kw) -> dict:
         .agg(
             energy=("energy", "mean"),
             energy_sem=("energy", "sem"),
+            energy_median=("energy", "median"),
+            energy_q25=("energy", _q25),
+            energy_q75=("energy", _q75),
             gamma=("nonaffinity", "mean"),
             gamma_sem=("nonaffinity", "sem"),
+            gamma_median=("nonaffinity", "median"),
+            gamma_q25=("nonaffinity", _q25),
+            gamma_q75=("nonaffinity", _q75),
+            gamma_n=("nonaffinity", "count"),
             P=("rigid", "mean"),
             N=("rigid", "size"),
         )
@@ -215,7 +575,7 @@ def study_fig2(out, scale: Scale, **kw) -> dict:
         .frac_cables_taut.agg(["mean", "sem", "size"])
         .reset_index()
     )
-    fits, crit = [], []
+    fits, crit, paper_est = [], [], []
     for (phi, p_t), sub in curves.groupby(["phi", "p_t"]):
         tsub = th[np.isclose(th.phi, phi) & np.isclose(th.p_t, p_t)].threshold_p_r.to_numpy()
         pc, pc_err = an.critical_point(tsub)
@@ -223,7 +583,7 @@ def study_fig2(out, scale: Scale, **kw) -> dict:
         fits.append(
             {
                 "phi": phi,
-                "strain": _strain_name(phi),
+                "strain": strain_name(phi),
                 "p_t": p_t,
                 "p_crit_err": pc_err,
                 **fit.__dict__,
@@ -231,63 +591,331 @@ def study_fig2(out, scale: Scale, **kw) -> dict:
         )
         g = sub.set_index("p_r").gamma
         crit.append({"phi": phi, "p_t": p_t, "p_crit": pc, "gamma_peak_p_r": float(g.idxmax())})
-    return {
-        "curves": curves,
-        "taut": taut,
-        "fits": pd.DataFrame(fits),
-        "crit": pd.DataFrame(crit),
-        "rows": rows,
-        "n": scale.n_grid,
-        "samples": scale.samples_grid,
-        "field": _displacement_field(scale),
-    }
-
-
-def _displacement_field(scale: Scale) -> dict:
-    """One rods + cables sample under compression near its threshold (Fig. 2A, 1A)."""
-    from ..ensemble.thresholds import find_threshold
-    from ..model.elements import place_elements
-    from ..model.network import Instance
-    from ..model.sampling import lattice_geometry
-    from ..model.strain import strain_tensor
-    from ..solver.core import solve
-
-    n = max(scale.n_grid, 8)
-    for seed in range(50):
-        rng = np.random.default_rng(1000 + seed)
-        net, u, v = lattice_geometry(n, 0.2, rng)
-        eps = strain_tensor("compression")
-        th = find_threshold(net, u, v, eps, 0.2, 1.0)
-        if np.isfinite(th.s) and th.s > 0:
-            p_r = min(th.s + 0.02, 0.8)
-            inst = Instance(net.with_kinds(place_elements(u, v, p_r, 0.2, 1.0)), eps)
-            res = solve(inst)
-            if res.rigid:
-                break
-    # a mixed sample for Fig. 1A: rods, cables and struts, rigid under shear
-    for seed in range(50):
-        rng = np.random.default_rng(2000 + seed)
-        net2, u2, v2 = lattice_geometry(n, 0.2, rng)
-        inst2 = Instance(
-            net2.with_kinds(place_elements(u2, v2, 0.55, 0.4, 0.5)), strain_tensor("shear")
+        # the paper's estimators on the same grid rows: p_crit where the mean energy first
+        # becomes positive, and the power law fitted from that p_crit
+        e, x = per_sample(rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)], "energy")
+        first = an.first_positive(e, x, n_boot=scale.bootstrap)
+        pfit = an.fit_energy_power_law(sub.p_r.to_numpy(), sub.energy.to_numpy(), first.value)
+        paper_est.append(
+            {
+                "phi": phi,
+                "strain": strain_name(phi),
+                "p_t": p_t,
+                "p_crit": first.value,
+                "p_crit_err": first.err,
+                "alpha": pfit.alpha,
+                "alpha_err": pfit.alpha_err,
+                "n_points": pfit.n_points,
+            }
         )
+    crit, fits, paper_est = pd.DataFrame(crit), pd.DataFrame(fits), pd.DataFrame(paper_est)
+    peaks = _gamma_peaks(rows, crit, scale.bootstrap)
+    at_pcrit = _at_transition(rows, crit)
+    tails = tail_statistics(at_pcrit)
+    taut_tr = _taut_at_transition(taut, crit)
+    field_, excluded["fig2_field"], excluded["fig1a_field"] = _displacement_field(out, scale, **kw)
+    return Fig2Result(
+        curves=curves,
+        taut=taut,
+        fits=fits,
+        crit=crit,
+        paper_estimators=paper_est,
+        peaks=peaks,
+        at_pcrit=at_pcrit,
+        tails=tails,
+        worst_tail=worst_tail(tails),
+        min_norm_failed=min_norm_failed,
+        taut_at_transition=taut_tr,
+        n=scale.n_grid,
+        samples=scale.samples_grid,
+        rows=rows,
+        field=field_,
+        excluded=excluded,
+        straddling=interval_straddles(th, p_r),
+        measured=_fig2_measurements(scale, fits, paper_est, peaks, taut_tr),
+    )
+
+
+def _q25(x: pd.Series) -> float:
+    return float(x.quantile(0.25))
+
+
+def _q75(x: pd.Series) -> float:
+    return float(x.quantile(0.75))
+
+
+def mask_min_norm(rows: pd.DataFrame) -> tuple[pd.DataFrame, int | None]:
+    """Nonaffinity NaN where the displacements are not the verified minimum-norm minimiser.
+
+    Rows with ``min_norm_ok == False`` carry whatever minimiser the solver stopped at, whose
+    Gamma can be off by orders of magnitude (issue 14): their ``nonaffinity`` becomes NaN and
+    they are counted. Returns (rows, count); the count is None when the rows have no
+    ``min_norm_ok`` column (written before it existed), and missing values in it count as ok.
+    """
+    if "min_norm_ok" not in rows:
+        return rows, None
+    bad = rows["min_norm_ok"].eq(False).to_numpy()
+    if bad.any():
+        rows = rows.copy()
+        rows.loc[bad, "nonaffinity"] = np.nan
+    return rows, int(bad.sum())
+
+
+def _at_transition(rows: pd.DataFrame, crit: pd.DataFrame) -> pd.DataFrame:
+    """Per-sample Gamma and energy at the grid p_r nearest p_crit (compression), per p_t."""
+    parts = []
+    for _, c in crit[np.isclose(crit.phi, math.pi)].sort_values("p_t").iterrows():
+        sub = rows[np.isclose(rows.phi, math.pi) & np.isclose(rows.p_t, c.p_t)]
+        grid = np.unique(sub.p_r)
+        if not grid.size or not np.isfinite(c.p_crit):
+            continue
+        p_r = grid[int(np.argmin(np.abs(grid - c.p_crit)))]
+        at = sub[np.isclose(sub.p_r, p_r)]
+        parts.append(at[["p_t", "p_r", "sample", "nonaffinity", "energy", "rigid"]])
+    cols = ["p_t", "p_r", "sample", "nonaffinity", "energy", "rigid"]
+    return pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=cols)
+
+
+def tail_statistics(at_pcrit: pd.DataFrame) -> pd.DataFrame:
+    """What a mean over samples at the transition is sensitive to, per p_t and observable.
+
+    For Gamma and the energy at p_crit: the number of samples, mean, median, quartiles,
+    largest value, the share of the sum carried by the largest sample (``top_share``) and the
+    mean with that sample left out (``mean_without_top``).
+    """
+    out = []
+    for p_t, sub in at_pcrit.groupby("p_t"):
+        for name, col in (("Gamma", "nonaffinity"), ("energy", "energy")):
+            v = sub[col].to_numpy(float)
+            v = v[np.isfinite(v)]
+            if not v.size:
+                continue
+            total = v.sum()
+            out.append(
+                {
+                    "p_t": p_t,
+                    "p_r": float(sub.p_r.iloc[0]),
+                    "observable": name,
+                    "N": v.size,
+                    "mean": v.mean(),
+                    "median": float(np.median(v)),
+                    "q25": float(np.quantile(v, 0.25)),
+                    "q75": float(np.quantile(v, 0.75)),
+                    "max": v.max(),
+                    "top_share": v.max() / total if total > 0 else np.nan,
+                    "mean_without_top": np.sort(v)[:-1].mean() if v.size > 1 else np.nan,
+                }
+            )
+    return pd.DataFrame(out)
+
+
+def worst_tail(tails: pd.DataFrame) -> dict | None:
+    """The row of :func:`tail_statistics` (Gamma) whose largest sample carries most of the sum."""
+    g = tails[tails.observable == "Gamma"] if len(tails) else tails
+    g = g[np.isfinite(g.top_share)] if len(g) else g
+    if not len(g):
+        return None
+    return g.loc[g.top_share.idxmax()].to_dict()
+
+
+def _gamma_peaks(rows: pd.DataFrame, crit: pd.DataFrame, n_boot: int) -> dict:
+    """Where the mean (and the median) nonaffinity peaks under compression, per p_t.
+
+    Returns {"p_t": (J,), "p_crit": (J,), "p_crit_err": (J,), "mean": (peaks, cov),
+    "median": (peaks, cov)}; the peaks' covariance comes from one bootstrap over samples shared
+    by every p_t (common random numbers correlate the curves).
+    """
+    comp = crit[np.isclose(crit.phi, math.pi)].sort_values("p_t")
+    samples = np.arange(1, int(rows["sample"].max()) + 1)
+    vals, xs = [], []
+    for p_t in comp.p_t:
+        sub = rows[np.isclose(rows.phi, math.pi) & np.isclose(rows.p_t, p_t)]
+        v, x = per_sample(sub, "nonaffinity", samples)
+        vals.append(v)
+        xs.append(x)
+    out = {"p_t": comp.p_t.to_numpy(), "p_crit": comp.p_crit.to_numpy()}
+    for stat in ("mean", "median"):
+        out[stat] = an.peak_locations(vals, xs, stat, n_boot=n_boot)
+    return out
+
+
+def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurement, ...]:
+    system = f"n = {scale.n_grid}, {scale.samples_grid} samples per point"
+    out = []
+    for _, row in fits.iterrows():
+        alt = paper_est[np.isclose(paper_est.phi, row.phi) & np.isclose(paper_est.p_t, row.p_t)]
+        alt = alt.iloc[0]
+        key = f"p_crit_{row.strain}_{row.p_t}"
+        out.append(
+            Measurement.scalar(
+                key,
+                row.p_crit,
+                row.p_crit_err,
+                f"n = {scale.n_grid}, {scale.samples_threshold} thresholds",
+                note="ours: median threshold (P = 1/2); paper: first positive mean energy",
+            )
+        )
+        out.append(
+            Measurement.scalar(
+                key,
+                alt.p_crit,
+                alt.p_crit_err,
+                system,
+                factor="estimator",
+                label="the paper's p_crit (first grid p_r with positive mean energy)",
+            )
+        )
+        key = f"alpha_{row.strain}_{row.p_t}"
+        out.append(
+            Measurement.scalar(
+                key,
+                row.alpha,
+                row.alpha_err,
+                f"{system}; {row.n_points} fit points",
+                note="least squares of ln(mean E) over ln(p_r - p_crit), p_crit = P = 1/2",
+            )
+        )
+        out.append(
+            Measurement.scalar(
+                key,
+                alt.alpha,
+                alt.alpha_err,
+                f"{system}; {alt.n_points} fit points",
+                factor="estimator",
+                label="fitted from the paper's p_crit (first positive mean energy)",
+            )
+        )
+    if taut_tr is not None:
+        v, e, _ = taut_tr
+        out.append(
+            Measurement.scalar(
+                "taut_cables_transition",
+                v,
+                e,
+                system + "; rigid samples at p_r nearest p_crit, mean over p_t = 0.1, 0.2, 0.3",
+            )
+        )
+    labels = tuple(f"p_t = {p:.1f}" for p in peaks["p_t"])
+    pc_var = np.diag(
+        fits[np.isclose(fits.phi, math.pi)].sort_values("p_t").p_crit_err.to_numpy() ** 2
+    )
+    for stat, factor, label in (
+        ("mean", "ours", ""),
+        ("median", "estimator", "peak of the median Gamma instead of the mean"),
+    ):
+        at, cov = peaks[stat]
+        out.append(
+            Measurement(
+                "gamma_peak",
+                at - peaks["p_crit"],
+                cov + pc_var,
+                system,
+                factor=factor,
+                label=label,
+                points=labels,
+                note="peak of the mean Gamma on the p_r grid minus the median threshold; error: "
+                "bootstrap over samples, grid resolution, p_crit's error",
+            )
+        )
+    return tuple(out)
+
+
+def _taut_at_transition(taut: pd.DataFrame, crit: pd.DataFrame):
+    """Fraction of taut cables at the grid p_r nearest p_crit (compression), mean over p_t."""
+    vals = []
+    for p_t in (0.1, 0.2, 0.3):
+        pc = crit[np.isclose(crit.phi, math.pi) & np.isclose(crit.p_t, p_t)].p_crit
+        sub = taut[np.isclose(taut.phi, math.pi) & np.isclose(taut.p_t, p_t)]
+        if len(pc) and len(sub):
+            row = sub.iloc[int(np.argmin(np.abs(sub.p_r - float(pc.iloc[0]))))]
+            vals.append((row["mean"], row["sem"], p_t, row.p_r))
+    if not vals:
+        return None
+    v = float(np.mean([x[0] for x in vals]))
+    e = float(np.sqrt(np.nansum([x[1] ** 2 for x in vals])) / len(vals))
+    return v, e, [(x[2], x[3]) for x in vals]
+
+
+#: samples of the sweeps that supply the drawn samples of Figs. 1A and 2A
+FIELD_SAMPLES = 8
+#: Fig. 2A's sample: rods + cables under compression at p_t = 0.2, solved at its own threshold
+#: plus this step in p_r (rigid there by monotonicity)
+FIELD_P_T, FIELD_STEP = 0.2, 0.02
+
+
+def _displacement_field(out, scale: Scale, **kw) -> tuple[DisplacementField, int, int]:
+    """The samples drawn in Figs. 2A and 1A, taken from small sweeps and solved again.
+
+    Fig. 2A: the first sample of a threshold sweep (rods + cables, compression, p_t = 0.2) whose
+    threshold s* is positive and leaves room for s* + 0.02 <= 1 - p_t; it is rigid at
+    p_r = s* + 0.02. Fig. 1A: the first rigid sample of a grid sweep at (p_r, p_t, f_c) =
+    (0.55, 0.4, 0.5) under shear. Each is rebuilt with the sweep's own sample geometry and solved
+    with the minimum-norm displacements. Returns (field, excluded 2A, excluded 1A).
+    """
+    n = max(scale.n_grid, 8)
+    base = {"n": n, "samples": FIELD_SAMPLES, "f_c": 1.0, "seed": 1000}
+    spec_2a = base | {"p_t": FIELD_P_T, "phi": "compression", "threshold": {"path": "p_r"}}
+    th, ex_2a = sweep_rows(out, "fig2_field", spec_2a, **kw)
+    inst = res = None
+    p_r = float("nan")
+    ok = th[(th.threshold_p_r > 0) & (th.threshold_p_r + FIELD_STEP <= 1 - FIELD_P_T)]
+    if len(ok):
+        row = ok.iloc[0]
+        p_r = float(row.threshold_p_r) + FIELD_STEP
+        inst = _rebuild(spec_2a, row, p_r)
+        res = solve(inst)
+    spec_1a = base | {"p_r": 0.55, "p_t": 0.4, "f_c": 0.5, "phi": "shear", "seed": 2000}
+    grid, ex_1a = sweep_rows(out, "fig1a_field", spec_1a, **kw)
+    inst2 = res2 = None
+    rigid = grid[grid.rigid]
+    if len(rigid):
+        row = rigid.iloc[0]
+        inst2 = _rebuild(spec_1a, row, float(row.p_r))
         res2 = solve(inst2)
-        if res2.rigid:
-            break
-    return {
-        "instance": inst,
-        "result": res,
-        "p_r": p_r,
-        "p_t": 0.2,
-        "mixed_instance": inst2,
-        "mixed_result": res2,
-    }
+    field_ = DisplacementField(inst, res, p_r, FIELD_P_T, inst2, res2)
+    return field_, ex_2a, ex_1a
+
+
+def _rebuild(spec: dict, row: pd.Series, p_r: float) -> Instance:
+    """The instance of one sweep row's sample at ``p_r`` (its geometry, uniforms and strain)."""
+    sp = parse_spec({"delta": DEFAULT_DELTA} | spec)
+    point = next(
+        q for q in sp.points() if np.isclose(q.p_t, row.p_t) and np.isclose(q.phi, row.phi)
+    )
+    net, u, v, theta = sample_geometry(sp, point, int(row["sample"]))
+    kinds = place_elements(u, v, p_r, point.p_t, point.f_c)
+    return Instance(net.with_kinds(kinds), strain_tensor(point.phi, theta, sp.gamma))
 
 
 # --------------------------------------------------------------------------- Fig. 3
 
 
-def study_fig3(out, scale: Scale, **kw) -> dict:
+@dataclass(frozen=True, eq=False)
+class Fig3Result:
+    """Single node: analytic P_N versus f_c and its simulation.
+
+    Attributes
+    ----------
+    f_c : (F,) float
+        Grid of the analytic curves.
+    analytic : dict
+        p_r -> (F,) analytic P_N.
+    sim : DataFrame
+        Simulated points: p_r, f_c, P with its Wilson interval (lo, hi), the analytic value and
+        ``z = (P - analytic) / binomial standard error`` (the error from the Wilson interval).
+    trials : int
+        Trials per simulated point.
+    """
+
+    f_c: np.ndarray
+    analytic: dict
+    sim: pd.DataFrame
+    trials: int
+    excluded: dict[str, int] = field(default_factory=dict)
+    measured: tuple[Measurement, ...] = ()
+
+
+def study_fig3(out, scale: Scale, **kw) -> Fig3Result:
     """Single node: analytic P_N versus f_c, and simulation with Wilson intervals."""
     rng = np.random.default_rng(31)
     f_c = np.linspace(0, 1, 41)
@@ -311,22 +939,96 @@ def study_fig3(out, scale: Scale, **kw) -> dict:
                     "analytic": single_node_probability(p, f * (1 - p), (1 - f) * (1 - p)),
                 }
             )
-    return {"f_c": f_c, "analytic": analytic, "sim": pd.DataFrame(sim), "trials": scale.node_trials}
+    sim = pd.DataFrame(sim)
+    se = (sim.hi - sim.lo) / (2 * 1.96)
+    sim["z"] = (sim.P - sim.analytic) / se
+    # the test of "simulation = formula" uses the binomial variance under the formula
+    var = sim.analytic * (1 - sim.analytic) / scale.node_trials
+    measured = (
+        Measurement(
+            "single_node",
+            sim.P.to_numpy(),
+            np.diag(var.to_numpy()),
+            f"{scale.node_trials} trials per point",
+            points=tuple(
+                f"p_r = {a}, f_c = {b:.3f}" for a, b in zip(sim.p_r, sim.f_c, strict=True)
+            ),
+            reference=sim.analytic.to_numpy(),
+            note="simulated against analytic P_N at every point; binomial errors at the "
+            "analytic value",
+        ),
+    )
+    return Fig3Result(
+        f_c=f_c, analytic=analytic, sim=sim, trials=scale.node_trials, measured=measured
+    )
 
 
 # --------------------------------------------------------------------------- Fig. 4
 
 FIG4_PHI = PHI5
 FIG4_FC = [i / 8 for i in range(9)]
-#: steps of the central differences, matched in the mean-field variable x = p_r + p_t / 2 (both
-#: move x by +-0.025): near the edge of the transition P is strongly curved and a secant is
-#: steeper the wider it is, so unmatched spans would bias S_t / S_r.
+FIG4_CENTRE = (0.3, 0.6)
+#: steps around the centre, matched in the mean-field variable x = p_r + p_t / 2 (both move x
+#: by +-0.025): near the edge of the transition P is strongly curved and a secant is steeper
+#: the wider it is, so unmatched spans would bias S_t / S_r.
 H_R, H_T = 0.025, 0.05
+#: polynomial degrees in f_c of the efficacy surface (logit at the centre; its slopes)
+FIG4_DEGREES = (4, 2)
 
 
-def study_fig4(out, scale: Scale, **kw) -> dict:
-    """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies S_c, S_s from paired
-    differences on common random numbers."""
+@dataclass(frozen=True, eq=False)
+class Fig4Result:
+    """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies of cables and struts.
+
+    Attributes
+    ----------
+    per_phi : DataFrame
+        Per (phi, f_c): the measured P, N, its Wilson interval (lo, hi), and from the fitted
+        surface S_r, S_t, D_f = dP/df_c, S_c, S_s with errors (``<name>_err``).
+    average, dilation, compression : DataFrame
+        Per f_c: S_r, S_c/S_r (``S_c_rel``), S_s/S_r, (S_c + S_s)/S_r (``sum_rel``) with errors,
+        for the strain average and the two pure strains, from the fitted surface
+        (:func:`~tensegrity_rigidity.analysis.estimators.fit_efficacies`).
+    curves : EfficacyCurves
+        The strain average with covariances over f_c.
+    differences : DataFrame
+        The strain average from paired central differences (one-sided at f_c = 0 and 1), the
+        estimator the surface replaces, kept as evidence of what the estimator changes.
+    slopes : dict
+        Strain name ("dilation", "compression") -> least-squares slope of P over f_c with its
+        error (:func:`~tensegrity_rigidity.analysis.estimators.paired_slope`).
+    """
+
+    per_phi: pd.DataFrame
+    average: pd.DataFrame
+    dilation: pd.DataFrame
+    compression: pd.DataFrame
+    curves: an.EfficacyCurves
+    differences: pd.DataFrame
+    slopes: dict[str, an.Derivative]
+    n: int
+    samples: int
+    excluded: dict[str, int]
+    measured: tuple[Measurement, ...] = ()
+
+
+def _ratio_frame(c: an.EfficacyCurves) -> pd.DataFrame:
+    cols = {"f_c": c.f_c, "S_r": c.values["S_r"], "S_r_err": c.err("S_r")}
+    for name in ("S_c_rel", "S_s_rel", "sum_rel"):
+        cols[name], cols[f"{name}_err"] = c.values[name], c.err(name)
+    return pd.DataFrame(cols)
+
+
+def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
+    """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies S_r, S_t, S_c, S_s.
+
+    Three sweeps on the same samples (common random numbers): the centre, p_r +- H_R and
+    p_t +- H_T, each at f_c = 0, 1/8, ..., 1 and five strains. The efficacies come from a
+    binomial-likelihood surface smooth in f_c (see
+    :func:`~tensegrity_rigidity.analysis.estimators.fit_efficacies`), fitted to all 45 points of
+    each strain at once.
+    """
+    p_r0, p_t0 = FIG4_CENTRE
     base = {
         "n": scale.n_grid,
         "f_c": FIG4_FC,
@@ -334,10 +1036,16 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
         "samples": scale.samples_fig4,
         "seed": 41,
     }
-    centre = _run(out, "fig4_centre", base | {"p_r": 0.3, "p_t": 0.6}, **kw)
-    d_r = _run(out, "fig4_dpr", base | {"p_r": [0.3 - H_R, 0.3 + H_R], "p_t": 0.6}, **kw)
-    d_t = _run(out, "fig4_dpt", base | {"p_r": 0.3, "p_t": [0.6 - H_T, 0.6 + H_T]}, **kw)
-
+    excluded = {}
+    centre, excluded["fig4_centre"] = sweep_rows(
+        out, "fig4_centre", base | {"p_r": p_r0, "p_t": p_t0}, **kw
+    )
+    d_r, excluded["fig4_dpr"] = sweep_rows(
+        out, "fig4_dpr", base | {"p_r": [p_r0 - H_R, p_r0 + H_R], "p_t": p_t0}, **kw
+    )
+    d_t, excluded["fig4_dpt"] = sweep_rows(
+        out, "fig4_dpt", base | {"p_r": p_r0, "p_t": [p_t0 - H_T, p_t0 + H_T]}, **kw
+    )
     samples = np.arange(1, scale.samples_fig4 + 1)
 
     def outcomes(df, **sel):
@@ -347,21 +1055,119 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
             m &= np.isclose(df[key], val)
         return df[m].set_index("sample").rigid.astype(float).reindex(samples).to_numpy()
 
-    per_phi = []
-    for phi in FIG4_PHI:
+    design = [(centre, p_r0, p_t0)]
+    design += [(d_r, p_r0 + s * H_R, p_t0) for s in (-1, 1)]
+    design += [(d_t, p_r0, p_t0 + s * H_T) for s in (-1, 1)]
+    pr, pt, fc = (
+        np.array([p for _, p, _ in design for _ in FIG4_FC]),
+        np.array([t for _, _, t in design for _ in FIG4_FC]),
+        np.array(FIG4_FC * len(design)),
+    )
+    y = np.array(
+        [
+            np.column_stack(
+                [outcomes(df, phi=phi, f_c=f, p_r=a, p_t=b) for df, a, b in design for f in FIG4_FC]
+            )
+            for phi in FIG4_PHI
+        ]
+    )
+    per_strain, average = an.fit_efficacies(
+        y, pr, pt, fc, FIG4_CENTRE, np.array(FIG4_FC), FIG4_DEGREES, n_boot=scale.bootstrap
+    )
+    rows = []
+    for phi, c in zip(FIG4_PHI, per_strain, strict=True):
         for i, f in enumerate(FIG4_FC):
+            P = outcomes(centre, phi=phi, f_c=f)
+            P = P[np.isfinite(P)]
+            row = {"phi": phi, "f_c": f, "P": P.mean(), "N": P.size}
+            for name in ("S_r", "S_t", "D_f", "S_c", "S_s"):
+                row[name], row[f"{name}_err"] = c.values[name][i], c.err(name)[i]
+            rows.append(row)
+    per_phi = pd.DataFrame(rows)
+    _, per_phi["lo"], per_phi["hi"] = an.wilson(per_phi.P * per_phi.N, per_phi.N)
+    slopes = {
+        name: an.paired_slope(
+            np.column_stack([outcomes(centre, phi=phi, f_c=f) for f in FIG4_FC]), FIG4_FC
+        )
+        for name, phi in (("dilation", 0.0), ("compression", math.pi))
+    }
+    differences = _fig4_differences(outcomes, centre, d_r, d_t)
+    system = f"n = {scale.n_grid}, {scale.samples_fig4} samples per point"
+    measured = [
+        Measurement.scalar(
+            key,
+            slopes[name].value,
+            slopes[name].err,
+            system,
+            note="least-squares slope of P over f_c = 0, 1/8, ..., 1 (mean of per-sample slopes)",
+        )
+        for key, name in (
+            ("fig4a_dilation_rises", "dilation"),
+            ("fig4a_compression_falls", "compression"),
+        )
+    ]
+    points = tuple(f"f_c = {f:.3f}" for f in FIG4_FC)
+    measured.append(
+        Measurement(
+            "fig4c_sum_one",
+            average.values["sum_rel"],
+            average.cov["sum_rel"],
+            system,
+            points=points,
+            note="binomial-likelihood surface smooth in f_c (logit quartic in f_c, slopes in p_r "
+            "and p_t quadratic) over the 45 points of each strain; strain average of S_r, S_t, "
+            "dP/df_c; covariance over f_c by a bootstrap over samples",
+        )
+    )
+    measured.append(
+        Measurement(
+            "fig4c_sum_one",
+            differences.sum_rel.to_numpy(float),
+            np.diag(differences.sum_rel_err.to_numpy(float) ** 2),
+            system,
+            factor="estimator",
+            label="paired central differences (one-sided at f_c = 0, 1)",
+            points=points,
+        )
+    )
+    return Fig4Result(
+        per_phi=per_phi,
+        average=_ratio_frame(average),
+        dilation=_ratio_frame(per_strain[0]),
+        compression=_ratio_frame(per_strain[-1]),
+        curves=average,
+        differences=differences,
+        slopes=slopes,
+        n=scale.n_grid,
+        samples=scale.samples_fig4,
+        excluded=excluded,
+        measured=tuple(measured),
+    )
+
+
+def _fig4_differences(outcomes, centre, d_r, d_t) -> pd.DataFrame:
+    """The strain average of (S_c + S_s)/S_r from paired central differences.
+
+    S_r, S_t by central differences over the steps H_R, H_T; dP/df_c by central differences
+    inside and second-order one-sided differences at f_c = 0 and 1; errors from the per-sample
+    differences, taken as independent across strains and f_c. Ratios where S_r = 0 are NaN.
+    """
+    p_r0, p_t0 = FIG4_CENTRE
+    last = len(FIG4_FC) - 1
+    rows = []
+    for i, f in enumerate(FIG4_FC):
+        parts = []
+        for phi in FIG4_PHI:
             S_r = an.paired_derivative(
-                outcomes(d_r, phi=phi, f_c=f, p_r=0.3 - H_R),
-                outcomes(d_r, phi=phi, f_c=f, p_r=0.3 + H_R),
+                outcomes(d_r, phi=phi, f_c=f, p_r=p_r0 - H_R),
+                outcomes(d_r, phi=phi, f_c=f, p_r=p_r0 + H_R),
                 H_R,
             )
             S_t = an.paired_derivative(
-                outcomes(d_t, phi=phi, f_c=f, p_t=0.6 - H_T),
-                outcomes(d_t, phi=phi, f_c=f, p_t=0.6 + H_T),
+                outcomes(d_t, phi=phi, f_c=f, p_t=p_t0 - H_T),
+                outcomes(d_t, phi=phi, f_c=f, p_t=p_t0 + H_T),
                 H_T,
             )
-            # dP/df_c: central difference inside, second-order one-sided at f_c = 0 and 1
-            last = len(FIG4_FC) - 1
             if 0 < i < last:
                 coef = {i - 1: -1.0, i + 1: 1.0}
                 step = FIG4_FC[i + 1] - FIG4_FC[i - 1]
@@ -372,70 +1178,22 @@ def study_fig4(out, scale: Scale, **kw) -> dict:
                 step = 2 * abs(FIG4_FC[j[0]] - FIG4_FC[i])
             diff = sum(c * outcomes(centre, phi=phi, f_c=FIG4_FC[k]) for k, c in coef.items())
             diff = diff[np.isfinite(diff)]
-            D_f = float(diff.mean() / step)
-            D_f_err = float(diff.std(ddof=1) / np.sqrt(diff.size) / step)
-            P = outcomes(centre, phi=phi, f_c=f)
-            P = P[np.isfinite(P)]
-            per_phi.append(
-                {
-                    "phi": phi,
-                    "f_c": f,
-                    "P": P.mean(),
-                    "N": P.size,
-                    "S_r": S_r.value,
-                    "S_r_err": S_r.err,
-                    "S_t": S_t.value,
-                    "S_t_err": S_t.err,
-                    "D_f": D_f,
-                    "D_f_err": D_f_err,
-                }
-            )
-    per_phi = pd.DataFrame(per_phi)
-    p_t = 0.6
-    per_phi["S_c"] = per_phi.S_t + (1 - per_phi.f_c) * per_phi.D_f / p_t
-    per_phi["S_s"] = per_phi.S_t - per_phi.f_c * per_phi.D_f / p_t
-
-    def summarise(frame):
-        # average the derivatives over strains, then take ratios to S_r
-        g = frame.groupby("f_c")
-        out_rows = []
-        for f, sub in g:
-            k = len(sub)
-            S_r, S_r_e = sub.S_r.mean(), np.sqrt((sub.S_r_err**2).sum()) / k
-            S_t, S_t_e = sub.S_t.mean(), np.sqrt((sub.S_t_err**2).sum()) / k
-            D, D_e = sub.D_f.mean(), np.sqrt((sub.D_f_err**2).sum()) / k
-            S_c, S_s = S_t + (1 - f) * D / p_t, S_t - f * D / p_t
-            S_c_e = np.hypot(S_t_e, (1 - f) * D_e / p_t)
-            S_s_e = np.hypot(S_t_e, f * D_e / p_t)
-            rc, rs = S_c / S_r, S_s / S_r
-            out_rows.append(
-                {
-                    "f_c": f,
-                    "S_r": S_r,
-                    "S_c_rel": rc,
-                    "S_s_rel": rs,
-                    "S_c_rel_err": abs(rc) * np.hypot(S_c_e / S_c if S_c else 0, S_r_e / S_r),
-                    "S_s_rel_err": abs(rs) * np.hypot(S_s_e / S_s if S_s else 0, S_r_e / S_r),
-                    "sum_rel": (S_c + S_s) / S_r,
-                    "sum_rel_err": abs((S_c + S_s) / S_r)
-                    * np.hypot(
-                        np.hypot(S_c_e, S_s_e) / abs(S_c + S_s) if S_c + S_s else 0, S_r_e / S_r
-                    ),
-                }
-            )
-        return pd.DataFrame(out_rows)
-
-    average = summarise(per_phi)
-    dil = summarise(per_phi[np.isclose(per_phi.phi, 0.0)])
-    comp = summarise(per_phi[np.isclose(per_phi.phi, math.pi)])
-    return {
-        "per_phi": per_phi,
-        "average": average,
-        "dilation": dil,
-        "compression": comp,
-        "n": scale.n_grid,
-        "samples": scale.samples_fig4,
-    }
+            D = diff.mean() / step
+            D_e = diff.std(ddof=1) / np.sqrt(diff.size) / step
+            parts.append((S_r.value, S_r.err, S_t.value, S_t.err, D, D_e))
+        a = np.array(parts)
+        k = len(a)
+        S_r, S_t, D = a[:, 0].mean(), a[:, 2].mean(), a[:, 4].mean()
+        S_r_e, S_t_e, D_e = (np.sqrt((a[:, c] ** 2).sum()) / k for c in (1, 3, 5))
+        total = 2 * S_t + (1 - 2 * f) * D / p_t0
+        total_e = np.hypot(2 * S_t_e, abs(1 - 2 * f) * D_e / p_t0)
+        if S_r != 0:
+            ratio = total / S_r
+            err = np.hypot(total_e / S_r, ratio * S_r_e / S_r)
+        else:
+            ratio = err = np.nan
+        rows.append({"f_c": f, "sum_rel": ratio, "sum_rel_err": abs(err)})
+    return pd.DataFrame(rows)
 
 
 STUDIES = {

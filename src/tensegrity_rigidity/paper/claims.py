@@ -1,0 +1,355 @@
+"""The paper's quantitative claims as data, each with where it comes from.
+
+One :class:`Claim` per number or statement of *Rigidity of generic random tensegrity structures*
+(Sudhakar, McInerney, Rocklin, Stephenson) that the reproduction tests: the value, the paper's
+error where it gives one, where in the paper it is stated (``source``; "SM" is the supplement
+of ``/work/shared/seed``, "main" the main text) and which study measures it (a key of
+:data:`tensegrity_rigidity.paper.studies.STUDIES`). This module is the only place the paper's
+values are typed in; the comparison (:mod:`~tensegrity_rigidity.paper.comparison`) and the
+report read them from here.
+
+Literature values the paper relies on (:data:`REFERENCES`) carry their citation the same way.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: standard error of a value printed to two decimals and given without an error: the rounding,
+#: uniform over one unit of the last digit (0.01 / sqrt(12))
+ROUNDING_2DP = 0.01 / math.sqrt(12)
+
+
+@dataclass(frozen=True)
+class Reference:
+    """A value from the literature.
+
+    Attributes
+    ----------
+    value, error : float
+        The value and its quoted uncertainty (None when none is quoted).
+    citation : str
+        Who, where, and how the value was obtained.
+    """
+
+    value: float
+    error: float | None
+    citation: str
+
+
+#: literature values used by the comparison and the finite-size study
+REFERENCES = {
+    "pc_jacobs_thorpe": Reference(
+        0.6602,
+        0.0003,
+        "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995), 'Generic rigidity percolation: the "
+        "pebble game': generic bond-diluted triangular lattice, pebble game (cited by the paper "
+        "as jacobs1995generic)",
+    ),
+    "pc_javerzat_notarmuzi": Reference(
+        0.66027,
+        None,
+        "Javerzat & Notarmuzi, generic rigidity percolation of the bond-diluted triangular "
+        "lattice, as quoted in issue 15 (0.66027; the reference was not verified here)",
+    ),
+    "nu_jacobs_thorpe": Reference(
+        1.21, 0.06, "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995): correlation-length exponent"
+    ),
+    "nu_moukarzel_duxbury": Reference(
+        1.16,
+        0.03,
+        "Moukarzel & Duxbury, Phys. Rev. E 59, 2614 (1999), arXiv:cond-mat/9702249: generic "
+        "rigidity percolation on lattices up to L = 4096",
+    ),
+}
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One claim of the paper.
+
+    Attributes
+    ----------
+    key : str
+        Stable identifier (used by the studies' measurements).
+    text : str
+        The claim as the comparison table states it.
+    paper : str
+        The paper's value as printed.
+    value : float or None
+        The number our measurement is compared with (None for a qualitative claim or one whose
+        reference value the study computes, as the single-node formula).
+    error : float
+        The paper's standard error (see ``error_kind``).
+    error_kind : str
+        "stated" (the paper's error bar), "rounding" (a value printed without one: the rounding
+        of its last digit, :data:`ROUNDING_2DP`), "exact" (a theoretical value, error 0) or
+        "computed" (the reference value is computed by the study, error 0).
+    source : str
+        Where in the paper the claim is made.
+    study : str
+        The study that measures it.
+    relation : str
+        "equal", or "positive" / "negative" for a claim about a sign (a trend).
+    """
+
+    key: str
+    text: str
+    paper: str
+    value: float | None
+    error: float
+    error_kind: str
+    source: str
+    study: str
+    relation: str = "equal"
+
+
+#: the factors that can account for a disagreement, in the order the report lists them
+FACTORS = ("finite size", "delta", "method", "estimator")
+
+
+@dataclass(frozen=True, eq=False)
+class Measurement:
+    """What a study measured for one claim.
+
+    Attributes
+    ----------
+    claim : str
+        Key of the claim in :data:`CLAIMS`.
+    value : (k,) float
+        Our value(s); k > 1 for a claim about several points (e.g. every f_c).
+    cov : (k, k) float
+        Their covariance.
+    system : str
+        System size and samples behind the value.
+    factor : str
+        "ours" for the reproduction's own measurement, else one of :data:`FACTORS`: the same
+        claim measured another way, as evidence of what moves it (e.g. "method": with the
+        paper's verdict; "estimator": with the paper's estimator).
+    label : str
+        What was changed, for the explanation (e.g. "paper's verdict (L-BFGS-B)").
+    points : tuple of str
+        Labels of the k points (empty for k = 1).
+    reference : (k,) float or None
+        The reference values when the claim's are computed by the study (single node).
+    note : str
+        How the value is defined, where that matters.
+    shift : bool
+        True when ``value`` is a change of the claim's value (an alternative measured as
+        "paper's way minus ours" on the same samples): the comparison adds it to our own
+        measurement, with both covariances.
+    """
+
+    claim: str
+    value: np.ndarray
+    cov: np.ndarray
+    system: str
+    factor: str = "ours"
+    label: str = ""
+    points: tuple[str, ...] = ()
+    reference: np.ndarray | None = None
+    note: str = ""
+    shift: bool = False
+
+    @classmethod
+    def scalar(cls, claim: str, value: float, err: float, system: str, **kw) -> Measurement:
+        """A single value with its standard error."""
+        return cls(claim, np.array([value], float), np.array([[err**2]], float), system, **kw)
+
+    @property
+    def err(self) -> np.ndarray:
+        """(k,) standard errors."""
+        return np.sqrt(np.diag(self.cov))
+
+
+def _claims() -> list[Claim]:
+    out = []
+    for strain in ("dilation", "shear", "compression", "average"):
+        out.append(
+            Claim(
+                f"st_sr_half_{strain}",
+                f"S_t/S_r = 0.5 at f_c = 0.5 ({strain})",
+                "0.5",
+                0.5,
+                0.0,
+                "exact",
+                "main text on Fig. 1C: 'the nonlinear elements always count as half the linear "
+                "elements in all types of metric strain'; Fig. 1C caption",
+                "fig1c",
+            )
+        )
+    out += [
+        Claim(
+            "st_sr_cables_compression",
+            "rods + cables, compression: S_t/S_r",
+            "0.372 ± 0.013",
+            0.372,
+            0.013,
+            "stated",
+            "Fig. 1C caption: 'cables ... contribute about 37.2 % ± 1.3 %'",
+            "fig1c",
+        ),
+        Claim(
+            "st_sr_struts_dilation",
+            "rods + struts, dilation: S_t/S_r",
+            "0.359 ± 0.015",
+            0.359,
+            0.015,
+            "stated",
+            "Fig. 1C caption: '(struts) ... 35.9 % ± 1.5 %'",
+            "fig1c",
+        ),
+        Claim(
+            "st_sr_cables_dilation",
+            "rods + cables, dilation: S_t/S_r",
+            "about 0.67",
+            0.67,
+            ROUNDING_2DP,
+            "rounding",
+            "main text on Fig. 1C: 'cables under dilation ... count as much as 67 % as much as "
+            "rods'",
+            "fig1c",
+        ),
+        Claim(
+            "rods_only_pc",
+            "rods only: p_c (Jacobs & Thorpe 1995: 0.6602)",
+            "0.66",
+            REFERENCES["pc_jacobs_thorpe"].value,
+            REFERENCES["pc_jacobs_thorpe"].error,
+            "stated",
+            "SM tables of the energy fits, p_t = 0 rows (p_crit 0.66, 0.65); compared with the "
+            "literature value the paper cites, " + REFERENCES["pc_jacobs_thorpe"].citation,
+            "fig1c",
+        ),
+        Claim(
+            "collapse_shear_half",
+            "shear, f_c = 0.5: P depends on p_r + p_t/2 only (Fig. 1B), i.e. S_t/S_r = 0.5",
+            "P = 1/2 contour along p_r + p_t/2 = const",
+            0.5,
+            0.0,
+            "exact",
+            "Fig. 1B caption: 'The contour aligns with the theory (orange line)'; main text: "
+            "'the probability is a function of p_r + p_t/2 only'",
+            "fig1b",
+        ),
+    ]
+    for strain, table in (("compression", PCRIT_COMPRESSION), ("dilation", PCRIT_DILATION)):
+        label = f"SM table of the energy fits, rods + cables, {strain} (Fig. 2" + (
+            "C)" if strain == "compression" else "D)"
+        )
+        for p_t, (pc, alpha, alpha_err) in table.items():
+            out.append(
+                Claim(
+                    f"p_crit_{strain}_{p_t}",
+                    f"p_crit, rods + cables, {strain}, p_t = {p_t}",
+                    f"{pc:.2f}",
+                    pc,
+                    ROUNDING_2DP,
+                    "rounding",
+                    f"{label}, p_t = {p_t}: p_crit, 'the value of p_r at which E first becomes "
+                    "positive'",
+                    "fig2",
+                )
+            )
+            out.append(
+                Claim(
+                    f"alpha_{strain}_{p_t}",
+                    f"energy exponent alpha, {strain}, p_t = {p_t}",
+                    f"{alpha:.3f} ± {alpha_err:.3f}",
+                    alpha,
+                    alpha_err,
+                    "stated",
+                    f"{label}, p_t = {p_t}: alpha of ln E = alpha ln(p_r - p_crit) + beta",
+                    "fig2",
+                )
+            )
+    out += [
+        Claim(
+            "taut_cables_transition",
+            "cables under tension at the transition (rods + cables, compression)",
+            "about 37 %",
+            0.37,
+            ROUNDING_2DP,
+            "rounding",
+            "main text on Fig. 2B: 'about 37 % of the cables are under positive tension'",
+            "fig2",
+        ),
+        Claim(
+            "gamma_peak",
+            "nonaffinity Gamma peaks at the transition (compression): peak - p_crit = 0",
+            "peak at p_crit",
+            0.0,
+            0.0,
+            "exact",
+            "Fig. 2B caption: 'Gamma, reaching peaks at the rigidity transition (dashed line)'",
+            "fig2",
+        ),
+        Claim(
+            "fig4a_dilation_rises",
+            "Fig. 4A: P rises with f_c under dilation",
+            "rises",
+            0.0,
+            0.0,
+            "exact",
+            "Fig. 4A caption and main text: 'the probability of rigidity increases ... as we "
+            "increase f_c for more dilational strains'",
+            "fig4",
+            relation="positive",
+        ),
+        Claim(
+            "fig4a_compression_falls",
+            "Fig. 4A: P falls with f_c under compression",
+            "falls",
+            0.0,
+            0.0,
+            "exact",
+            "Fig. 4A caption and main text: '(decreases) ... for more compressional strains'",
+            "fig4",
+            relation="negative",
+        ),
+        Claim(
+            "fig4c_sum_one",
+            "Fig. 4C: (S_c + S_s)/S_r = 1, strain average, every f_c",
+            "1 for every f_c",
+            1.0,
+            0.0,
+            "exact",
+            "Fig. 4C caption and main text: 'the combined efficacies of a cable and a strut add "
+            "up to that of a rod when averaged over all strain, irrespective of f_c'",
+            "fig4",
+        ),
+        Claim(
+            "single_node",
+            "single node: analytic P_N equals simulation",
+            "agree (Fig. 3B)",
+            None,
+            0.0,
+            "computed",
+            "Fig. 3B caption: 'The analytical solutions are shown as solid lines with error bars "
+            "generated from simulation data'; SM section B (the formula, evaluated by "
+            "analysis.single_node)",
+            "fig3",
+        ),
+    ]
+    return out
+
+
+#: SM tables of the energy fits (rods + cables): p_t -> (p_crit, alpha, alpha error)
+PCRIT_COMPRESSION = {
+    0.0: (0.66, 1.100, 0.015),
+    0.1: (0.60, 1.478, 0.070),
+    0.2: (0.56, 1.582, 0.085),
+    0.3: (0.51, 1.806, 0.130),
+}
+PCRIT_DILATION = {
+    0.0: (0.65, 1.257, 0.029),
+    0.1: (0.59, 1.033, 0.032),
+    0.2: (0.53, 0.867, 0.019),
+    0.3: (0.46, 0.673, 0.025),
+}
+
+#: every claim, in the order of the comparison table
+CLAIMS: dict[str, Claim] = {c.key: c for c in _claims()}

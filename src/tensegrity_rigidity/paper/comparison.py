@@ -1,0 +1,207 @@
+"""Our measurements beside the paper's claims: one typed row per claim, one agreement rule.
+
+:func:`compare` pairs each claim of :mod:`~tensegrity_rigidity.paper.claims` with the
+:class:`~tensegrity_rigidity.paper.claims.Measurement` objects the studies produced (the studies
+compute every statistic) and returns :class:`ComparisonRow` objects, which the report renders.
+
+The agreement rule, the same for every claim (:data:`RULE`)::
+
+    z = |ours - paper| / sqrt(err_ours^2 + err_paper^2),   agree when z < 2
+
+``err_paper`` is the paper's error bar where it gives one, the rounding of the printed value
+where it gives none (0.01 / sqrt(12) for two decimals), and 0 for an exact statement. A claim
+about several points (every f_c, every p_t) uses its largest per-point z, expressed as the
+normal deviate of the family-wise tail probability (Sidak); a claim about a sign
+("P rises with f_c") uses the distance of our value to the claimed side. Nothing here is tuned
+to agree.
+
+Where a claim disagrees, the ``explanation`` names, for each factor that could account for it
+(finite size, node disorder delta, the paper's method, the estimator), the evidence the studies
+provide: the same claim measured with that factor changed, with its z, and whether it "then
+agrees" or "still disagrees" (a large error can make it agree without explaining much: the
+value and its error are shown for that reason); a factor without such a measurement is "not
+yet tested".
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
+import pandas as pd
+
+from ..analysis.estimators import agreement_z, sign_z
+from .claims import CLAIMS, FACTORS, Claim, Measurement
+
+#: z below which a measurement agrees with the paper
+AGREE_BELOW = 2.0
+
+#: the agreement rule in one sentence, as the report states it
+RULE = (
+    "A claim agrees when z = |ours - paper| / sqrt(err_ours^2 + err_paper^2) < 2, with the "
+    "paper's error bar where it gives one, the rounding of its printed value where it does not "
+    "(0.01/sqrt(12) for two decimals) and 0 for an exact statement (S_t/S_r = 0.5, a peak at "
+    "p_crit, a sum equal to 1). A claim about k points uses its largest per-point z, converted to "
+    "the normal deviate of the family-wise probability 1 - (1 - p)^k (Sidak, valid whatever the "
+    "correlation between points); a claim about a sign uses our distance to the claimed side."
+)
+
+
+@dataclass(frozen=True)
+class ComparisonRow:
+    """One claim of the paper beside our measurement.
+
+    Attributes
+    ----------
+    key : str
+        The claim's key in :data:`~tensegrity_rigidity.paper.claims.CLAIMS`.
+    claim, paper : str
+        The claim and the paper's value as printed.
+    ours : str
+        Our value with its uncertainty, formatted.
+    system : str
+        System size and sample counts behind our value.
+    z : float
+        The agreement statistic (NaN when ours is missing).
+    verdict : str
+        "agree" (z < 2), "disagree" or "n/a".
+    explanation : str
+        For a disagreement, the evidence for each factor (empty when the claim agrees).
+    note : str
+        How our value is defined, where that matters.
+    source : str
+        Where in the paper the claim is made.
+    """
+
+    key: str
+    claim: str
+    paper: str
+    ours: str
+    system: str
+    z: float
+    verdict: str
+    explanation: str
+    note: str
+    source: str
+
+
+#: columns of the comparison table as the report shows it
+TABLE_COLUMNS = ["claim", "paper", "ours", "system", "z", "verdict", "explanation", "note"]
+
+
+def fmt(value, err=None, digits=3) -> str:
+    """``value ± err`` to ``digits`` decimals ("n/a" for a missing or non-finite value)."""
+    if value is None or not np.isfinite(value):
+        return "n/a"
+    if err is None or not np.isfinite(err):
+        return f"{value:.{digits}f}"
+    return f"{value:.{digits}f} ± {err:.{digits}f}"
+
+
+def z_score(claim: Claim, m: Measurement) -> float:
+    """The agreement statistic of one measurement of a claim (see the module docstring).
+
+    Points whose value or error is not finite are left out (a derivative ratio at a point where
+    P does not vary); NaN when none is left.
+    """
+    if claim.relation in ("positive", "negative"):
+        sign = 1 if claim.relation == "positive" else -1
+        return sign_z(float(m.value[0]), float(m.err[0]), sign)
+    ref = m.reference if m.reference is not None else np.full(m.value.size, claim.value)
+    ok = np.isfinite(m.value) & np.isfinite(m.err) & np.isfinite(ref)
+    if not ok.any():
+        return float("nan")
+    return agreement_z(m.value[ok], m.cov[np.ix_(ok, ok)], ref[ok], claim.error)
+
+
+def _ours(m: Measurement, claim: Claim, digits: int = 3) -> str:
+    if m.value.size == 1:
+        return fmt(float(m.value[0]), float(m.err[0]), digits)
+    if m.value.size > 9:
+        ref = m.reference if m.reference is not None else np.full(m.value.size, claim.value)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dev = np.abs(m.value - ref) / m.err
+        dev = dev[np.isfinite(dev)]
+        worst = f"; largest |ours - reference| / error {dev.max():.2f}" if dev.size else ""
+        return f"{m.value.size} points{worst}"
+    parts = [
+        f"{lab}: {fmt(v, e, 2)}" if lab else fmt(v, e, 2)
+        for lab, v, e in zip(m.points or [""] * m.value.size, m.value, m.err, strict=True)
+    ]
+    return ", ".join(parts)
+
+
+def _applied(ours: Measurement, shift: Measurement) -> Measurement:
+    """Our measurement moved by a measured shift (errors of both added)."""
+    if shift.value.size != ours.value.size:
+        return replace(shift, value=np.full(shift.value.size, np.nan))
+    return replace(shift, value=ours.value + shift.value, cov=ours.cov + shift.cov, shift=False)
+
+
+def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) -> str:
+    """One clause per factor: the alternative measurements and whether they agree."""
+    clauses = []
+    for factor in FACTORS:
+        alts = [_applied(ours, a) if a.shift else a for a in alternatives if a.factor == factor]
+        if not alts:
+            clauses.append(f"{factor}: not yet tested")
+            continue
+        parts = []
+        for a in alts:
+            z = z_score(claim, a)
+            judged = (
+                ("then agrees" if z < AGREE_BELOW else "still disagrees")
+                if np.isfinite(z)
+                else "no value"
+            )
+            parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.1f}: {judged})")
+        clauses.append(f"{factor}: " + " / ".join(parts))
+    return "; ".join(clauses)
+
+
+def compare(results: dict) -> list[ComparisonRow]:
+    """One row per claim measured by the studies in ``results`` (study name -> result).
+
+    Every result's ``measured`` tuple is read; a claim without a measurement of factor "ours"
+    gets no row.
+    """
+    by_claim: dict[str, list[Measurement]] = {}
+    for r in results.values():
+        for m in getattr(r, "measured", ()):
+            by_claim.setdefault(m.claim, []).append(m)
+    rows = []
+    for key, claim in CLAIMS.items():
+        ms = by_claim.get(key, [])
+        ours = [m for m in ms if m.factor == "ours"]
+        if not ours:
+            continue
+        m = ours[0]
+        z = z_score(claim, m)
+        if not np.isfinite(z):
+            verdict = "n/a"
+        else:
+            verdict = "agree" if z < AGREE_BELOW else "disagree"
+        others = [a for a in ms if a.factor != "ours"]
+        rows.append(
+            ComparisonRow(
+                key=key,
+                claim=claim.text,
+                paper=claim.paper,
+                ours=_ours(m, claim),
+                system=m.system,
+                z=z,
+                verdict=verdict,
+                explanation=_evidence(claim, m, others) if verdict == "disagree" else "",
+                note=m.note,
+                source=claim.source,
+            )
+        )
+    return rows
+
+
+def comparison_frame(rows: list[ComparisonRow]) -> pd.DataFrame:
+    """The rows as a table (every field, one column each); z rounded for display."""
+    df = pd.DataFrame([asdict(r) for r in rows])
+    if len(df):
+        df["z"] = df.z.round(2)
+    return df

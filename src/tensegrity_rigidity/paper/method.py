@@ -1,0 +1,232 @@
+"""The paper's method beside ours: both verdicts on the same samples near the transition.
+
+The paper decided each sample with a local minimiser and "energy greater than 0"
+(:mod:`tensegrity_rigidity.solver.inexact` reproduces that with L-BFGS-B and a relative
+threshold). This study runs the same grid twice, once with the certified verdict and once with
+the paper's (sweep key ``verdict = "paper"``), on identical samples (common random numbers:
+a sample's disorder depends only on ``(seed, n, delta, sample)``), and reports
+
+* how often the two verdicts differ, in which direction, overall and where the exact P lies
+  between 0.1 and 0.9, at the threshold of the verdict and at 100x above and below it (the
+  energies are stored, so the verdict at another threshold needs no new minimisation);
+* how each claim it can measure moves: S_t/S_r of rods + cables under compression and dilation
+  (and rods + struts under dilation, equal to the first by the e -> -e symmetry, which the
+  minimiser respects too), the rods-only P = 1/2 point, p_crit and the energy exponent alpha
+  per p_t. Each is computed both ways with the same estimator on the same samples; the shift
+  (paper's way minus ours) has a paired bootstrap error and is handed to the comparison as the
+  evidence for the factor "method".
+
+Grid: rods + cables (f_c = 1), compression and dilation, p_t in {0, 0.1, 0.2, 0.3}, p_r from
+0.40 to 0.80 (the transition region at every p_t) at the scale's ``method_step``; lattice
+``n_method`` with ``samples_method`` samples per point.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ..analysis import estimators as an
+from ..solver.inexact import PAPER_THRESHOLD
+from .claims import Measurement
+from .studies import PT4, Scale, p_r_grid, strain_name, sweep_rows
+
+#: thresholds (relative to the affine energy) at which the paper's verdict is also read
+THRESHOLDS = (1e-6, PAPER_THRESHOLD, 1e-10)
+P_R_RANGE = (0.40, 0.80)
+KEYS = ["phi", "p_t", "p_r", "sample"]
+
+
+@dataclass(frozen=True, eq=False)
+class MethodResult:
+    """Both verdicts on the same samples and what the difference does to the claims.
+
+    Attributes
+    ----------
+    rows : DataFrame
+        One row per sample and grid point: ``rigid`` (certified), ``paper_rigid`` (the paper's
+        verdict at :data:`~tensegrity_rigidity.solver.inexact.PAPER_THRESHOLD`), ``energy``
+        (exact E*), ``paper_energy`` (where L-BFGS-B stopped), ``affine_energy``,
+        ``iterations``, ``converged``.
+    disagreement : DataFrame
+        Per threshold and region ("all", "0.1 <= P <= 0.9"): samples, verdicts that differ
+        (count, fraction with its Wilson interval), and the two directions.
+    claims : DataFrame
+        Per claim: its key, the value with exact verdicts, with the paper's, and the shift
+        (paper's - exact) with paired bootstrap errors.
+    iterations : dict
+        Median and largest L-BFGS-B iteration count, and the samples where it stopped at its
+        iteration limit without meeting its tolerances (``not_converged``).
+    """
+
+    rows: pd.DataFrame
+    disagreement: pd.DataFrame
+    claims: pd.DataFrame
+    iterations: dict
+    threshold: float
+    n: int
+    samples: int
+    excluded: dict[str, int]
+    measured: tuple[Measurement, ...] = ()
+
+
+def study_method(out, scale: Scale, **kw) -> MethodResult:
+    """Run the grid with both verdicts and compare them sample by sample."""
+    p_r = [p for p in p_r_grid(scale.method_step, *P_R_RANGE)]
+    excluded, parts = {}, []
+    for p_t in PT4:
+        spec = {
+            "n": scale.n_method,
+            "p_r": [p for p in p_r if p + p_t <= 1 + 1e-12],
+            "p_t": p_t,
+            "f_c": 1.0,
+            "phi": ["compression", "dilation"],
+            "samples": scale.samples_method,
+            "seed": 51,
+        }
+        name = f"method_exact_pt{p_t:.1f}"
+        exact, excluded[name] = sweep_rows(out, name, spec, **kw)
+        paper, _ = sweep_rows(out, f"method_paper_pt{p_t:.1f}", spec | {"verdict": "paper"}, **kw)
+        merged = exact[[*KEYS, "rigid", "energy", "affine_energy"]].merge(
+            paper[[*KEYS, "rigid", "energy", "iterations", "converged"]].rename(
+                columns={"rigid": "paper_rigid", "energy": "paper_energy"}
+            ),
+            on=KEYS,
+        )
+        parts.append(merged)
+    rows = pd.concat(parts, ignore_index=True)
+    rows["rigid"] = rows.rigid.astype(bool)
+    rows["paper_rigid"] = rows.paper_rigid.astype(bool)
+    claims = _claims(rows, scale.bootstrap)
+    return MethodResult(
+        rows=rows,
+        disagreement=_disagreement(rows),
+        claims=claims,
+        iterations={
+            "median": float(rows.iterations.median()),
+            "max": int(rows.iterations.max()),
+            "not_converged": int((~rows.converged.astype(bool)).sum()),
+        },
+        threshold=PAPER_THRESHOLD,
+        n=scale.n_method,
+        samples=scale.samples_method,
+        excluded=excluded,
+        measured=_measurements(claims, scale),
+    )
+
+
+def _disagreement(rows: pd.DataFrame) -> pd.DataFrame:
+    """How often the verdicts differ, per threshold and region."""
+    P = rows.groupby(["phi", "p_t", "p_r"]).rigid.transform("mean")
+    regions = {"all": np.ones(len(rows), bool), "0.1 <= P <= 0.9": ((P >= 0.1) & (P <= 0.9))}
+    out = []
+    for tau in THRESHOLDS:
+        paper = rows.paper_energy > tau * rows.affine_energy
+        for region, m in regions.items():
+            m = np.asarray(m, bool)
+            exact_r, paper_r = rows.rigid.to_numpy()[m], paper.to_numpy()[m]
+            differ = int((exact_r != paper_r).sum())
+            _, lo, hi = an.wilson(differ, m.sum())
+            out.append(
+                {
+                    "threshold": tau,
+                    "region": region,
+                    "samples": int(m.sum()),
+                    "differ": differ,
+                    "fraction": differ / m.sum() if m.sum() else np.nan,
+                    "lo": float(lo),
+                    "hi": float(hi),
+                    "exact_rigid_paper_floppy": int((exact_r & ~paper_r).sum()),
+                    "exact_floppy_paper_rigid": int((~exact_r & paper_r).sum()),
+                }
+            )
+    return pd.DataFrame(out)
+
+
+def _matrix(sub: pd.DataFrame, column: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(S, G) values by sample and (p_t, p_r) point, with p_r (G,) and p_t (G,)."""
+    table = sub.pivot_table(index="sample", columns=["p_t", "p_r"], values=column)
+    cols = table.columns.to_frame(index=False)
+    return table.to_numpy(float), cols.p_r.to_numpy(float), cols.p_t.to_numpy(float)
+
+
+def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
+    """Each measurable claim computed with both verdicts on the same samples."""
+    out = []
+
+    def add(key, est: an.PairedEstimate, note=""):
+        out.append(
+            {
+                "key": key,
+                "exact": est.a,
+                "exact_err": est.a_err,
+                "paper": est.b,
+                "paper_err": est.b_err,
+                "shift": est.diff,
+                "shift_err": est.diff_err,
+                "note": note,
+            }
+        )
+
+    for phi in (math.pi, 0.0):
+        sub = rows[np.isclose(rows.phi, phi)]
+        strain = strain_name(phi)
+        ya, pr, pt = _matrix(sub, "rigid")
+        yb, _, _ = _matrix(sub, "paper_rigid")
+
+        def lam(y, pr=pr, pt=pt):
+            ok = np.all(np.isfinite(y), axis=1)
+            return an.fit_collapse(y[ok], pr, pt, n_boot=0).lam
+
+        est = an.paired_bootstrap(lam, ya, yb, n_boot)
+        add(f"st_sr_cables_{strain}", est, "collapse fit over p_t = 0, 0.1, 0.2, 0.3")
+        if strain == "compression":
+            add("st_sr_struts_dilation", est, "equal to rods + cables under compression (e -> -e)")
+        for p_t in PT4:
+            one = sub[np.isclose(sub.p_t, p_t)]
+            ya, pr1, _ = _matrix(one, "rigid")
+            yb, _, _ = _matrix(one, "paper_rigid")
+
+            def cross(y, x=pr1):
+                return an.crossing_point(y, x, n_boot=0).value
+
+            est = an.paired_bootstrap(cross, ya, yb, n_boot)
+            add(f"p_crit_{strain}_{p_t}", est, "P = 1/2 of a logistic fit over the p_r grid")
+            ea, _, _ = _matrix(one, "energy")
+            eb, _, _ = _matrix(one, "paper_energy")
+
+            def alpha(stack, x=pr1, G=pr1.size):
+                y, e = stack[:, :G], stack[:, G:]
+                pc = an.crossing_point(y, x, n_boot=0).value
+                fit = an.fit_energy_power_law(x, np.nanmean(e, axis=0), pc)
+                return fit.alpha
+
+            est = an.paired_bootstrap(alpha, np.hstack([ya, ea]), np.hstack([yb, eb]), n_boot)
+            add(f"alpha_{strain}_{p_t}", est, "mean energies from each method, its own p_crit")
+    rods = rows[np.isclose(rows.p_t, 0.0)]
+    stack = [
+        _matrix(rods[np.isclose(rods.phi, phi)], c)[0]
+        for phi in (math.pi, 0.0)
+        for c in ("rigid", "paper_rigid")
+    ]
+    x = _matrix(rods[np.isclose(rods.phi, math.pi)], "rigid")[1]
+    ya, yb = np.vstack([stack[0], stack[2]]), np.vstack([stack[1], stack[3]])
+    est = an.paired_bootstrap(lambda y: an.crossing_point(y, x, n_boot=0).value, ya, yb, n_boot)
+    add("rods_only_pc", est, "P = 1/2 of a logistic fit, p_t = 0, both strains")
+    return pd.DataFrame(out)
+
+
+def _measurements(claims: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]:
+    """Shifts (paper's verdict - ours, same samples) as evidence for the factor "method"."""
+    label = f"ours + shift to the paper's verdict (L-BFGS-B, E > {PAPER_THRESHOLD:g} E_aff)"
+    system = f"shift from n = {scale.n_method}, {scale.samples_method} samples per point"
+    return tuple(
+        Measurement.scalar(
+            row.key, row.shift, row.shift_err, system, factor="method", label=label, shift=True
+        )
+        for row in claims.itertuples()
+        if np.isfinite(row.shift) and np.isfinite(row.shift_err)
+    )

@@ -1,0 +1,99 @@
+"""The comparison: one agreement rule for every claim, and explanations from the studies' data."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+from scipy.stats import norm
+
+from tensegrity_rigidity.paper.claims import CLAIMS, FACTORS, ROUNDING_2DP, Measurement
+from tensegrity_rigidity.paper.comparison import AGREE_BELOW, compare, comparison_frame, z_score
+
+
+@dataclass(frozen=True)
+class FakeResult:
+    measured: tuple
+    excluded: dict
+
+
+def _rows(*measured):
+    return {r.key: r for r in compare({"x": FakeResult(tuple(measured), {})})}
+
+
+def test_z_uses_both_error_bars():
+    c = CLAIMS["st_sr_cables_compression"]  # 0.372 +- 0.013
+    m = Measurement.scalar(c.key, 0.451, 0.02, "n = 12")
+    assert z_score(c, m) == pytest.approx(abs(0.451 - 0.372) / math.hypot(0.02, 0.013))
+    row = _rows(m)[c.key]
+    assert row.verdict == "disagree" and row.z > AGREE_BELOW
+
+
+def test_values_printed_without_error_carry_their_rounding():
+    c = CLAIMS["p_crit_compression_0.1"]
+    assert c.error_kind == "rounding" and c.error == pytest.approx(ROUNDING_2DP)
+    m = Measurement.scalar(c.key, 0.605, 0.0, "n = 12")
+    assert z_score(c, m) == pytest.approx(0.005 / ROUNDING_2DP)
+
+
+def test_sign_claims_measure_the_distance_to_the_claimed_side():
+    rises = CLAIMS["fig4a_dilation_rises"]
+    assert z_score(rises, Measurement.scalar(rises.key, 0.3, 0.1, "")) == 0.0
+    assert z_score(rises, Measurement.scalar(rises.key, -0.3, 0.1, "")) == pytest.approx(3.0)
+    falls = CLAIMS["fig4a_compression_falls"]
+    assert z_score(falls, Measurement.scalar(falls.key, 0.05, 0.1, "")) == pytest.approx(0.5)
+
+
+def test_several_points_use_the_largest_z_family_wise():
+    c = CLAIMS["fig4c_sum_one"]
+    one = Measurement(c.key, np.array([1.2]), np.array([[0.01]]), "")
+    two = Measurement(c.key, np.array([1.2, 1.2]), np.diag([0.01, 0.01]), "")
+    nine = Measurement(c.key, np.full(9, 1.0), np.diag(np.full(9, 0.01)), "")
+    assert z_score(c, one) == pytest.approx(2.0)
+    # two points each 2 sigma off are less surprising than one: Sidak, 1 - (1 - p)^2
+    p = 2 * norm.sf(2.0)
+    assert z_score(c, two) == pytest.approx(norm.isf((1 - (1 - p) ** 2) / 2))
+    assert z_score(c, two) < AGREE_BELOW
+    assert z_score(c, nine) == 0.0
+    # the covariance's off-diagonal (nearly singular for smooth curves) is not inverted
+    corr = Measurement(c.key, np.array([1.2, 1.2]), np.array([[0.01, 0.01], [0.01, 0.01]]), "")
+    assert z_score(c, corr) == pytest.approx(z_score(c, two))
+    # non-finite points (a ratio where P does not vary) are left out
+    partial = Measurement(c.key, np.array([np.nan, 1.0]), np.diag([np.nan, 0.01]), "")
+    assert z_score(c, partial) == 0.0
+
+
+def test_explanation_names_every_factor_with_its_evidence():
+    key = "st_sr_cables_compression"
+    ours = Measurement.scalar(key, 0.451, 0.01, "n = 12")
+    method = Measurement.scalar(key, 0.38, 0.01, "n = 12", factor="method", label="paper's verdict")
+    estimator = Measurement.scalar(
+        key, 0.46, 0.01, "n = 12", factor="estimator", label="contour slope"
+    )
+    row = _rows(ours, method, estimator)[key]
+    assert row.verdict == "disagree"
+    clauses = row.explanation.split("; ")
+    assert [c.split(":")[0] for c in clauses] == list(FACTORS)
+    assert "finite size: not yet tested" in clauses and "delta: not yet tested" in clauses
+    assert "paper's verdict" in row.explanation and "then agrees" in clauses[2]
+    assert "still disagrees" in clauses[3]
+
+
+def test_agreeing_rows_need_no_explanation_and_missing_values_are_na():
+    key = "st_sr_half_shear"
+    rows = _rows(
+        Measurement.scalar(key, 0.51, 0.02, ""),
+        Measurement.scalar("alpha_dilation_0.1", np.nan, np.nan, ""),
+    )
+    assert rows[key].verdict == "agree" and rows[key].explanation == ""
+    assert rows["alpha_dilation_0.1"].verdict == "n/a"
+    frame = comparison_frame(list(rows.values()))
+    assert {"z", "verdict", "explanation", "source"} <= set(frame.columns)
+
+
+def test_alternatives_alone_make_no_row():
+    key = "rods_only_pc"
+    alt = Measurement.scalar(key, 0.66, 0.01, "", factor="finite size", label="n -> inf")
+    assert key not in _rows(alt)

@@ -1,0 +1,142 @@
+"""Study results are typed and self-contained: exclusions travel inside them, no module state."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tensegrity_rigidity.model.strain import NAMED_STRAINS
+from tensegrity_rigidity.paper import studies
+from tensegrity_rigidity.paper.claims import CLAIMS
+from tensegrity_rigidity.paper.report import excluded_samples
+from tensegrity_rigidity.paper.studies import (
+    interval_straddles,
+    keep_decided,
+    strain_name,
+)
+
+from .conftest import SERIAL, TINY
+
+
+def _threshold_rows(decided, est, lo=None, hi=None):
+    df = pd.DataFrame(
+        {"sample": np.arange(1, len(decided) + 1), "decided": decided, "threshold_p_r": est}
+    )
+    if lo is not None:
+        df["threshold_p_r_low"], df["threshold_p_r_high"] = lo, hi
+    return df
+
+
+def test_no_module_level_undecided_counter():
+    assert not hasattr(studies, "UNDECIDED")
+
+
+def test_undecided_grid_and_old_threshold_rows_are_dropped_and_counted():
+    grid = pd.DataFrame({"decided": [True, False, True], "rigid": [True, False, False]})
+    kept, n = keep_decided(grid)
+    assert n == 1 and len(kept) == 2
+    old = _threshold_rows([True, False, True], [0.6, np.nan, 0.7])
+    kept, n = keep_decided(old)
+    assert n == 1 and list(kept["sample"]) == [1, 3]
+
+
+def test_threshold_interval_keeps_undecided_samples():
+    rows = _threshold_rows(
+        [True, False, False, False],
+        [0.6, 0.63, np.nan, np.nan],
+        lo=[0.6, 0.62, 0.64, np.nan],
+        hi=[0.6, 0.64, 0.66, np.nan],
+    )
+    kept, n = keep_decided(rows)
+    # the last has no finite interval: dropped; the third is kept at its interval's midpoint
+    assert n == 1 and list(kept["sample"]) == [1, 2, 3]
+    assert kept.threshold_p_r.tolist() == pytest.approx([0.6, 0.63, 0.65])
+    # only intervals of positive width straddle a grid value
+    assert interval_straddles(kept, [0.6, 0.65]) == 1
+    assert interval_straddles(kept, [0.5, 0.7]) == 0
+    assert interval_straddles(_threshold_rows([True], [0.6], [0.6], [0.6]), [0.6]) == 0
+    # rows written before the interval columns existed: not recorded, not zero
+    assert interval_straddles(_threshold_rows([True], [0.6]), [0.6]) is None
+
+
+def test_strain_names_come_from_the_model():
+    for name, phi in NAMED_STRAINS.items():
+        assert strain_name(phi) == name
+    assert strain_name(math.pi / 4) == "0.785"
+
+
+@pytest.fixture(scope="module")
+def mini(tiny_out):
+    """The figure studies on the session's tiny reproduction (sweeps resume)."""
+    return {name: fn(tiny_out, TINY, **SERIAL) for name, fn in studies.STUDIES.items()}
+
+
+def test_results_are_frozen_dataclasses_that_carry_their_exclusions(mini):
+    for name, r in mini.items():
+        assert dataclasses.is_dataclass(r), name
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            r.excluded = {}
+        assert all(isinstance(v, int) for v in r.excluded.values())
+    total = excluded_samples(mini)
+    assert set(total) >= {"fig1b", "fig1c", "fig2_thresholds", "fig4_centre"}
+
+
+def test_drawn_samples_come_from_the_sweeps_and_are_solved(mini):
+    field = mini["fig2"].field
+    assert field.instance is not None and field.result.rigid
+    assert field.p_t == studies.FIELD_P_T
+    assert field.mixed_result is not None and field.mixed_result.rigid
+    assert field.instance.network.n_nodes == max(TINY.n_grid, 8) ** 2
+
+
+def test_every_claim_names_its_source_and_a_study():
+    for c in CLAIMS.values():
+        assert c.source and c.study in studies.STUDIES, c.key
+
+
+# --------------------------------------------------------------------------- heavy tails
+
+
+def test_rows_without_minimum_norm_displacements_lose_their_nonaffinity():
+    rows = pd.DataFrame({"nonaffinity": [1.0, 2.0, 3.0], "energy": [0.0, 1.0, 2.0]})
+    same, count = studies.mask_min_norm(rows)
+    assert count is None and same.nonaffinity.tolist() == [1.0, 2.0, 3.0]
+    rows["min_norm_ok"] = [True, False, None]  # None: a part written before the column
+    masked, count = studies.mask_min_norm(rows)
+    assert count == 1
+    assert np.isnan(masked.nonaffinity[1]) and masked.nonaffinity[[0, 2]].tolist() == [1.0, 3.0]
+    assert masked.energy.tolist() == [0.0, 1.0, 2.0]
+
+
+def test_tail_statistics_show_what_the_mean_hangs_on():
+    at = pd.DataFrame(
+        {
+            "p_t": 0.2,
+            "p_r": 0.55,
+            "sample": range(1, 6),
+            "nonaffinity": [1.0, 2.0, 3.0, 4.0, 990.0],
+            "energy": [0.0, 0.0, 1.0, 1.0, 2.0],
+            "rigid": [False, False, True, True, True],
+        }
+    )
+    t = studies.tail_statistics(at)
+    g = t[t.observable == "Gamma"].iloc[0]
+    assert g["mean"] == 200.0 and g["median"] == 3.0 and g["top_share"] == 0.99
+    assert g["mean_without_top"] == 2.5 and (g["q25"], g["q75"]) == (2.0, 4.0)
+    assert studies.worst_tail(t)["top_share"] == 0.99
+
+
+def test_fig2_gives_quantiles_beside_the_mean(mini):
+    r = mini["fig2"]
+    c = r.curves
+    for stat in ("median", "q25", "q75"):
+        assert f"gamma_{stat}" in c and f"energy_{stat}" in c
+    ok = c.gamma_n > 0
+    assert (c.gamma_q25[ok] <= c.gamma_median[ok] + 1e-12).all()
+    assert (c.gamma_median[ok] <= c.gamma_q75[ok] + 1e-12).all()
+    assert r.min_norm_failed is None or r.min_norm_failed >= 0
+    assert set(r.at_pcrit.p_t) <= set(studies.PT4) and len(r.tails)

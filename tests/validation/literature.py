@@ -1,0 +1,61 @@
+"""Literature values the reproduction is checked against, each with where it comes from.
+
+Typed in here independently of the package (which holds the values it needs in
+``tensegrity_rigidity.paper.claims.REFERENCES``), so that a typo on either side fails a test.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class LiteratureValue:
+    """A published value: what it is, its uncertainty, the citation and how it was obtained."""
+
+    quantity: str
+    value: float
+    error: float | None
+    citation: str
+    method: str
+
+
+LITERATURE = {
+    "pc_jacobs_thorpe": LiteratureValue(
+        "rigidity threshold p_c of the generic bond-diluted triangular lattice (central forces)",
+        0.6602,
+        0.0003,
+        "D. J. Jacobs and M. F. Thorpe, Phys. Rev. Lett. 75, 4051 (1995)",
+        "pebble game on generic (disordered) triangular lattices; the paper cites it as "
+        "jacobs1995generic",
+    ),
+    "pc_javerzat_notarmuzi": LiteratureValue(
+        "rigidity threshold p_c of the generic bond-diluted triangular lattice",
+        0.66027,
+        None,
+        "Javerzat & Notarmuzi, as quoted in issue 15 of this project (not verified here)",
+        "the target of the finite-size extrapolation in issue 15",
+    ),
+    "nu_jacobs_thorpe": LiteratureValue(
+        "correlation-length exponent nu of generic rigidity percolation in 2D",
+        1.21,
+        0.06,
+        "D. J. Jacobs and M. F. Thorpe, Phys. Rev. Lett. 75, 4051 (1995)",
+        "finite-size scaling of the pebble-game results",
+    ),
+    "nu_moukarzel_duxbury": LiteratureValue(
+        "correlation-length exponent nu of generic rigidity percolation in 2D",
+        1.16,
+        0.03,
+        "C. Moukarzel and P. M. Duxbury, Phys. Rev. E 59, 2614 (1999), arXiv:cond-mat/9702249",
+        "generic rigidity algorithm on lattices up to L = 4096",
+    ),
+    "pc_maxwell": LiteratureValue(
+        "mean-field (Maxwell counting) rigidity threshold of the triangular lattice",
+        2 / 3,
+        None,
+        "J. C. Maxwell, Phil. Mag. 27, 294 (1864); constraint counting z = 2d = 4 of z_max = 6",
+        "a node has 2 degrees of freedom and each bond, shared by two nodes, removes one: "
+        "rigid when 6 p / 2 >= 2",
+    ),
+}
