@@ -124,7 +124,7 @@ def test_golden_angles_do_not_depend_on_the_count():
 
 def test_changed_tolerance_is_part_of_the_row_key():
     a = _spec()
-    b = _spec(extra="[solver]\nwork_tol = 1e-8\n")
+    b = _spec(extra="[solver]\nviolation_tol = 1e-8\n")
     point = a.points()[0]
     assert a.point_key(point) != b.point_key(point)
     assert a.settings_digest() != b.settings_digest()

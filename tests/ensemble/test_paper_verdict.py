@@ -12,11 +12,12 @@ from tensegrity_rigidity.errors import SpecError
 BASE = {"n": 5, "p_r": [0.5, 0.7], "p_t": 0.2, "f_c": 1.0, "phi": "compression", "samples": 4}
 
 
-def test_verdict_key_is_validated_and_leaves_existing_digests_alone():
+def test_verdict_key_is_validated_and_part_of_the_settings():
     assert parse_spec(BASE).verdict == "exact"
-    assert parse_spec(BASE).digest() == parse_spec(BASE | {"verdict": "exact"}).digest()
+    exact = parse_spec(BASE).settings_digest()
+    assert exact == parse_spec(BASE | {"verdict": "exact"}).settings_digest()
     paper = parse_spec(BASE | {"verdict": "paper"})
-    assert paper.verdict == "paper" and paper.digest() != parse_spec(BASE).digest()
+    assert paper.verdict == "paper" and paper.settings_digest() != exact
     with pytest.raises(SpecError, match="verdict"):
         parse_spec(BASE | {"verdict": "lbfgs"})
     threshold = {k: v for k, v in BASE.items() if k != "p_r"} | {"threshold": {"path": "p_r"}}
@@ -38,3 +39,10 @@ def test_paper_verdict_sweep_decides_the_same_samples(tmp_path):
     # same samples: the affine energy depends only on the sample's geometry and elements
     np.testing.assert_allclose(paper.affine_energy, exact.affine_energy, rtol=1e-12)
     assert (paper.energy >= exact.energy - 1e-9 * paper.affine_energy).all()
+
+
+def test_a_paper_verdict_directory_reads_back_its_own_rows(tmp_path):
+    """The recorded spec keeps the verdict key, so the rows of a paper-verdict sweep are the
+    rows of its latest spec (they once read back as none)."""
+    run_sweep(parse_spec(BASE | {"verdict": "paper"}), tmp_path, executor="serial", progress=False)
+    assert len(load_results(tmp_path)) == 8

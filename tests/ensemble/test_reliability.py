@@ -174,7 +174,7 @@ def test_prepare_checks_the_spec_before_deleting_anything(tmp_path):
     dead = out / ".part-y.parquet.999999999.tmp"
     live.write_bytes(b"in progress")
     dead.write_bytes(b"left by a killed run")
-    other = _write(tmp_path, SMALL + "[solver]\nwork_tol = 1e-8\n", "other.toml")
+    other = _write(tmp_path, SMALL + "[solver]\nviolation_tol = 1e-8\n", "other.toml")
     with pytest.raises(SpecError, match="different sweep"):
         run_sweep(other, out, executor="serial", progress=False)
     assert live.exists() and dead.exists()

@@ -98,7 +98,7 @@ def _frame_of_fresh(spec, out):
 @pytest.mark.parametrize(
     "change,named",
     [
-        ("[solver]\nwork_tol = 1e-8\n", "work_tol"),
+        ("[solver]\nviolation_tol = 1e-8\n", "violation_tol"),
         ("[strain]\ngamma = 2.0\n", "gamma"),
         ("[strain]\nangles = 'uniform'\n", "angles"),
         ("[lattice]\nkind = 'square'\n", "lattice"),
@@ -204,8 +204,8 @@ def test_thresholds_derive_the_grid_probability_exactly(tmp_path):
         ("n = 6\np_r = [0.5, 0.5]\nsamples = 2\n", "lists the value 0.5 twice"),
         ("n = 6\np_r = 0.5\nphi = ['shear', 1.5707963267948966]\nsamples = 2\n", "twice"),
         ("n = 6\np_r = 0.5\nsamples = 2\nseed = -1\n", "'seed' must be a non-negative"),
-        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nwork_tol = nan\n", "must be finite"),
-        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nfloppy_tol = inf\n", "must be finite"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\nviolation_tol = nan\n", "must be finite"),
+        ("n = 6\np_r = 0.5\nsamples = 2\n[solver]\ndisplacement_bound = inf\n", "must be finite"),
         ("n = 6\np_r = 0.5\nsamples = 2\n[strain]\nangles = 'random'\n", "angles must be"),
     ],
 )

@@ -83,6 +83,8 @@ def spec_from_canonical(canonical: dict) -> Spec:
     data["output"] = {"chunk_size": canonical["chunk_size"]}
     if canonical["threshold"] is not None:
         data["threshold"] = canonical["threshold"]
+    if "verdict" in canonical:
+        data["verdict"] = canonical["verdict"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # its warnings were shown when it was run
         return parse_spec(data)

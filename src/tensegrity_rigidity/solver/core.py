@@ -356,6 +356,26 @@ def _relax(p: Problem, u: np.ndarray, opts: SolverOptions) -> tuple[np.ndarray, 
     return u, E, it
 
 
+def _balanced_tensions(p: Problem, t: np.ndarray) -> np.ndarray:
+    """The minimiser's tensions, moved onto an exact self-stress when they are close to one.
+
+    Tensions read off displacements as ``k (e0 + R u)`` lose digits to cancellation when they
+    are small; purification (:func:`~.selfstress.purify`) balances them to round-off with a
+    relative change of the order of their force residual. Kept only if it balances them
+    better than 1e-13 relative, else the tensions are returned as they were.
+    """
+    if not np.any(t):
+        return t
+    try:
+        tp = purify(p, t)
+    except ArithmeticError:
+        return t
+    resid = float(np.abs(p.RT @ tp).sum())
+    if resid <= 1e-13 * float(np.abs(tp).sum()):
+        return tp
+    return t
+
+
 def _energy_lower(p: Problem, t: np.ndarray) -> float:
     """Weak-duality lower bound on E* from tensions purified onto a self-stress."""
     if not np.any(t):
@@ -424,6 +444,7 @@ def solve(
         u_n, E_n, more = _relax(pe, s.u, opts)
         iterations = s.iterations + more
         _, _, t_n = pe.state(u_n)
+        t_n = _balanced_tensions(pe, t_n)
         E_lower = min(_energy_lower(pe, t_n), E_n)
     min_norm_ok, message = False, verdict.message
     if opts.min_norm and p.sites.size and p.scale > 0:
