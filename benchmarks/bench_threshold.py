@@ -1,10 +1,15 @@
-"""Per-sample threshold bisection: cold solves against warm starts from the nearest solved
-configuration on the path.
+"""Per-sample thresholds on the near-threshold set of issue 13, n = 32, 64, 128.
 
-Samples: n x n lattices (delta = 0.2), path "p_r" at p_t = 0.2, f_c in {0, 0.5, 1}, strains
-dilation / shear / compression (theta = 0.4), the same geometry and uniforms for both variants.
-Both must find identical thresholds (checked). Run: python benchmarks/bench_threshold.py
-[--sizes 16 32] [--samples K]
+Samples: the six configurations of ``near_threshold_set`` (triangular lattice, delta = 0.2,
+path "p_r", random strain angle), cycled over the sample count of each size. For every
+threshold: wall time (also in units of one numeric factorisation of the full lattice's
+``R^T R + mu I``, measured in the same run on the same sample), probes (certified verdicts),
+undecided probes and the width of the interval in events. At n <= ``--lp-max`` the two
+configurations that straddle each decided threshold are checked against the verdict LP
+(HiGHS, no time limit): the one below must be floppy, the one above rigid. Each threshold is
+computed twice; the two results must be identical (deterministic search).
+
+Run: python benchmarks/bench_threshold.py [--sizes 32 64 128] [--samples 12 6 3]
 """
 
 from __future__ import annotations
@@ -14,66 +19,110 @@ import time
 
 import numpy as np
 from _record import machine, record, table
+from near_threshold_set import samples
 
-from tensegrity_rigidity.ensemble.thresholds import find_threshold
-from tensegrity_rigidity.model.sampling import lattice_geometry
-from tensegrity_rigidity.model.strain import strain_tensor
+from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
+from tensegrity_rigidity.model.network import Element, Instance
+from tensegrity_rigidity.solver.problem import Problem
+from tensegrity_rigidity.solver.reference import lp_verdict
+
+
+def refactor_seconds(net, eps) -> float:
+    """Median time of one numeric refactorisation of the full lattice (all sites rods)."""
+    full = Instance(net.with_kinds(np.full(net.n_sites, Element.ROD)), eps)
+    p = Problem(full)
+    values = p.values(np.ones(p.sites.size))
+    p.factor_values(values)  # symbolic analysis once
+    times = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        p.factor_values(values)
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times))
+
+
+def straddle_check(net, u, v, eps, p_t, f_c, th) -> str:
+    """'ok', 'WRONG' or '-' (nothing to check): LP verdicts just below and at the threshold."""
+    if not np.isfinite(th.s) or th.s == 0 or not th.decided:
+        return "-"
+    ev = EventPath(u, v, "p_r", p_t, f_c)
+    i = int(np.searchsorted(ev.positions, th.s)) + 1
+    above = lp_verdict(Instance(net.with_kinds(ev.kinds(i)), eps)).rigid
+    below = lp_verdict(Instance(net.with_kinds(ev.kinds(i - 1)), eps)).rigid
+    return "ok" if (above, below) == (True, False) else "WRONG"
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--sizes", type=int, nargs="+", default=[16, 32])
-    ap.add_argument("--samples", type=int, default=4)
+    ap.add_argument("--sizes", type=int, nargs="+", default=[32, 64, 128])
+    ap.add_argument("--samples", type=int, nargs="+", default=[12, 6, 3])
+    ap.add_argument("--lp-max", type=int, default=64)
     args = ap.parse_args()
-    rows = []
-    for n in args.sizes:
-        times = {True: [], False: []}
-        solves = {True: [], False: []}
-        for f_c in (0.0, 0.5, 1.0):
-            for phi in ("dilation", "shear", "compression"):
-                for k in range(args.samples):
-                    rng = np.random.default_rng([n, int(f_c * 2), k])
-                    net, u, v = lattice_geometry(n, 0.2, rng)
-                    eps = strain_tensor(phi, 0.4)
-                    found = {}
-                    for warm in (False, True):
-                        t0 = time.perf_counter()
-                        th = find_threshold(net, u, v, eps, 0.2, f_c, warm_start=warm)
-                        times[warm].append(time.perf_counter() - t0)
-                        solves[warm].append(th.solves)
-                        found[warm] = (th.s, th.decided)
-                    same = found[True] == found[False] or (
-                        np.isnan(found[True][0]) and np.isnan(found[False][0])
-                    )
-                    assert same, (n, f_c, phi, k, found)
-                    print(
-                        n,
-                        f_c,
-                        phi,
-                        k,
-                        found[True],
-                        f"{times[False][-1]:.2f} s -> {times[True][-1]:.2f} s",
-                        flush=True,
-                    )
-        for warm in (False, True):
-            t = np.asarray(times[warm])
-            rows.append(
-                [
-                    n,
-                    "warm" if warm else "cold",
-                    t.size,
-                    f"{np.median(t):.3f}",
-                    f"{t.mean():.3f}",
-                    f"{t.max():.3f}",
-                    f"{np.mean(solves[warm]):.1f}",
-                ]
-            )
+    rows, detail = [], []
+    for n, count in zip(args.sizes, args.samples, strict=True):
+        secs, units, solves, undecided, widths, checks, same = [], [], [], [], [], [], True
+        for c, k, (net, u, v, eps, p_t, f_c) in samples(n, count):
+            t0 = time.perf_counter()
+            th = find_threshold(net, u, v, eps, p_t, f_c)
+            dt = time.perf_counter() - t0
+            same &= th == find_threshold(net, u, v, eps, p_t, f_c)
+            ref = refactor_seconds(net, eps)
+            ev = EventPath(u, v, "p_r", p_t, f_c)
+            width = 0
+            if np.isfinite(th.s_low) and np.isfinite(th.s_high):
+                width = int(np.searchsorted(ev.positions, th.s_high)) - int(
+                    np.searchsorted(ev.positions, th.s_low)
+                )
+            check = straddle_check(net, u, v, eps, p_t, f_c, th) if n <= args.lp_max else "-"
+            secs.append(dt)
+            units.append(dt / ref)
+            solves.append(th.solves)
+            undecided.append(th.undecided)
+            widths.append(width)
+            checks.append(check)
+            detail.append(
+                [n, c, k, f"{th.s:.6f}", f"[{th.s_low:.6f}, {th.s_high:.6f}]", width,
+                 th.solves, th.undecided, f"{dt:.2f}", check]
+            )  # fmt: skip
+            print(*detail[-1], flush=True)
+        s = np.asarray(secs)
+        rows.append(
+            [
+                n,
+                len(secs),
+                f"{np.median(s):.2f}",
+                f"{s.max():.2f}",
+                f"{np.median(units):.0f}",
+                f"{np.median(solves):.0f}",
+                int(np.sum(undecided)),
+                sum(w > 0 for w in widths),
+                max(widths),
+                sum(c == "ok" for c in checks),
+                sum(c == "WRONG" for c in checks),
+                "yes" if same else "NO",
+            ]
+        )
     body = (
-        f"Machine: {machine()}. Seconds per sample threshold (bisection over the path's events), "
-        "the same samples for both variants; identical thresholds (checked).\n\n"
-        + table(["n", "start", "samples", "median s", "mean s", "max s", "solves"], rows)
+        f"Machine: {machine()}. Seconds per threshold on the near-threshold set (six "
+        "configurations of issue 13, cycled); 'refactorisations' is the median of each "
+        "threshold's time over one numeric factorisation of its full lattice. 'intervals': "
+        "thresholds reported as an interval because probes were undecided (within resolution "
+        "of the boundary), with the widest interval in events. LP check: the configurations "
+        "just below and at each decided threshold against the HiGHS verdict LP. 'same': a "
+        "second search returned the identical result.\n\n"
+        + table(
+            ["n", "samples", "median s", "max s", "refactorisations", "probes",
+             "undecided probes", "intervals", "widest (events)", "LP ok", "LP wrong", "same"],
+            rows,
+        )  # fmt: skip
+        + "\n\nPer threshold:\n\n"
+        + table(
+            ["n", "config", "k", "s", "interval", "events", "probes", "undecided", "s",
+             "LP check"],
+            detail,
+        )  # fmt: skip
     )
-    record("threshold", "Threshold bisection: warm starts (benchmarks/bench_threshold.py)", body)
+    record("threshold", "Thresholds near the transition (benchmarks/bench_threshold.py)", body)
 
 
 if __name__ == "__main__":

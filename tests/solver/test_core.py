@@ -198,5 +198,5 @@ def test_a_failing_lp_stage_leaves_the_search_as_it_was():
     inst = random_instance(rng, "lattice")
     p = Problem(inst, unit_stiffness=True)
     s = Search(p, Resolution())
-    LinearProgram(max_iter=0, max_simplex_iter=0).run(s)
+    LinearProgram(max_iter=0, simplex_iterations_per_site=0).run(s)
     assert not s.decided

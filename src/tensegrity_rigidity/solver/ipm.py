@@ -12,11 +12,7 @@ already keeps the Newton matrix definite). The QP is then strictly convex. On a 
 whose zero-energy set is unbounded, the plain central path drifts along the unbounded optimal
 face: on the hard samples near the transition it reaches ``|u| ~ 1e6`` times the affine
 displacements, where round-off stalls the energy at ~1e-14 of the affine one. The anchored path
-stays near the minimum-norm minimiser instead (``|u| ~ 1e2-1e4``). With a ``center`` the anchor
-pulls towards that point instead of the origin: repeated, this is the proximal-point method on
-the energy, which the solver runs from the anchored end point when the plain path certified
-nothing (see ``solver._proximal``). Neither path dominates: on other samples only the plain one
-certifies, so the solver tries the plain path first.
+stays near the minimum-norm minimiser instead (``|u| ~ 1e2-1e4``).
 
 The QP's multipliers are ``lambda_b = sigma_b t_b >= 0`` (cables pull, struts push).
 Eliminating the diagonal blocks of the Newton system leaves the Schur complement
@@ -27,7 +23,8 @@ which has exactly the sparsity pattern of the semismooth Newton matrix: each ite
 numeric refactorisation into the pattern whose ordering was computed once. Mehrotra's
 predictor-corrector uses that factorisation twice. The iteration count hardly depends on the
 combinatorics that slow active-set methods down near the transition; the result is handed to the
-crossover of :mod:`~tensegrity_rigidity.solver`, which makes it exact and certifies it.
+stages of :mod:`.stages`, which purify its multipliers into a self-stress and cross its
+displacements over to an exact point, and offer both to the certificates.
 """
 
 from __future__ import annotations
@@ -44,7 +41,6 @@ def interior_point(
     checkpoints: tuple[float, ...] = (),
     callback=None,
     anchored: bool = False,
-    center: np.ndarray | None = None,
 ):
     """Approximately minimise the energy of problem ``p`` (a :class:`~.problem.Problem`).
 
@@ -55,15 +51,7 @@ def interior_point(
     the larger of the two measures first falls below the next of the decreasing
     ``checkpoints`` (the caller tries to finish exactly from there). ``anchored`` adds the
     background stiffness ``p.mu`` to the objective (see the module docstring).
-
-    ``center`` (2N,) makes the anchor pull towards that point instead of the origin,
-    ``mu/2 |u - center|^2``: one step of the proximal-point method on the energy. The iteration
-    then starts at ``u = center`` with every one-sided element given a slack of 1e-3 beyond
-    its extension and multipliers ``1e-6 / w`` (a point near the central path at a small
-    duality measure, as suits a start that is already nearly optimal). Requires ``anchored``.
     """
-    if center is not None and not anchored:
-        raise ValueError("a proximal center needs the anchored objective")
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
     os_ = p.one_sided
     sig = p.sigma[os_]
@@ -71,16 +59,11 @@ def interior_point(
     k = k_all[os_]
     scale = max(float(np.abs(p.e0).max()), 1e-300)
     e0 = p.e0 / scale  # solve the unit-scale problem; displacements scale back linearly
-    c = np.zeros(p.n2) if center is None else np.asarray(center, dtype=float) / scale
-    u = c.copy()
+    u = np.zeros(p.n2)
     e = e0 + p.R @ u
-    if center is None:
-        # cold start: slacks that make every one-sided element slightly slack, unit multipliers
-        w = np.maximum(-sig * e[os_], 0.0) + 1.0
-        lam = np.ones_like(w)
-    else:  # warm start near the central path at duality measure ~1e-6 (see the docstring)
-        w = np.maximum(-sig * e[os_], 0.0) + 1e-3
-        lam = 1e-6 / w
+    # cold start: slacks that make every one-sided element slightly slack, unit multipliers
+    w = np.maximum(-sig * e[os_], 0.0) + 1.0
+    lam = np.ones_like(w)
     m_os = max(w.size, 1)
     anchor = p.mu if anchored else 0.0
     it = 0
@@ -88,7 +71,7 @@ def interior_point(
         eps_el = e.copy()
         eps_el[os_] += sig * w  # elastic extensions
         t = k_all * eps_el
-        r_u = p.RT @ t + anchor * (u - c)
+        r_u = p.RT @ t + anchor * u
         r_w = sig * t[os_] - lam
         mu = float(w @ lam) / m_os if w.size else 0.0
         res = max(float(np.abs(r_u).max(initial=0.0)), float(np.abs(r_w).max(initial=0.0)))
@@ -109,10 +92,8 @@ def interior_point(
             neg = dx < 0
             return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
 
-        # predictor (affine scaling); it only sets the centring, so where the solves are
-        # refined iteratively (solver._RefinedSolve) the preconditioner's solution will do
-        predictor = getattr(solver, "preconditioner", solver)
-        du, dw, dlam = _direction(p, predictor, os_, sig, k, D, ratio, r_u, r_w, lam, w, 0.0)
+        # predictor (affine scaling), then the corrector with the same factorisation
+        du, dw, dlam = _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, 0.0)
         a_p, a_d = max_step(w, dw), max_step(lam, dlam)
         mu_aff = float((w + a_p * dw) @ (lam + a_d * dlam)) / m_os if w.size else 0.0
         sigma_c = (mu_aff / mu) ** 3 if mu > 0 else 0.0

@@ -9,8 +9,6 @@ extended-precision geometry on which certificates are checked (:mod:`.certificat
 
 from __future__ import annotations
 
-from contextlib import contextmanager
-
 import numpy as np
 import scipy.sparse as sp
 
@@ -58,7 +56,6 @@ class Problem:
         self._pattern()
         self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend)
         self._weights: np.ndarray | None = None
-        self._factor_shift, self._refine_iterations = 0.0, 0  # see shifted()
         self.factorizations = 0
         self._exact: ExactGeometry | None = None
 
@@ -109,20 +106,15 @@ class Problem:
         w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, shift)]
         return np.bincount(self._inverse, weights=w, minlength=self._nnz)
 
-    def factor(self, weights: np.ndarray) -> PatternFactor | RefinedSolve:
-        """A solver for ``R^T diag(weights) R + mu I``: its factorisation, reused while the
-        weights do not change; or, when ``mu`` is below the factorised shift (see
-        :meth:`shifted`), conjugate gradients preconditioned by the factorisation at that
-        shift."""
-        shift = max(self.mu, self._factor_shift)
+    def factor(self, weights: np.ndarray) -> PatternFactor:
+        """The factorisation of ``R^T diag(weights) R + mu I``, reused while the weights do
+        not change."""
         if self._weights is None or not np.array_equal(weights, self._weights):
             self._weights = None  # until the factorisation below succeeds
-            self._factor.factor(self.values(weights, shift))
+            self._factor.factor(self.values(weights, self.mu))
             self._weights = weights.copy()
             self.factorizations += 1
-        if shift == self.mu:
-            return self._factor
-        return RefinedSolve(self, self._factor, weights, self._refine_iterations)
+        return self._factor
 
     def factor_values(self, values: np.ndarray) -> PatternFactor:
         """Factorise a matrix given by its values in the fixed pattern (see :meth:`values`)."""
@@ -130,26 +122,6 @@ class Problem:
         self._factor.factor(values)
         self.factorizations += 1
         return self._factor
-
-    @contextmanager
-    def shifted(self, mu: float, factor_shift: float = 0.0, refine_iterations: int = 0):
-        """Use the diagonal shift (background stiffness) ``mu`` inside the block.
-
-        A shift far below round-off in the matrix (``mu < ~1e-15 k``) cannot be factorised
-        stably, and a factorisation at a larger shift leaves the solution wrong along the
-        near-floppy modes whose stiffness is below that shift. With ``factor_shift > mu`` the
-        matrix is factorised at ``factor_shift`` and each solve is refined by at most
-        ``refine_iterations`` conjugate-gradient iterations on the exact matrix, preconditioned
-        by that factorisation (:class:`RefinedSolve`).
-        """
-        saved = self.mu, self._factor_shift, self._refine_iterations
-        self.mu, self._weights = mu, None
-        self._factor_shift, self._refine_iterations = factor_shift, refine_iterations
-        try:
-            yield self
-        finally:
-            self.mu, self._factor_shift, self._refine_iterations = saved
-            self._weights = None
 
     def energy(self, u: np.ndarray) -> float:
         """E(u), the energy of displacements u (without any background stiffness)."""
@@ -164,33 +136,3 @@ class Problem:
         act = self.active(e)
         t = np.where(act, self.k * e, 0.0)
         return e, act, t
-
-
-class RefinedSolve:
-    """Solves with ``R^T diag(weights) R + mu I`` for a shift ``mu`` too small to factorise.
-
-    Conjugate gradients (SciPy) on the exact matrix, applied as ``R^T (w * (R x)) + mu x``,
-    preconditioned by the factorisation at a larger shift and started from its solution. The
-    products through ``R`` resolve near-floppy modes whose stiffness is far below round-off in
-    the assembled matrix (their singular values in ``R`` are ~1e-8, well above it), and the
-    preconditioned matrix has its spectrum in ``[mu / shift, 1]``, so a few tens of iterations
-    go a long way. The iteration count is capped (``max_iter``): an interior-point method
-    tolerates an inexact direction, and every result is checked by its certificates anyway.
-    """
-
-    def __init__(self, p: Problem, factor: PatternFactor, weights: np.ndarray, max_iter: int):
-        from scipy.sparse.linalg import LinearOperator
-
-        n, R, RT, mu = p.n2, p.R, p.RT, p.mu
-        self.A = LinearOperator((n, n), matvec=lambda x: RT @ (weights * (R @ x)) + mu * x)
-        self.M = LinearOperator((n, n), matvec=factor.solve)
-        self.preconditioner, self.max_iter = factor, max_iter
-
-    def solve(self, b: np.ndarray) -> np.ndarray:
-        from scipy.sparse.linalg import cg
-
-        x0 = self.preconditioner.solve(b)
-        if self.max_iter <= 0:
-            return x0
-        x, _ = cg(self.A, b, x0=x0, rtol=1e-10, maxiter=self.max_iter, M=self.M)
-        return x

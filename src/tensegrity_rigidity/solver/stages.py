@@ -27,9 +27,6 @@ Stages (``STAGES``; the default order is :data:`DEFAULT_STAGES`):
 ``ipm``
     The specialised interior point of :mod:`.ipm`; at accuracies 1e-3, 1e-5 and 1e-7 and at
     its end its tensions are purified and its displacements crossed over.
-``proximal``
-    Proximal-point steps on the energy, each an interior point anchored by a tiny background
-    stiffness (see :class:`Proximal`), for floppy samples whose zero-energy set lies far out.
 ``lp``
     The verdict LP over self-stresses with ``|t_b| <= 1`` (HiGHS's interior point, an iteration
     limit, no crossover); its primal is purified, its dual displacements are checked and
@@ -246,70 +243,6 @@ class InteriorPoint:
 
 
 @dataclass(frozen=True)
-class Proximal:
-    """Proximal-point steps on the energy, each an anchored interior point.
-
-    Step 0 minimises ``E(u) + mu/2 |u|^2`` from the origin and step j
-    ``E(u) + mu/2 |u - u_(j-1)|^2`` from the previous end point, with ``mu = regularization``
-    (relative to the mean stiffness). The end points stay near the minimum-norm minimiser
-    where the plain interior point drifts to ``|u| ~ 1e6``. A shift below ``factor_shift``
-    cannot be factorised (round-off in the assembled matrix is ~1e-16): the matrices are then
-    factorised at ``factor_shift`` and each corrector solve is refined by at most
-    ``refine_iterations`` conjugate-gradient iterations on the exact matrix
-    (:class:`~.problem.RefinedSolve`). A run ends after ``steps`` steps, once a step lowers the
-    energy by less than 4x, or when a factorisation fails; if it decided nothing, the stage
-    runs again at ``factor_shift`` with direct solves.
-    """
-
-    regularization: float = 1e-18
-    factor_shift: float = 1e-15
-    refine_iterations: int = 20
-    steps: int = 6
-    name: str = "proximal"
-
-    def run(self, s: Search) -> None:
-        p = s.p
-        runs = [(self.regularization, self.refine_iterations)]
-        if self.regularization < self.factor_shift:
-            runs.append((self.factor_shift, 0))
-        for mu, refine in runs:
-            try:
-                with p.shifted(mu, self.factor_shift, refine):
-                    if self._steps(s):
-                        return
-            except ArithmeticError:  # mu too small for this sample's matrix
-                continue
-
-    def _steps(self, s: Search) -> bool:
-        p = s.p
-        default_shift = p.mu
-
-        def offer(x, lam):
-            if s.offer_u(x, self.name):
-                return True
-            t = s.p.k * (s.p.e0 + s.p.R @ x)
-            t[p.one_sided] = p.sigma[p.one_sided] * lam
-            if s.offer_t(t, self.name):
-                return True
-            with p.shifted(default_shift):
-                return s.crossovers(x, self.name)
-
-        u, _, lam, _ = interior_point(p, tol=1e-10, anchored=True)
-        E = p.energy(u)
-        if offer(u, lam):
-            return True
-        for _ in range(self.steps):
-            x, _, lam, _ = interior_point(p, tol=1e-10, anchored=True, center=u)
-            E_x = p.energy(x)
-            if offer(x, lam):
-                return True
-            if not E_x < E / 4:  # the steps have stalled
-                return False
-            u, E = x, E_x
-        return False
-
-
-@dataclass(frozen=True)
 class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
@@ -317,13 +250,13 @@ class LinearProgram:
     interior point (no crossover, one thread, at most ``max_iter`` iterations) gives a point
     near the analytic centre of the optimal face; its tensions are purified and offered, its
     dual displacements offered and crossed over. Then, if nothing was accepted, the feasibility
-    LP for a zero-energy displacement by the dual simplex (at most ``max_simplex_iter``
-    iterations): a vertex satisfies its rows to HiGHS's tolerance and is checked as it is. A
+    LP for a zero-energy displacement by the dual simplex (at most
+    ``simplex_iterations_per_site`` iterations per non-empty site): a vertex satisfies its rows to HiGHS's tolerance and is checked as it is. A
     HiGHS failure leaves the search as it was.
     """
 
-    max_iter: int = 400
-    max_simplex_iter: int = 200_000
+    max_iter: int = 100
+    simplex_iterations_per_site: float = 2.0
     name: str = "lp"
 
     def run(self, s: Search) -> None:
@@ -356,17 +289,16 @@ class LinearProgram:
         h.passModel(lp)
         h.run()
         sol = h.getSolution()
-        if not (sol.value_valid and sol.dual_valid):
-            return
-        t = np.asarray(sol.col_value, dtype=float)
-        if s.offer_t(np.clip(t, lo, hi), self.name):
-            return
-        # HiGHS's row duals y satisfy c - A^T y = reduced costs, i.e. e0 + R y = -(bound
-        # duals): y is a displacement whose extensions are admissible at the optimum 0.
-        u = np.asarray(sol.row_dual, dtype=float)
-        if s.offer_u(u, self.name) or s.crossovers(u, self.name):
-            return
-        u = _feasibility_vertex(p, self.max_simplex_iter)
+        if sol.value_valid and sol.dual_valid:
+            t = np.asarray(sol.col_value, dtype=float)
+            if s.offer_t(np.clip(t, lo, hi), self.name):
+                return
+            # HiGHS's row duals y satisfy c - A^T y = reduced costs, i.e. e0 + R y = -(bound
+            # duals): y is a displacement whose extensions are admissible at the optimum 0.
+            u = np.asarray(sol.row_dual, dtype=float)
+            if s.offer_u(u, self.name) or s.crossovers(u, self.name):
+                return
+        u = _feasibility_vertex(p, int(self.simplex_iterations_per_site * p.sites.size))
         if u is not None and not s.offer_u(u, self.name):
             s.crossovers(u, self.name)
 
@@ -412,12 +344,11 @@ STAGES = {
     "newton": Newton(),
     "crossover": Crossover(),
     "ipm": InteriorPoint(),
-    "proximal": Proximal(),
     "lp": LinearProgram(),
 }
 
 #: The default order of the stages.
-DEFAULT_STAGES = ("affine", "newton", "crossover", "ipm", "proximal", "lp")
+DEFAULT_STAGES = ("affine", "newton", "crossover", "ipm", "lp")
 
 
 def search(
