@@ -161,3 +161,17 @@ def test_cli_errors_are_one_line_and_exit_2(tmp_path, capsys, argv, needle):
     err = capsys.readouterr().err.strip()
     assert code == 2
     assert len(err.splitlines()) == 1 and err.startswith("error:") and needle in err
+
+
+@pytest.mark.parametrize("offset", [1e7, 1e12, 1e15])
+def test_positions_far_outside_the_box_are_refused(offset):
+    """Translated far away, positions cannot resolve bond vectors in double precision: one
+    clear error instead of silently different energies and verdicts."""
+    net = triangular_lattice(4, 0.1, np.random.default_rng(0))
+    with pytest.raises(InputError, match="box lengths from the origin"):
+        PeriodicNetwork(net.box, net.positions + offset, net.bonds, net.shifts, net.kinds)
+
+
+def test_positions_a_few_cells_away_are_fine():
+    net = triangular_lattice(4, 0.1, np.random.default_rng(0))
+    PeriodicNetwork(net.box, net.positions + 1e3, net.bonds, net.shifts, net.kinds)

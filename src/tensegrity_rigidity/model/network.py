@@ -23,6 +23,12 @@ import numpy as np
 
 from ..errors import InputError
 
+#: Largest ``max |position|`` in units of the box's linear size. Beyond it the positions keep
+#: fewer than ~10 significant digits inside the cell, and the bond vectors computed from them
+#: (differences of nearly equal numbers) lose the rest: a translation by 1e12 box lengths
+#: changed energies by 6e-4, one by 1e15 flipped verdicts.
+MAX_POSITION_REACH = 1e6
+
 
 class Element(IntEnum):
     """Element kinds, with the integer codes used in arrays and files."""
@@ -143,6 +149,13 @@ class PeriodicNetwork:
         vec = positions[bonds[:, 1]] + shifts @ box - positions[bonds[:, 0]]
         length = np.hypot(vec[:, 0], vec[:, 1])
         scale = float(np.sqrt(abs(np.linalg.det(box))))
+        reach = float(np.abs(positions).max()) / scale
+        if reach > MAX_POSITION_REACH:
+            raise InputError(
+                f"positions lie up to {reach:.1e} box lengths from the origin: in double "
+                "precision their digits no longer resolve the bond vectors (wrap them into "
+                "the box, e.g. positions % 1 in fractional coordinates)"
+            )
         if m and np.any(length <= 1e-12 * scale):
             raise InputError(f"bond {int(np.argmin(length))} has zero length")
         for name, arr in (

@@ -251,8 +251,9 @@ class LinearProgram:
     near the analytic centre of the optimal face; its tensions are purified and offered, its
     dual displacements offered and crossed over. Then, if nothing was accepted, the feasibility
     LP for a zero-energy displacement by the dual simplex (at most
-    ``simplex_iterations_per_site`` iterations per non-empty site): a vertex satisfies its rows to HiGHS's tolerance and is checked as it is. A
-    HiGHS failure leaves the search as it was.
+    ``simplex_iterations_per_site`` iterations per non-empty site): a vertex satisfies its
+    rows to HiGHS's tolerance and is checked as it is. A HiGHS failure leaves the search as it
+    was.
     """
 
     max_iter: int = 100
