@@ -37,8 +37,9 @@ from ..errors import InputError, UndecidedWarning
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
+from .displacements import min_norm_minimizer
 from .ipm import interior_point
-from .newton import crossover, newton, prox_minimize
+from .newton import crossover, newton
 from .problem import Problem
 from .selfstress import purify
 from .stages import DEFAULT_STAGES, STAGES, search
@@ -191,7 +192,11 @@ class SolveResult:
     method : str
         The stage whose certificate decided ("newton", "ipm", ...), or "undecided".
     min_norm_ok : bool
-        Whether the displacements are the verified minimum-norm minimiser.
+        Whether the displacements are the minimum-norm minimiser, certified by its KKT
+        residuals (:mod:`.displacements`).
+    min_norm_residuals : (3,) float
+        Those residuals: feasibility, stationarity (units of ``max |e0|``), dual (relative);
+        NaN when the displacements were not asked for.
     message : str
         Why the sample is undecided, or why the minimum-norm displacements are unavailable.
     seconds : float
@@ -214,6 +219,7 @@ class SolveResult:
     factorizations: int
     method: str
     min_norm_ok: bool
+    min_norm_residuals: tuple[float, float, float] = (np.nan, np.nan, np.nan)
     message: str = ""
     seconds: float = field(default=0.0)
 
@@ -338,11 +344,16 @@ def decide(
 
 
 def _relax(p: Problem, u: np.ndarray, opts: SolverOptions) -> tuple[np.ndarray, float, int]:
-    """Minimise the energy from u: Newton, then (if not stationary) interior point + crossover."""
+    """Minimise the energy from u: Newton, then (if not stationary) interior point +
+    crossover, and a final exact solve on the active set (a crossover) when it lowers the
+    force residual."""
+
+    def residual(x):
+        _, _, t = p.state(x)
+        return float(np.linalg.norm(p.RT @ t)) / max(float(np.linalg.norm(t)), 1e-300)
+
     u, E, it = newton(p, u, opts.max_iter)
-    e, _, t = p.state(u)
-    g = float(np.linalg.norm(p.RT @ t))
-    if E > 0 and g > 1e-10 * float(np.linalg.norm(t)):
+    if E > 0 and residual(u) > 1e-10:
         x, _, _, _ = interior_point(p, tol=1e-10)
         for tau in (1e-7, 1e-5, 1e-3):
             y = crossover(p, x, tau=tau)
@@ -353,6 +364,12 @@ def _relax(p: Problem, u: np.ndarray, opts: SolverOptions) -> tuple[np.ndarray, 
         it += more
         if E_x < E:
             u, E = x, E_x
+    if E > 0:
+        y = crossover(p, u, tau=1e-9)
+        if y is not None:
+            E_y = p.energy(y)
+            if E_y <= E * (1 + 1e-12) and residual(y) < residual(u):
+                u, E = y, E_y
     return u, E, it
 
 
@@ -436,6 +453,7 @@ def solve(
     k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
     if verdict.status == "floppy":
         u_n = s.floppy.u
+        t_relaxed = np.zeros(p.sites.size)
         E_n = 0.0
         t_n = np.zeros(p.sites.size)
         E_lower = 0.0
@@ -443,17 +461,32 @@ def solve(
     else:
         u_n, E_n, more = _relax(pe, s.u, opts)
         iterations = s.iterations + more
-        _, _, t_n = pe.state(u_n)
-        t_n = _balanced_tensions(pe, t_n)
+        _, _, t_relaxed = pe.state(u_n)
+        t_n = _balanced_tensions(pe, t_relaxed)
         E_lower = min(_energy_lower(pe, t_n), E_n)
-    min_norm_ok, message = False, verdict.message
-    if opts.min_norm and p.sites.size and p.scale > 0:
-        act = pe.active(pe.e0 + pe.R @ u_n)
-        u_n, min_norm_ok = _min_norm(pe, act, t_n, u_n, k_unit)
-        if not min_norm_ok:
+    min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
+    if opts.min_norm and p.sites.size and np.any(p.e0):
+        # the targets t*/k on the engaged elements as the minimiser u_n realises them, so
+        # that the equalities of U* are consistent
+        # (stressed: where the balanced tensions t_n are not zero; purification drops the
+        # round-off tensions of elements that are only touched)
+        mn = min_norm_minimizer(pe, np.where(t_n != 0, t_relaxed, 0.0), u_n)
+        kkt = (mn.feasibility, mn.stationarity, mn.dual)
+        if mn.ok:
+            u_n, min_norm_ok = mn.u, True
+        else:
             message = "; ".join(
-                x for x in (message, "minimum-norm displacements not verified") if x
+                x
+                for x in (
+                    message,
+                    "minimum-norm displacements not certified (KKT residuals: feasibility "
+                    f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual "
+                    f"{mn.dual:.1e}); the displacements are a minimiser",
+                )
+                if x
             )
+    elif opts.min_norm:  # nothing strained or no element: u = 0 is the minimum-norm minimiser
+        u_n, min_norm_ok, kkt = np.zeros(p.n2), True, (0.0, 0.0, 0.0)
     if not verdict.decided:
         warnings.warn(f"undecided sample: {verdict.message}", UndecidedWarning, stacklevel=2)
     # back to physical units
@@ -483,26 +516,7 @@ def solve(
         factorizations=p.factorizations + (pe.factorizations if pe is not p else 0),
         method=verdict.stage or "undecided",
         min_norm_ok=min_norm_ok,
+        min_norm_residuals=kkt,
         message=message,
         seconds=time.perf_counter() - start,
     )
-
-
-def _min_norm(p: Problem, act, t, u_fallback, k_unit: float):
-    """Minimum-norm minimiser (normalised units); returns (u, verified)."""
-    x, _ = prox_minimize(p, p.k * act, np.zeros(p.n2))
-    e = p.e0 + p.R @ x
-    tol = 1e-9
-    # x is the minimum-norm point of a superset of U*; if it lies in U*, it is the answer.
-    slack_ok = np.all(act | (p.sigma * e <= tol))
-    engaged_ok = np.all(~act | p.rod | (p.sigma * e >= -tol))
-    if slack_ok and engaged_ok:
-        return x, True
-    from .reference import min_norm_minimizer
-
-    t_full = np.zeros(p.instance.network.n_sites)
-    t_full[p.sites] = t * k_unit * p.scale
-    u, status = min_norm_minimizer(p.instance, t_full)
-    if status == "Solved":
-        return u.ravel() / p.scale, True
-    return u_fallback, False
