@@ -111,14 +111,25 @@ def main() -> None:
         "just below and at each decided threshold against the HiGHS verdict LP. 'same': a "
         "second search returned the identical result.\n\n"
         + table(
-            ["n", "samples", "median s", "max s", "refactorisations", "probes",
-             "undecided probes", "intervals", "widest (events)", "LP ok", "LP wrong", "same"],
+            [
+                "n",
+                "samples",
+                "median s",
+                "max s",
+                "refactorisations",
+                "probes",
+                "undecided probes",
+                "intervals",
+                "widest (events)",
+                "LP ok",
+                "LP wrong",
+                "same",
+            ],
             rows,
         )  # fmt: skip
         + "\n\nPer threshold:\n\n"
         + table(
-            ["n", "config", "k", "s", "interval", "events", "probes", "undecided", "s",
-             "LP check"],
+            ["n", "config", "k", "s", "interval", "events", "probes", "undecided", "s", "LP check"],
             detail,
         )  # fmt: skip
     )

@@ -190,7 +190,7 @@ def min_norm_minimizer(
         #    gradient pushing outwards held there), searched along the projected path
         v = p.e0 + p.R @ u
         grad = c - v
-        held = ineq & (p.sigma * lam <= 0) & (p.sigma * grad >= 0)
+        held = ineq & (p.sigma * lam <= 0)
         _, d = _min_norm_solve(p, (~held).astype(float), -grad, cg_iterations, shift)
         moved = _search(p, lam, d, b, f, ineq, np.where(held, 0.0, grad))
         if moved is not None:
