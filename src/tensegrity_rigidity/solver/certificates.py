@@ -107,8 +107,9 @@ class RigidCertificate:
 
     Attributes
     ----------
-    t : (m,) float
-        Tensions on the non-empty sites (signs admissible).
+    t : (m,) float or longdouble
+        Tensions on the non-empty sites (signs admissible), in extended precision when
+        purification refined them beyond double-precision round-off.
     work : float
         ``t . e0 / (|t|_1 max |e0|)``.
     residual : float
@@ -182,8 +183,10 @@ class ExactGeometry:
 
     def rigid(self, t: np.ndarray, res: Resolution) -> RigidCertificate:
         """Check tensions ``t`` ((m,), signs admissible) as a rigid certificate."""
-        t = np.asarray(t, dtype=float)
-        t1 = float(np.abs(t).sum())
+        t = np.asarray(t)
+        if t.dtype != np.longdouble:
+            t = t.astype(float)
+        t1 = np.abs(t.astype(np.longdouble)).sum()
         signs_ok = not np.any(self.sigma * t < 0)
         if t1 == 0.0 or not np.isfinite(t1) or not signs_ok or not self.strained:
             return RigidCertificate(t, 0.0, np.inf, False)
