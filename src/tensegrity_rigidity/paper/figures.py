@@ -11,11 +11,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
-from matplotlib.colors import LinearSegmentedColormap, LogNorm, TwoSlopeNorm  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.colors import LogNorm  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
+from .plotting import bond_segments, draw_network  # noqa: E402
 
 STRAIN_COLOURS = {
     "dilation": "tab:red",
@@ -40,12 +40,6 @@ def _save(fig, figdir: Path, fid: str) -> list[Path]:
     return paths
 
 
-def _segments(inst):
-    net = inst.network
-    start = net.positions[net.bonds[:, 0]]
-    return np.stack([start, start + net.bond_vectors()], axis=1)
-
-
 def _placeholder(fid: str, text: str, figdir: Path) -> list[Path]:
     """A figure that says why it is empty (no sample of its sweep qualified)."""
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
@@ -57,48 +51,13 @@ def _placeholder(fid: str, text: str, figdir: Path) -> list[Path]:
 
 def fig1a(field, figdir: Path):
     """A force-balanced configuration: rods solid, cables dashed, struts hollow; red/green/blue
-    for positive/zero/negative tension."""
+    for positive/zero/negative tension, line width growing with |t| (:func:`.draw_network`)."""
     inst, res = field.mixed_instance, field.mixed_result
     if inst is None:
         return _placeholder("1A", "no rigid sample in the Fig. 1A sweep", figdir)
-    seg = _segments(inst)
-    kinds = inst.network.kinds
-    t = res.tensions
-    scale = np.abs(t).max() or 1.0
-    norm = TwoSlopeNorm(vmin=-scale, vcenter=0.0, vmax=scale)
-    cmap = LinearSegmentedColormap.from_list("tension", ["blue", "limegreen", "red"])
     fig, ax = plt.subplots(figsize=(6, 5.2))
-    styles = {
-        Element.ROD: dict(linestyles="solid", linewidths=2.2),
-        Element.CABLE: dict(linestyles=(0, (3, 2)), linewidths=1.8),
-        Element.STRUT: dict(linestyles="solid", linewidths=4.0),
-    }
-    for kind, style in styles.items():
-        m = kinds == kind
-        if not m.any():
-            continue
-        lc = LineCollection(seg[m], colors=cmap(norm(t[m])), **style)
-        ax.add_collection(lc)
-        if kind == Element.STRUT:  # hollow: a white core inside the coloured outline
-            ax.add_collection(LineCollection(seg[m], colors="white", linewidths=1.6))
-    ax.plot(*inst.network.positions.T, "k.", ms=2)
-    sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
-    fig.colorbar(sm, ax=ax, label="tension t")
-    ax.set_aspect("equal")
-    ax.autoscale()
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    draw_network(ax, inst, res, colour="tension", arrows=False)
     ax.set_title("1A  rigid sample under shear (red pulls, blue pushes)", fontsize=9)
-    ax.legend(
-        handles=[
-            Line2D([], [], color="k", lw=2, label="rod"),
-            Line2D([], [], color="k", lw=1.8, ls="--", label="cable"),
-            Line2D([], [], color="k", lw=4, label="strut (hollow)"),
-        ],
-        loc="upper left",
-        fontsize=7,
-        framealpha=0.9,
-    )
     return _save(fig, figdir, "1A")
 
 
@@ -160,7 +119,7 @@ def fig2a(r, figdir: Path):
     norm = LogNorm(vmin=mag_c.min(), vmax=mag_c.max())
     fig, ax = plt.subplots(figsize=(6, 5.2))
     ax.tripcolor(pos[:, 0], pos[:, 1], mag_c, shading="gouraud", cmap="Greys", norm=norm, alpha=0.6)
-    seg = _segments(inst)
+    seg = bond_segments(inst.network)
     kinds = inst.network.kinds
     ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=0.8))
     ax.add_collection(
