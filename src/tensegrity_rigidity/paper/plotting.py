@@ -57,7 +57,7 @@ def bond_segments(network: PeriodicNetwork) -> np.ndarray:
 
 
 def line_widths(tensions: np.ndarray | None, m: int, widths: tuple[float, float]) -> np.ndarray:
-    """Line width of each site: ``widths[0]`` at zero tension up to ``widths[1]`` at max |t|.
+    """Line width of each site: ``widths[0]`` at zero tension up to ``widths[1]`` at max ``|t|``.
 
     Parameters
     ----------
