@@ -182,12 +182,12 @@ def fit_collapse(
     x0 = float(np.interp(0.5, np.sort(pbar), x_mid[np.argsort(pbar)]))
     start = np.array([0.5, x0, np.log(0.03)])
     best = _fit_counts(p_r, p_t, k, n, start)
-    boots = []
+    fits = []
     for _ in range(n_boot):
         idx = rng.integers(0, y.shape[0], y.shape[0])
         kb = y[idx].sum(axis=0)
-        boots.append(_fit_counts(p_r, p_t, kb, n, best))
-    boots = np.array(boots) if boots else np.full((1, 3), np.nan)
+        fits.append(_fit_counts(p_r, p_t, kb, n, best))
+    boots = np.array(fits) if fits else np.full((1, 3), np.nan)
     sd = boots.std(axis=0, ddof=1) if len(boots) > 1 else np.full(3, np.nan)
     w_samples = np.exp(boots[:, 2])
     return CollapseFit(
@@ -504,7 +504,7 @@ def fit_efficacies(
 
     per, avg = curves(np.arange(S))
     best = [named(*c) for c in per] + [named(*avg)]
-    boots = [[] for _ in best]
+    boots: list[list[dict]] = [[] for _ in best]
     for _ in range(n_boot):
         per_b, avg_b = curves(rng.integers(0, S, S))
         for i, c in enumerate([*per_b, avg_b]):
@@ -827,8 +827,8 @@ def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rn
         return -float(d @ med[ok] / (d @ d))
 
     best = lam(t)
-    boots = [lam(t[rng.integers(0, t.shape[0], t.shape[0])]) for _ in range(n_boot)]
-    boots = np.array(boots)[np.isfinite(boots)]
+    lams = np.array([lam(t[rng.integers(0, t.shape[0], t.shape[0])]) for _ in range(n_boot)])
+    boots = lams[np.isfinite(lams)]
     return Location(best, float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan)
 
 
@@ -1027,7 +1027,7 @@ def fit_finite_size(
     n, y, err = (np.asarray(a, float) for a in (n, y, err))
     ok = np.isfinite(y) & np.isfinite(err) & (err > 0)
     n, y, err = n[ok], y[ok], err[ok]
-    nan = FiniteSizeFit(*[np.nan] * 6, nu is not None, np.nan, 0)
+    nan = FiniteSizeFit(np.nan, np.nan, np.nan, np.nan, np.nan, np.nan, nu is not None, np.nan, 0)
 
     def linear(nu_):
         X = np.column_stack([np.ones(n.size), n ** (-1.0 / nu_)])
@@ -1080,7 +1080,7 @@ def fit_finite_size(
     # parametric bootstrap: with few sizes the three parameters are strongly correlated and
     # their distribution far from normal, so the curvature errors understate the spread
     rng = rng or np.random.default_rng(8)
-    draws = []
+    refits = []
     for _ in range(n_boot):
         yb = y + rng.normal(0.0, err)
         try:
@@ -1096,8 +1096,8 @@ def fit_finite_size(
             )
         except (RuntimeError, ValueError):
             continue
-        draws.append([pb[0], pb[1], 1 / pb[2]])
-    draws = np.array(draws).reshape(-1, 3)
+        refits.append([pb[0], pb[1], 1 / pb[2]])
+    draws = np.array(refits).reshape(-1, 3)
 
     def spread(col):
         return float(np.std(draws[:, col], ddof=1)) if len(draws) >= 10 else np.nan

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -16,6 +17,17 @@ from matplotlib.colors import LogNorm  # noqa: E402
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
 from .plotting import bond_segments, draw_network  # noqa: E402
+
+if TYPE_CHECKING:
+    from .finite_size import FiniteSizeResult
+    from .studies import (
+        DisplacementField,
+        Fig1bResult,
+        Fig1cResult,
+        Fig2Result,
+        Fig3Result,
+        Fig4Result,
+    )
 
 STRAIN_COLOURS = {
     "dilation": "tab:red",
@@ -49,7 +61,7 @@ def _placeholder(fid: str, text: str, figdir: Path) -> list[Path]:
     return _save(fig, figdir, fid)
 
 
-def fig1a(field, figdir: Path):
+def fig1a(field: DisplacementField, figdir: Path):
     """A force-balanced configuration: rods solid, cables dashed, struts hollow; red/green/blue
     for positive/zero/negative tension, line width growing with |t| (:func:`.draw_network`)."""
     inst, res = field.mixed_instance, field.mixed_result
@@ -61,7 +73,7 @@ def fig1a(field, figdir: Path):
     return _save(fig, figdir, "1A")
 
 
-def fig1b(r: dict, figdir: Path):
+def fig1b(r: Fig1bResult, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     P = np.ma.masked_invalid(r.P)
     mesh = ax.pcolormesh(r.p_r, r.p_t, P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
@@ -79,7 +91,7 @@ def fig1b(r: dict, figdir: Path):
     return _save(fig, figdir, "1B")
 
 
-def fig1c(r: dict, figdir: Path):
+def fig1c(r: Fig1cResult, figdir: Path):
     fits = r.fits
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for strain, sub in fits.groupby("strain"):
@@ -100,7 +112,7 @@ def fig1c(r: dict, figdir: Path):
     return _save(fig, figdir, "1C")
 
 
-def fig2a(r, figdir: Path):
+def fig2a(r: Fig2Result, figdir: Path):
     """Nonaffine displacements: unit arrows coloured by log10 |u| over a log-scaled background.
 
     Near the transition a few nodes move 1e3-1e4 times more than the rest; arrows of true
@@ -109,7 +121,7 @@ def fig2a(r, figdir: Path):
     """
     field = r.field
     inst, res = field.instance, field.result
-    if inst is None:
+    if inst is None or res is None:  # None together: no sample qualified
         return _placeholder("2A", "no sample of the Fig. 2A sweep has a usable threshold", figdir)
     pos = inst.network.positions
     u = res.displacements
@@ -153,7 +165,7 @@ def fig2a(r, figdir: Path):
     return _save(fig, figdir, "2A")
 
 
-def fig2b(r, figdir: Path):
+def fig2b(r: Fig2Result, figdir: Path):
     """Gamma versus p_r: median with the interquartile band, mean as open markers."""
     c = r.curves
     sub = c[np.isclose(c.phi, math.pi)]
@@ -180,7 +192,7 @@ def fig2b(r, figdir: Path):
     return _save(fig, figdir, "2B")
 
 
-def fig2e(r, figdir: Path):
+def fig2e(r: Fig2Result, figdir: Path):
     """CCDF of Gamma over samples at the grid p_r nearest p_crit (compression), per p_t."""
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     at = r.at_pcrit
@@ -205,12 +217,12 @@ def fig2e(r, figdir: Path):
     return _save(fig, figdir, "2E")
 
 
-def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
+def _energy_fig(r: Fig2Result, phi: float, fid: str, figdir: Path):
     c = r.curves
     fits = r.fits
     sub = c[np.isclose(c.phi, phi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    inset = ax.inset_axes([0.12, 0.5, 0.35, 0.4])
+    inset = ax.inset_axes((0.12, 0.5, 0.35, 0.4))
     for p_t, s in sub.groupby("p_t"):
         line = ax.errorbar(
             s.p_r,
@@ -238,15 +250,15 @@ def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
     return _save(fig, figdir, fid)
 
 
-def fig2c(r: dict, figdir: Path):
+def fig2c(r: Fig2Result, figdir: Path):
     return _energy_fig(r, math.pi, "2C", figdir)
 
 
-def fig2d(r: dict, figdir: Path):
+def fig2d(r: Fig2Result, figdir: Path):
     return _energy_fig(r, 0.0, "2D", figdir)
 
 
-def fig3b(r: dict, figdir: Path):
+def fig3b(r: Fig3Result, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     sim = r.sim
     for p_r, curve in r.analytic.items():
@@ -268,7 +280,7 @@ def fig3b(r: dict, figdir: Path):
     return _save(fig, figdir, "3B")
 
 
-def fig4a(r: dict, figdir: Path):
+def fig4a(r: Fig4Result, figdir: Path):
     pp = r.per_phi
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     cmap = plt.get_cmap("coolwarm")
@@ -290,7 +302,7 @@ def fig4a(r: dict, figdir: Path):
     return _save(fig, figdir, "4A")
 
 
-def fig4b(r: dict, figdir: Path):
+def fig4b(r: Fig4Result, figdir: Path):
     a = r.average
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     ax.errorbar(a.f_c, a.S_c_rel, yerr=a.S_c_rel_err, marker="o", capsize=3, label="S_c / S_r")
@@ -303,7 +315,7 @@ def fig4b(r: dict, figdir: Path):
     return _save(fig, figdir, "4B")
 
 
-def fig4c(r: dict, figdir: Path):
+def fig4c(r: Fig4Result, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for name in ("average", "dilation", "compression"):
         s = getattr(r, name)
@@ -324,7 +336,7 @@ def fig4c(r: dict, figdir: Path):
     return _save(fig, figdir, "4C")
 
 
-def fig_fss(r, figdir: Path):
+def fig_fss(r: FiniteSizeResult, figdir: Path):
     """Finite size: the rods-only P = 1/2 point and S_t/S_r of the one-sided systems versus
     n^(-1/nu), with the extrapolations to n -> infinity and the paper's values."""
     ex = r.extrapolated.set_index("key")

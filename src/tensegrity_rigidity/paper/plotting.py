@@ -146,7 +146,9 @@ def draw_network(
         on = net.kinds == kind
         if not on.any():
             continue
-        colours: Any = TENSION_CMAP(norm(t[on])) if by_tension else KIND_COLOURS[kind]
+        colours: Any = KIND_COLOURS[kind]
+        if by_tension and t is not None:
+            colours = TENSION_CMAP(norm(t[on]))
         style: dict[str, Any] = {"linestyles": _DASH} if kind == Element.CABLE else {}
         if kind == Element.STRUT:  # hollow: a coloured outline around a white core
             ax.add_collection(LineCollection(seg[on], colors=colours, linewidths=lw[on] + 2.0))
