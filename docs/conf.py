@@ -37,7 +37,7 @@ numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 
 # --- MyST, notebooks -----------------------------------------------------------------------
-myst_enable_extensions = ["dollarmath", "colon_fence"]
+myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 nb_execution_mode = "force"  # run the tutorial on every build
 nb_execution_timeout = 300
