@@ -4,14 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from tensegrity_rigidity import (
-    Instance,
-    lattice_instance,
-    place_elements,
-    random_periodic_network,
-    site_uniforms,
-    strain_tensor,
-)
+from tensegrity_rigidity import Instance, lattice_instance, random_periodic_network, strain_tensor
+from tensegrity_rigidity.model.elements import place_elements, site_uniforms
 
 
 def random_instance(rng: np.random.Generator, kind: str | None = None) -> Instance:

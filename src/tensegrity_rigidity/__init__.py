@@ -1,15 +1,41 @@
 """tensegrity_rigidity: exact rigidity of random periodic tensegrity networks.
 
-Subpackages by pipeline stage (ARCHITECTURE.md): :mod:`~.model` (networks, lattices, random
-elements, strain, linear mechanics, files) -> :mod:`~.solver` (exact relaxation and certified
-verdict) -> :mod:`~.analysis` (observables, estimators, single-node theory) -> :mod:`~.ensemble`
-(sweeps, storage, executors, thresholds) -> :mod:`~.paper` (studies, figures, report) ->
-:mod:`~.cli`.
+The top level holds what a user needs (listed in ``__all__``):
+
+* one sample: :func:`lattice_instance` (a random strained lattice), the builders
+  :func:`triangular_lattice`, :func:`square_lattice`, :func:`random_periodic_network`, the data
+  types :class:`PeriodicNetwork`, :class:`Instance`, :class:`Element`, :func:`strain_tensor`,
+  and instance files (:func:`load_instance`, :func:`save_instance`);
+* its verdict: :func:`solve` (the relaxed state and its certificate, a :class:`SolveResult`),
+  :func:`decide` (the certified :class:`Verdict` only), :class:`SolverOptions`, and the
+  nonaffinity of a solved sample (:func:`nonaffinity`);
+* ensembles: sweep specs (:func:`parse_spec`, :func:`load_spec`, :class:`Spec`),
+  :func:`run_sweep` and :func:`load_results`, exact per-sample thresholds
+  (:func:`find_threshold`, :class:`Threshold`);
+* the errors and warnings: :class:`TensegrityError`, :class:`InputError`, :class:`SpecError`,
+  :class:`SweepFailed`, :class:`SweepInterrupted`, :class:`UndecidedWarning`.
+
+Everything else lives in the subpackages, by pipeline stage (ARCHITECTURE.md):
+:mod:`~tensegrity_rigidity.model` (networks, lattices, random elements, strain, linear
+mechanics, files) -> :mod:`~tensegrity_rigidity.solver` (exact relaxation and certified
+verdict) -> :mod:`~tensegrity_rigidity.analysis` (observables, estimators, single-node theory)
+-> :mod:`~tensegrity_rigidity.ensemble` (sweeps, storage, executors, thresholds) ->
+:mod:`~tensegrity_rigidity.paper` (studies, figures, report) -> :mod:`~tensegrity_rigidity.cli`.
+
+The sweep engine (:func:`run_sweep`, :func:`load_results` and its exceptions) is imported on
+first use, so that ``import tensegrity_rigidity`` and the command line start quickly.
 """
 
-from .analysis.single_node import single_node_probability
+from __future__ import annotations
+
+import importlib
+import warnings
+from typing import TYPE_CHECKING, Any
+
+from .analysis.observables import nonaffinity
+from .ensemble.spec import Spec, load_spec, parse_spec
+from .ensemble.thresholds import Threshold, find_threshold
 from .errors import InputError, SpecError, TensegrityError, UndecidedWarning
-from .model.elements import place_elements, site_uniforms
 from .model.io import load_instance, save_instance
 from .model.lattice import (
     DEFAULT_DELTA,
@@ -20,7 +46,16 @@ from .model.lattice import (
 from .model.network import Element, Instance, PeriodicNetwork
 from .model.sampling import lattice_instance
 from .model.strain import strain_tensor
-from .solver.core import SolveResult, SolverOptions, solve
+from .solver.core import SolveResult, SolverOptions, Verdict, decide, solve
+
+if TYPE_CHECKING:
+    from .ensemble.sweep import (
+        SweepFailed,
+        SweepInterrupted,
+        SweepReport,
+        load_results,
+        run_sweep,
+    )
 
 __all__ = [
     "DEFAULT_DELTA",
@@ -30,16 +65,26 @@ __all__ = [
     "PeriodicNetwork",
     "SolveResult",
     "SolverOptions",
+    "Spec",
     "SpecError",
+    "SweepFailed",
+    "SweepInterrupted",
+    "SweepReport",
     "TensegrityError",
+    "Threshold",
     "UndecidedWarning",
+    "Verdict",
+    "decide",
+    "find_threshold",
     "lattice_instance",
     "load_instance",
-    "place_elements",
+    "load_results",
+    "load_spec",
+    "nonaffinity",
+    "parse_spec",
     "random_periodic_network",
+    "run_sweep",
     "save_instance",
-    "single_node_probability",
-    "site_uniforms",
     "solve",
     "square_lattice",
     "strain_tensor",
@@ -47,3 +92,40 @@ __all__ = [
 ]
 
 __version__ = "0.1.0"
+
+#: names imported on first use: name -> module (relative to this package)
+_LAZY = {
+    "run_sweep": ".ensemble.sweep",
+    "load_results": ".ensemble.sweep",
+    "SweepReport": ".ensemble.sweep",
+    "SweepFailed": ".ensemble.sweep",
+    "SweepInterrupted": ".ensemble.sweep",
+}
+
+#: names the top level exported before version 0.2, now importable from their modules only
+_MOVED = {
+    "site_uniforms": ".model.elements",
+    "place_elements": ".model.elements",
+    "single_node_probability": ".analysis.single_node",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the sweep engine on first use; old names still work, with a warning."""
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    if name in _MOVED:
+        where = f"{__name__}{_MOVED[name]}"
+        warnings.warn(
+            f"tensegrity_rigidity.{name} is deprecated; import it from {where}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return getattr(importlib.import_module(_MOVED[name], __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -7,9 +7,13 @@ import itertools
 import numpy as np
 import pytest
 
-from tensegrity_rigidity import single_node_probability
 from tensegrity_rigidity.analysis.estimators import wilson
-from tensegrity_rigidity.analysis.single_node import class_weights, qbar_table, simulate_single_node
+from tensegrity_rigidity.analysis.single_node import (
+    class_weights,
+    qbar_table,
+    simulate_single_node,
+    single_node_probability,
+)
 from tensegrity_rigidity.errors import InputError
 
 # the supplement's table (columns A = mixed, B = same-sign), used only to check the derivation

@@ -15,7 +15,29 @@ from scipy import optimize, stats
 
 
 def wilson(k, n, z: float = 1.96):
-    """Wilson score interval of a binomial proportion: (p_hat, lower, upper), arrays like k."""
+    """Wilson score interval of a binomial proportion.
+
+    Parameters
+    ----------
+    k : (...) array_like
+        Successes (rigid samples).
+    n : (...) array_like
+        Trials (decided samples), broadcast with ``k``.
+    z : float
+        Normal quantile of the interval: 1.96 for 95 %.
+
+    Returns
+    -------
+    p_hat, lower, upper : (...) float
+        ``k / n`` and the interval (NaN where ``n = 0``).
+
+    Examples
+    --------
+    >>> from tensegrity_rigidity.analysis.estimators import wilson
+    >>> p, lo, hi = wilson(8, 10)
+    >>> print(f"{p:.2f} [{lo:.3f}, {hi:.3f}]")
+    0.80 [0.490, 0.943]
+    """
     k = np.asarray(k, dtype=float)
     n = np.asarray(n, dtype=float)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -27,14 +49,42 @@ def wilson(k, n, z: float = 1.96):
 
 
 def probability_from_thresholds(thresholds: np.ndarray, p_r: np.ndarray) -> np.ndarray:
-    """P(p_r) = fraction of samples with threshold < p_r, for each value of p_r (shape (k,))."""
+    """P(p_r) from per-sample thresholds: the fraction of samples with ``s* < p_r``.
+
+    Parameters
+    ----------
+    thresholds : (S,) float
+        Per-sample thresholds ``s*`` (NaN: never rigid on the path).
+    p_r : (k,) float
+        Where to evaluate P (a scalar is read as one value).
+
+    Returns
+    -------
+    (k,) float
+        P at each value of ``p_r``; exactly the fraction of rigid samples a grid sweep of the
+        same samples finds there (a sample is rigid for ``p_r > s*``).
+    """
     t = np.asarray(thresholds, dtype=float)
     t = np.where(np.isnan(t), np.inf, t)
     return np.array([np.mean(t < p) for p in np.atleast_1d(p_r)])
 
 
 def rigidity_probability(df: pd.DataFrame, by: list[str]) -> pd.DataFrame:
-    """P with Wilson 95% intervals per group of sweep rows: columns P, lo, hi, k, N."""
+    """P with Wilson 95 % intervals per group of sweep rows.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        Grid-sweep rows with a boolean ``rigid`` column (drop undecided rows first).
+    by : list of str
+        Columns to group by (grid columns such as ``["p_r", "phi"]``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per group: the ``by`` columns, ``k`` (rigid), ``N`` (samples), ``P``, ``lo``,
+        ``hi``.
+    """
     g = df.groupby(by, sort=True)["rigid"].agg(["sum", "count"]).reset_index()
     p, lo, hi = wilson(g["sum"], g["count"])
     return g.assign(P=p, lo=lo, hi=hi).rename(columns={"sum": "k", "count": "N"})
@@ -47,8 +97,19 @@ def rigidity_probability(df: pd.DataFrame, by: list[str]) -> pd.DataFrame:
 class CollapseFit:
     """Fit of P(p_r, p_t) = F((p_r + lam p_t - x0) / w), F the logistic function.
 
-    ``lam`` estimates S_t / S_r; ``lam_err``, ``x0_err``, ``w_err`` are bootstrap standard
-    errors (resampling samples, which keeps the correlations of common random numbers).
+    Attributes
+    ----------
+    lam : float
+        Estimate of S_t / S_r (the efficacy of a one-sided element relative to a rod).
+    x0 : float
+        Where P = 1/2 at ``p_t = 0``.
+    w : float
+        Width of the transition.
+    lam_err, x0_err, w_err : float
+        Bootstrap standard errors (resampling samples, which keeps the correlations of common
+        random numbers).
+    n_samples : int
+        Samples behind the fit.
     """
 
     lam: float
@@ -95,6 +156,15 @@ def fit_collapse(
         numbers; points may also hold independent samples).
     p_r, p_t : (G,) float
         Coordinates of the grid points.
+    n_boot : int
+        Bootstrap replicas for the errors.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
+
+    Returns
+    -------
+    CollapseFit
+        ``lam`` (S_t / S_r), ``x0``, ``w`` and their errors.
 
     Notes
     -----
@@ -112,12 +182,12 @@ def fit_collapse(
     x0 = float(np.interp(0.5, np.sort(pbar), x_mid[np.argsort(pbar)]))
     start = np.array([0.5, x0, np.log(0.03)])
     best = _fit_counts(p_r, p_t, k, n, start)
-    boots = []
+    fits = []
     for _ in range(n_boot):
         idx = rng.integers(0, y.shape[0], y.shape[0])
         kb = y[idx].sum(axis=0)
-        boots.append(_fit_counts(p_r, p_t, kb, n, best))
-    boots = np.array(boots) if boots else np.full((1, 3), np.nan)
+        fits.append(_fit_counts(p_r, p_t, kb, n, best))
+    boots = np.array(fits) if fits else np.full((1, 3), np.nan)
     sd = boots.std(axis=0, ddof=1) if len(boots) > 1 else np.full(3, np.nan)
     w_samples = np.exp(boots[:, 2])
     return CollapseFit(
@@ -136,9 +206,28 @@ def outcomes_from_thresholds(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Expand per-sample thresholds (path "p_r", several p_t) into outcome matrices.
 
-    Returns (outcomes (S, G), p_r (G,), p_t (G,)) with G = len(p_t values) * len(p_r_grid);
-    grid points with p_r + p_t > 1 are dropped. Samples are matched by their index; a sample
-    missing at any p_t (dropped as undecided) is left out everywhere, keeping the rows paired.
+    Parameters
+    ----------
+    thresholds : pandas.DataFrame
+        Threshold-sweep rows of one strain and f_c: ``sample``, ``threshold_p_r`` and the
+        ``p_t_col`` column.
+    p_r_grid : (k,) float
+        Values of p_r at which to evaluate the outcomes.
+    p_t_col : str
+        Column holding p_t.
+
+    Returns
+    -------
+    outcomes : (S, G) bool
+        Rigidity of each sample at each grid point, ``G = len(p_t values) * k`` minus the
+        points with ``p_r + p_t > 1`` (dropped).
+    p_r, p_t : (G,) float
+        Coordinates of the grid points.
+
+    Notes
+    -----
+    Samples are matched by their index; a sample missing at any p_t (dropped as undecided)
+    is left out everywhere, keeping the rows paired.
     """
     cols, pr, pt = [], [], []
     groups = [set(sub["sample"]) for _, sub in thresholds.groupby(p_t_col)]
@@ -156,7 +245,15 @@ def outcomes_from_thresholds(
 
 @dataclass(frozen=True)
 class Derivative:
-    """A derivative of P estimated by a paired (common random numbers) central difference."""
+    """A derivative of P (or a slope) with its standard error.
+
+    Attributes
+    ----------
+    value : float
+        The estimate.
+    err : float
+        Its standard error.
+    """
 
     value: float
     err: float
@@ -165,8 +262,22 @@ class Derivative:
 def paired_derivative(minus: np.ndarray, plus: np.ndarray, h: float) -> Derivative:
     """(P(x + h) - P(x - h)) / 2h from the outcomes of the same samples at x - h and x + h.
 
-    The standard error uses the per-sample differences (CRN makes most of them zero). Samples
-    missing (nan) at either point are dropped.
+    Parameters
+    ----------
+    minus, plus : (S,) float
+        Outcomes (0/1, NaN where missing) of the same samples at ``x - h`` and ``x + h``.
+    h : float
+        Half the step.
+
+    Returns
+    -------
+    Derivative
+        The central difference and its standard error.
+
+    Notes
+    -----
+    The standard error uses the per-sample differences (common random numbers make most of
+    them zero). Samples missing at either point are dropped.
     """
     d = np.asarray(plus, float) - np.asarray(minus, float)
     d = d[np.isfinite(d)]
@@ -187,6 +298,8 @@ def fit_logistic(k: np.ndarray, m: np.ndarray, X: np.ndarray, max_iter: int = 10
         Successes and trials at each design point.
     X : (G, q) float
         Design matrix.
+    max_iter : int
+        Newton iterations at most.
 
     Returns
     -------
@@ -262,7 +375,18 @@ class EfficacyCurves:
     n_samples: int
 
     def err(self, name: str) -> np.ndarray:
-        """(F,) standard errors of one curve."""
+        """Standard errors of one curve.
+
+        Parameters
+        ----------
+        name : str
+            A key of ``values`` ("S_c_rel", ...).
+
+        Returns
+        -------
+        (F,) float
+            The square roots of the diagonal of ``cov[name]``.
+        """
         return np.sqrt(np.diag(self.cov[name]))
 
 
@@ -313,8 +437,14 @@ def fit_efficacies(
         Design points around ``centre = (p_r0, p_t0)``, at several f_c.
     f_eval : (F,) float
         Where to evaluate the curves.
+    centre : (float, float)
+        The point ``(p_r0, p_t0)`` at which the derivatives are taken.
     degrees : (int, int)
         Polynomial degrees in f_c of the logit at the centre and of its slopes in p_r, p_t.
+    n_boot : int
+        Bootstrap replicas for the covariances.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
 
     Returns
     -------
@@ -374,7 +504,7 @@ def fit_efficacies(
 
     per, avg = curves(np.arange(S))
     best = [named(*c) for c in per] + [named(*avg)]
-    boots = [[] for _ in best]
+    boots: list[list[dict]] = [[] for _ in best]
     for _ in range(n_boot):
         per_b, avg_b = curves(rng.integers(0, S, S))
         for i, c in enumerate([*per_b, avg_b]):
@@ -399,7 +529,19 @@ def fit_efficacies(
 
 @dataclass(frozen=True)
 class PowerLawFit:
-    """ln E = alpha ln(p_r - p_crit) + beta, least squares with standard errors."""
+    """ln E = alpha ln(p_r - p_crit) + beta, least squares with standard errors.
+
+    Attributes
+    ----------
+    p_crit : float
+        The critical point used (an input of the fit).
+    alpha, alpha_err : float
+        Exponent and its standard error.
+    beta, beta_err : float
+        Intercept and its standard error.
+    n_points : int
+        Points in the fit.
+    """
 
     p_crit: float
     alpha: float
@@ -414,8 +556,25 @@ def fit_energy_power_law(
 ) -> PowerLawFit:
     """Fit mean energies above p_crit (within max_distance of it) to a power law.
 
-    ``p_crit`` is given (see :func:`critical_point`); points with E <= 0 or p_r <= p_crit are
-    excluded. Errors are the least-squares standard errors of slope and intercept.
+    Parameters
+    ----------
+    p_r : (G,) float
+        Grid of rod probabilities.
+    energy : (G,) float
+        Mean energy at each point.
+    p_crit : float
+        The critical point (see :func:`critical_point`), not fitted.
+    max_distance : float
+        Points with ``p_r > p_crit + max_distance`` are left out.
+
+    Returns
+    -------
+    PowerLawFit
+        alpha, beta and their least-squares standard errors (NaN with fewer than 3 points).
+
+    Notes
+    -----
+    Points with E <= 0 or p_r <= p_crit are excluded.
     """
     p_r, energy = np.asarray(p_r, float), np.asarray(energy, float)
     m = (p_r > p_crit) & (p_r <= p_crit + max_distance) & (energy > 0)
@@ -434,7 +593,18 @@ def fit_energy_power_law(
 
 
 def critical_point(thresholds: np.ndarray) -> tuple[float, float]:
-    """p_crit as the median per-sample threshold (where P = 1/2), with a bootstrap error."""
+    """p_crit as the median per-sample threshold (where P = 1/2), with a bootstrap error.
+
+    Parameters
+    ----------
+    thresholds : (S,) float
+        Per-sample thresholds (NaN: never rigid, counted above every p_r).
+
+    Returns
+    -------
+    p_crit, err : float
+        The median and its bootstrap standard error (200 replicas, a fixed seed).
+    """
     t = np.asarray(thresholds, float)
     t = np.where(np.isnan(t), np.inf, t)
     rng = np.random.default_rng(1)
@@ -444,7 +614,20 @@ def critical_point(thresholds: np.ndarray) -> tuple[float, float]:
 
 
 def probability_curve(thresholds: np.ndarray, p_grid: np.ndarray):
-    """P on a grid from thresholds, with Wilson intervals: (P, lo, hi)."""
+    """P on a grid from thresholds, with Wilson intervals.
+
+    Parameters
+    ----------
+    thresholds : (S,) float
+        Per-sample thresholds (NaN: never rigid).
+    p_grid : (G,) float
+        Where to evaluate P.
+
+    Returns
+    -------
+    P, lo, hi : (G,) float
+        :func:`probability_from_thresholds` and its 95 % Wilson interval.
+    """
     t = np.asarray(thresholds, float)
     k = probability_from_thresholds(t, p_grid) * t.size
     return wilson(k, np.full_like(k, t.size))
@@ -464,6 +647,11 @@ def paired_slope(outcomes: np.ndarray, x: np.ndarray) -> Derivative:
     x : (G,) float
         Coordinates of the points.
 
+    Returns
+    -------
+    Derivative
+        The slope and its standard error.
+
     Notes
     -----
     The least-squares slope is linear in the outcomes, so the slope of the mean curve equals the
@@ -482,7 +670,15 @@ def paired_slope(outcomes: np.ndarray, x: np.ndarray) -> Derivative:
 
 @dataclass(frozen=True)
 class Location:
-    """A point estimate on the parameter axis (a crossing, a slope of a contour) and its error."""
+    """A point estimate on the parameter axis (a crossing, a slope of a contour) and its error.
+
+    Attributes
+    ----------
+    value : float
+        The estimate.
+    err : float
+        Its standard error.
+    """
 
     value: float
     err: float
@@ -502,8 +698,14 @@ def peak_locations(
     values : list of (S, G_j) float
         Per-sample observable of curve j (NaN where missing) at its grid points ``x[j]``
         (G_j,); row s of every curve is the same sample (common random numbers).
+    x : list of (G_j,) float
+        Grid points of each curve.
     statistic : str
         "mean" or "median" over samples: the curve whose maximum is located.
+    n_boot : int
+        Bootstrap replicas.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
 
     Returns
     -------
@@ -543,6 +745,24 @@ def first_positive(
 ) -> Location:
     """Smallest grid point where the mean of ``values`` over samples is positive.
 
+    Parameters
+    ----------
+    values : (S, G) float
+        Per-sample values (energies; NaN counts as 0).
+    x : (G,) float
+        Grid points, increasing.
+    n_boot : int
+        Bootstrap replicas.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
+
+    Returns
+    -------
+    Location
+        The grid point (NaN when no mean is positive) and its error.
+
+    Notes
+    -----
     The paper's p_crit ("the value of p_r at which E first becomes positive") applied to
     per-sample energies ``values`` (S, G) on the grid ``x`` (G,); NaN when no mean is positive.
     The error is a bootstrap over samples. Unlike the median threshold (P = 1/2) this is an
@@ -573,7 +793,18 @@ def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rn
     ----------
     thresholds : (S, J) float
         Per-sample threshold in p_r (NaN: never rigid) of the same S samples at J values of
-        ``p_t`` (J,).
+        ``p_t``.
+    p_t : (J,) float
+        The values of p_t.
+    n_boot : int
+        Bootstrap replicas.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
+
+    Returns
+    -------
+    Location
+        ``lam`` = S_t / S_r and its bootstrap standard error.
 
     Notes
     -----
@@ -596,8 +827,8 @@ def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rn
         return -float(d @ med[ok] / (d @ d))
 
     best = lam(t)
-    boots = [lam(t[rng.integers(0, t.shape[0], t.shape[0])]) for _ in range(n_boot)]
-    boots = np.array(boots)[np.isfinite(boots)]
+    lams = np.array([lam(t[rng.integers(0, t.shape[0], t.shape[0])]) for _ in range(n_boot)])
+    boots = lams[np.isfinite(lams)]
     return Location(best, float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan)
 
 
@@ -609,7 +840,18 @@ def crossing_point(
     Parameters
     ----------
     outcomes : (S, G) float
-        Outcome (0/1, NaN where missing) of sample s at grid point x[g] (G,).
+        Outcome (0/1, NaN where missing) of sample s at grid point ``x[g]``.
+    x : (G,) float
+        Grid points.
+    n_boot : int
+        Bootstrap replicas.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
+
+    Returns
+    -------
+    Location
+        The crossing and its bootstrap standard error.
 
     Notes
     -----
@@ -637,7 +879,17 @@ def crossing_point(
 
 @dataclass(frozen=True)
 class PairedEstimate:
-    """A statistic computed two ways on the same samples, and the difference b - a."""
+    """A statistic computed two ways on the same samples, and the difference b - a.
+
+    Attributes
+    ----------
+    a, a_err : float
+        The statistic of the first data set and its bootstrap error.
+    b, b_err : float
+        The same for the second.
+    diff, diff_err : float
+        ``b - a`` and its paired bootstrap error.
+    """
 
     a: float
     a_err: float
@@ -658,6 +910,15 @@ def paired_bootstrap(
         Maps an array of samples (rows) to a float.
     a, b : (S, ...) array
         The same S samples measured two ways (e.g. exact and inexact verdicts).
+    n_boot : int
+        Bootstrap replicas.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
+
+    Returns
+    -------
+    PairedEstimate
+        Both values, their difference and the errors.
 
     Notes
     -----
@@ -692,8 +953,21 @@ THETA = (1 / 3, 2.0)
 class FiniteSizeFit:
     """y(n) = y_inf + a n^(-1/nu), weighted least squares.
 
-    ``nu_fixed`` tells whether nu was an input (its error then the one given with it, used
-    only to widen ``y_inf_err``); ``chi2`` and ``dof`` judge the form.
+    Attributes
+    ----------
+    y_inf, y_inf_err : float
+        The extrapolation to n -> infinity and its error.
+    a, a_err : float
+        Amplitude of the correction and its error.
+    nu, nu_err : float
+        The exponent and its error.
+    nu_fixed : bool
+        Whether nu was an input (its error then the one given with it, used only to widen
+        ``y_inf_err``).
+    chi2 : float
+        Chi-square of the fit.
+    dof : int
+        Its degrees of freedom; with ``chi2`` they judge the form.
     """
 
     y_inf: float
@@ -728,6 +1002,17 @@ def fit_finite_size(
         Exponent of the correction. None: fitted with y_inf and a (needs K >= 3); given: the
         fit is linear in (y_inf, a), and ``nu_err`` widens ``y_inf_err`` by half the change of
         y_inf between nu - nu_err and nu + nu_err.
+    nu_err : float
+        Standard error of a given ``nu``.
+    n_boot : int
+        Parametric bootstrap replicas (fitted nu only).
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
+
+    Returns
+    -------
+    FiniteSizeFit
+        The extrapolation, the correction and the exponent, with errors and chi-square.
 
     Notes
     -----
@@ -742,7 +1027,7 @@ def fit_finite_size(
     n, y, err = (np.asarray(a, float) for a in (n, y, err))
     ok = np.isfinite(y) & np.isfinite(err) & (err > 0)
     n, y, err = n[ok], y[ok], err[ok]
-    nan = FiniteSizeFit(*[np.nan] * 6, nu is not None, np.nan, 0)
+    nan = FiniteSizeFit(np.nan, np.nan, np.nan, np.nan, np.nan, np.nan, nu is not None, np.nan, 0)
 
     def linear(nu_):
         X = np.column_stack([np.ones(n.size), n ** (-1.0 / nu_)])
@@ -795,7 +1080,7 @@ def fit_finite_size(
     # parametric bootstrap: with few sizes the three parameters are strongly correlated and
     # their distribution far from normal, so the curvature errors understate the spread
     rng = rng or np.random.default_rng(8)
-    draws = []
+    refits = []
     for _ in range(n_boot):
         yb = y + rng.normal(0.0, err)
         try:
@@ -811,8 +1096,8 @@ def fit_finite_size(
             )
         except (RuntimeError, ValueError):
             continue
-        draws.append([pb[0], pb[1], 1 / pb[2]])
-    draws = np.array(draws).reshape(-1, 3)
+        refits.append([pb[0], pb[1], 1 / pb[2]])
+    draws = np.array(refits).reshape(-1, 3)
 
     def spread(col):
         return float(np.std(draws[:, col], ddof=1)) if len(draws) >= 10 else np.nan
@@ -886,8 +1171,19 @@ def agreement_z(ours, cov, reference, reference_err=0.0) -> float:
 def sign_z(value: float, err: float, sign: int) -> float:
     """z of a claim that a quantity has a sign: its distance to the claimed half-line.
 
-    ``max(0, -sign * value) / err``: zero when the value lies on the claimed side, else the
-    number of standard errors by which it lies on the other side.
+    Parameters
+    ----------
+    value, err : float
+        The measured quantity and its standard error.
+    sign : int
+        The claimed sign, +1 or -1.
+
+    Returns
+    -------
+    float
+        ``max(0, -sign * value) / err``: zero when the value lies on the claimed side, else the
+        number of standard errors by which it lies on the other side (NaN for non-finite
+        input).
     """
     if not (np.isfinite(value) and np.isfinite(err)):
         return float("nan")

@@ -4,11 +4,12 @@ Nonaffinity (Broedersz et al., the paper's Gamma)::
 
     Gamma = sum_i |u_na,i|^2 / (l^2 gamma^2 N)
 
-with ``u_na`` the displacements relative to the affine deformation (what :func:`solve` returns:
-the minimum-norm minimiser, mean translation removed), ``l`` the mean length over all bond sites
-of the network, ``gamma`` the strain magnitude (the spectral norm of eps: for
-``eps(phi, theta)`` of the supplement that is gamma * max(|cos phi + sin phi|, |cos phi - sin phi|),
-so we divide by the tensor's own norm, ``gamma_eff``) and ``N = n^2`` the number of nodes.
+with ``u_na`` the displacements relative to the affine deformation (what
+:func:`~tensegrity_rigidity.solve` returns: the minimum-norm minimiser, mean translation
+removed), ``l`` the mean length over all bond sites of the network, ``gamma`` the strain
+magnitude (the spectral norm of eps: for ``eps(phi, theta)`` of the supplement that is
+``gamma max(|cos phi + sin phi|, |cos phi - sin phi|)``, so we divide by the tensor's own norm,
+``gamma_eff``) and ``N = n^2`` the number of nodes.
 """
 
 from __future__ import annotations
@@ -20,12 +21,47 @@ from ..solver.core import SolveResult
 
 
 def strain_magnitude(strain: np.ndarray) -> float:
-    """Spectral norm of the strain tensor (largest |eigenvalue|)."""
+    """Spectral norm of the strain tensor (its largest absolute eigenvalue).
+
+    Parameters
+    ----------
+    strain : (2, 2) float
+        Symmetric strain tensor.
+
+    Returns
+    -------
+    float
+        ``max |lambda|``: for ``strain_tensor(phi, theta, gamma)`` that is
+        ``gamma max(|cos phi + sin phi|, |cos phi - sin phi|)``.
+    """
     return float(np.abs(np.linalg.eigvalsh(np.asarray(strain, dtype=float))).max())
 
 
 def nonaffinity(instance: Instance, result: SolveResult, gamma: float | None = None) -> float:
-    """Gamma = sum_i |u_i|^2 / (l^2 gamma^2 N); gamma defaults to the strain's spectral norm."""
+    """The nonaffinity ``Gamma = sum_i |u_i|^2 / (l^2 gamma^2 N)`` of a solved sample.
+
+    Parameters
+    ----------
+    instance : Instance
+        The sample (``N`` nodes); ``l`` is its mean bond length over all sites.
+    result : SolveResult
+        Its solution: ``displacements`` (N, 2) are the nonaffine displacements (the
+        minimum-norm minimiser, mean translation removed; check ``result.min_norm_ok``).
+    gamma : float, optional
+        Strain magnitude; by default the strain tensor's spectral norm
+        (:func:`strain_magnitude`).
+
+    Returns
+    -------
+    float
+        Gamma (0 when ``gamma`` is 0).
+
+    Notes
+    -----
+    On a floppy sample the minimisers are not unique; the minimum-norm one is the limit of a
+    vanishing background stiffness. Near the transition Gamma is heavy-tailed over samples:
+    report medians and quantiles beside means.
+    """
     net = instance.network
     g = strain_magnitude(instance.strain) if gamma is None else float(gamma)
     if g == 0:
@@ -38,7 +74,17 @@ def nonaffinity(instance: Instance, result: SolveResult, gamma: float | None = N
 def engaged_fractions(instance: Instance, result: SolveResult) -> tuple[float, float]:
     """Fractions of cables under tension (t > 0) and of struts under compression (t < 0).
 
-    NaN when the network has no cable (respectively no strut).
+    Parameters
+    ----------
+    instance : Instance
+        The sample.
+    result : SolveResult
+        Its solution (``tensions`` (m,)).
+
+    Returns
+    -------
+    cables, struts : float
+        Engaged fractions; NaN when the network has no cable (respectively no strut).
     """
     kinds, t = instance.network.kinds, result.tensions
     cab, stru = kinds == Element.CABLE, kinds == Element.STRUT
@@ -48,10 +94,26 @@ def engaged_fractions(instance: Instance, result: SolveResult) -> tuple[float, f
 
 
 def sample_record(instance: Instance, result: SolveResult, gamma: float | None = None) -> dict:
-    """The per-sample scalars stored by sweeps.
+    """The per-sample scalars stored by sweeps (one row of a grid sweep, after its keys).
 
-    ``nonaffinity`` is computed from the minimum-norm displacements and is NaN where
-    ``min_norm_ok`` is False (no wrong number in its place).
+    Parameters
+    ----------
+    instance : Instance
+        The sample.
+    result : SolveResult
+        Its solution.
+    gamma : float, optional
+        Strain magnitude for the nonaffinity (:func:`nonaffinity`).
+
+    Returns
+    -------
+    dict
+        ``rigid``, ``decided``, ``energy``, ``energy_lower``, ``affine_energy``,
+        ``nonaffinity``, ``min_norm_ok``, ``frac_cables_taut``, ``frac_struts_taut``,
+        ``n_rods``, ``n_cables``, ``n_struts``, the certificate's ``work``,
+        ``force_residual``, ``violation``, ``displacement_size``, and ``iterations``,
+        ``factorizations``, ``method``, ``solve_seconds``. ``nonaffinity`` is NaN where
+        ``min_norm_ok`` is False (no wrong number in its place).
     """
     fc, fs = engaged_fractions(instance, result)
     kinds = instance.network.kinds

@@ -41,7 +41,23 @@ def _admissible(pattern: tuple[int, ...], elements: tuple[str, ...]) -> bool:
 def qbar(pattern_class: str, n_r: int, n_c: int, n_s: int) -> float:
     """Fraction of the distinct placements of (n_r, n_c, n_s) on a node of a class that are rigid.
 
-    ``pattern_class`` is "mixed" (the table's column A) or "same" (column B).
+    Parameters
+    ----------
+    pattern_class : {"mixed", "same"}
+        Sign class of the node's self-stress: "mixed" (the supplement table's column A) or
+        "same" (column B).
+    n_r, n_c, n_s : int
+        Rods, cables and struts on the node's three bonds (``n_r + n_c + n_s = 3``).
+
+    Returns
+    -------
+    float
+        q-bar: the fraction of (placement, sign pattern) pairs the elements admit.
+
+    Raises
+    ------
+    InputError
+        When the counts do not add up to three.
     """
     if n_r + n_c + n_s != 3 or min(n_r, n_c, n_s) < 0:
         raise InputError("a three-coordinated node holds exactly three elements")
@@ -62,6 +78,13 @@ def _sign_class(angles: np.ndarray) -> str:
 def class_weights() -> dict[str, float]:
     """Weights of the two classes over the 20 triples of a (generically) disordered node.
 
+    Returns
+    -------
+    dict
+        ``{"same": 0.4, "mixed": 0.6}`` (computed, not typed in).
+
+    Notes
+    -----
     Each triple of hexagonal directions is perturbed by angles ``+-eta * (1, 2, 4)`` (distinct
     magnitudes, so no perturbation keeps a pair exactly opposite) and classified for each of
     the 8 sign choices; the weights are the averages.
@@ -77,12 +100,24 @@ def class_weights() -> dict[str, float]:
 
 
 def configurations() -> list[tuple[int, int, int]]:
-    """All (n_r, n_c, n_s) with n_r + n_c + n_s = 3."""
+    """All element counts of a three-coordinated node.
+
+    Returns
+    -------
+    list of (int, int, int)
+        The 10 triples (n_r, n_c, n_s) with n_r + n_c + n_s = 3.
+    """
     return [(r, c, 3 - r - c) for r in range(4) for c in range(4 - r)]
 
 
 def qbar_table() -> list[dict]:
-    """The supplement's table, computed: one row per configuration."""
+    """The supplement's table of q-bar values, computed: one row per configuration.
+
+    Returns
+    -------
+    list of dict
+        ``n_r``, ``n_c``, ``n_s``, ``qbar_mixed`` (column A), ``qbar_same`` (column B).
+    """
     return [
         {
             "n_r": r,
@@ -98,6 +133,24 @@ def qbar_table() -> list[dict]:
 def single_node_probability(p_r: float, p_c: float, p_s: float) -> float:
     """P_N(p_r, p_c, p_s): probability that a three-coordinated node is rigid (supplement Eq.).
 
+    Parameters
+    ----------
+    p_r, p_c, p_s : float
+        Probabilities of a rod, a cable and a strut on a bond (non-negative, sum at most 1,
+        not all zero).
+
+    Returns
+    -------
+    float
+        P_N.
+
+    Raises
+    ------
+    InputError
+        On negative or non-finite probabilities, a sum above 1, or all zero.
+
+    Notes
+    -----
     ``P_N = sum q(n) [w_mixed qbar_mixed(n) + w_same qbar_same(n)] / sum q(n)`` with
     ``q(n_r, n_c, n_s) = p_r^n_r p_c^n_c p_s^n_s (1 - p)^(6 - 3) / (n_r! n_c! n_s! 3!)``. Only the
     ratios p_r : p_c : p_s matter (the node is conditioned on three occupied bonds).
@@ -124,8 +177,26 @@ def simulate_single_node(
     rng: np.random.Generator,
     delta: float = DEFAULT_DELTA,
 ) -> tuple[int, int]:
-    """Monte Carlo of the supplement: (rigid count, trials).
+    """Monte Carlo of the supplement's single node.
 
+    Parameters
+    ----------
+    p_r, p_c, p_s : float
+        Relative probabilities of a rod, a cable and a strut.
+    trials : int
+        Number of random nodes.
+    rng : numpy.random.Generator
+        Source of the kicks, bonds and elements.
+    delta : float
+        Node disorder.
+
+    Returns
+    -------
+    rigid, trials : int
+        Rigid nodes and trials.
+
+    Notes
+    -----
     Each trial perturbs a central node and its six neighbours by uniform kicks in
     ``[-delta, delta]``, picks three of the six bonds at random, takes the null vector of their
     2x3 matrix of unit vectors as the self-stress, draws rod/cable/strut with probabilities

@@ -2,6 +2,7 @@
 
 ``tensegrity-rigidity sample``  draw a random lattice instance and write it to .npz
 ``tensegrity-rigidity solve``   relax an instance file and print the certified verdict
+                                (``--plot FIGURE`` also draws the network and its tensions)
 ``tensegrity-rigidity sweep``   run a TOML parameter sweep into a Parquet dataset
 ``tensegrity-rigidity info``    say what a results directory holds
 ``tensegrity-rigidity reproduce``  run every study of the paper and write the report
@@ -69,6 +70,14 @@ def _add_solve(sub) -> None:
     )
     p.add_argument("file", help="instance file (.npz)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
+    p.add_argument(
+        "--plot",
+        metavar="FIGURE",
+        default=None,
+        help="also draw the network to FIGURE (.png, .svg, .pdf): rods solid, cables dashed, "
+        "struts hollow, coloured by tension (red pulls, blue pushes), line width |t|, "
+        "displacements as arrows",
+    )
 
 
 def _cmd_sample(args) -> int:
@@ -105,7 +114,12 @@ def _cmd_solve(args) -> int:
     from ..model.io import load_instance
     from ..solver.core import solve
 
-    result = solve(load_instance(args.file))
+    if args.plot is not None:  # refuse a bad figure path before any work
+        from ..paper.plotting import check_plot_path
+
+        check_plot_path(args.plot)
+    instance = load_instance(args.file)
+    result = solve(instance)
     summary = result.summary()
     if args.json:  # JSON has no NaN or Infinity: a non-finite number is null
         safe = {
@@ -118,6 +132,11 @@ def _cmd_solve(args) -> int:
         for key, value in summary.items():
             shown = f"{value:.6g}" if isinstance(value, float) else value
             print(f"{key:<{width}}  {shown}")
+    if args.plot is not None:
+        from ..paper.plotting import plot_solution
+
+        plot_solution(instance, result, args.plot)
+        print(f"wrote {args.plot}", file=sys.stderr)
     return 0
 
 

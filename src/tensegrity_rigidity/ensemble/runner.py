@@ -30,15 +30,51 @@ from .thresholds import find_threshold
 
 
 def sample_rng(point: GridPoint, k: int) -> np.random.Generator:
-    """The generator of sample k (1-based) at this point: depends on (seed, n, delta, k) only."""
+    """The random generator of one sample.
+
+    Parameters
+    ----------
+    point : GridPoint
+        The grid point; only its ``seed``, ``n`` and ``delta`` are used.
+    k : int
+        Sample index, 1-based.
+
+    Returns
+    -------
+    numpy.random.Generator
+        Seeded by ``SeedSequence(seed, spawn_key=(n, bits(delta), k))``: the same for every
+        ``p_r``, ``p_t``, ``f_c`` and ``phi`` (common random numbers).
+    """
     delta_bits = int(np.float64(point.delta).view(np.uint64))
     ss = np.random.SeedSequence(point.seed, spawn_key=(point.n, delta_bits, k))
     return np.random.default_rng(ss)
 
 
 def sample_geometry(spec: Spec, point: GridPoint, k: int):
-    """(network, U, V, theta) of sample k at a grid point.
+    """The geometry, site uniforms and strain angle of one sample.
 
+    Parameters
+    ----------
+    spec : Spec
+        The sweep (lattice and angle sequence).
+    point : GridPoint
+        The grid point.
+    k : int
+        Sample index, 1-based.
+
+    Returns
+    -------
+    network : PeriodicNetwork
+        The empty lattice (``m`` sites).
+    u, v : (m,) float
+        Site uniforms: the elements at any (p_r, p_t, f_c) follow from
+        :func:`~tensegrity_rigidity.model.elements.place_elements`.
+    theta : float
+        The strain's principal-axis angle.
+
+    Notes
+    -----
+    Together with :func:`~tensegrity_rigidity.strain_tensor` this rebuilds any row's instance.
     Crossing bonds at a large ``delta`` were announced once when the spec was parsed; the
     builder's per-sample warning is silenced here.
     """
@@ -49,7 +85,25 @@ def sample_geometry(spec: Spec, point: GridPoint, k: int):
 
 
 def key_columns(spec: Spec, point: GridPoint, k: int, theta: float) -> dict:
-    """The columns that identify a row: grid point, sample index, angle and point key."""
+    """The columns that identify a row: grid point, sample index, angle and point key.
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep.
+    point : GridPoint
+        The grid point.
+    k : int
+        Sample index, 1-based.
+    theta : float
+        The sample's strain angle.
+
+    Returns
+    -------
+    dict
+        ``n``, ``delta``, ``p_r``, ``p_t``, ``f_c``, ``phi``, ``seed``, ``theta``,
+        ``sample``, ``point_key``.
+    """
     return {
         "n": point.n,
         "delta": point.delta,
@@ -65,7 +119,24 @@ def key_columns(spec: Spec, point: GridPoint, k: int, theta: float) -> dict:
 
 
 def grid_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
-    """Solve samples (1-based indices) at one grid point; one row each."""
+    """Solve samples at one grid point (grid mode).
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep.
+    point : GridPoint
+        The grid point.
+    samples : list of int
+        Sample indices, 1-based.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per sample: :func:`key_columns`, then
+        :func:`~tensegrity_rigidity.analysis.observables.sample_record` (or the paper's
+        verdict's record with ``verdict = "paper"``).
+    """
     opts = spec.solver_options()
     rows = []
     for k in samples:
@@ -81,12 +152,25 @@ def grid_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame
 
 
 def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
-    """Per-sample exact thresholds along the spec's path; one row each.
+    """Per-sample exact thresholds along the spec's path (threshold mode).
 
-    ``threshold_p_r`` is the estimate; the threshold lies in
-    ``[threshold_p_r_low, threshold_p_r_high]`` (equal unless ``threshold_undecided`` probes
-    on the bisection path were within resolution of the boundary). ``decided`` is True when
-    the interval is a single event.
+    Parameters
+    ----------
+    spec : Spec
+        The sweep (its ``threshold`` path).
+    point : GridPoint
+        The grid point (its ``p_r`` is unused).
+    samples : list of int
+        Sample indices, 1-based.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per sample: :func:`key_columns`, ``path``, ``threshold_p_r`` (the estimate,
+        NaN if never rigid), ``threshold_p_t``, the interval ``threshold_p_r_low``,
+        ``threshold_p_r_high`` (equal unless ``threshold_undecided`` probes on the
+        bisection path were within resolution of the boundary), ``solves``, ``decided`` (the
+        interval is a single event) and ``solve_seconds``.
     """
     assert spec.threshold is not None, "threshold_chunk needs a threshold spec"
     opts = spec.solver_options()
@@ -116,6 +200,21 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
 
 
 def run_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
-    """Dispatch on the spec's mode."""
+    """Compute one chunk: what executors run.
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep.
+    point : GridPoint
+        The grid point.
+    samples : list of int
+        Sample indices, 1-based.
+
+    Returns
+    -------
+    pandas.DataFrame
+        :func:`threshold_chunk` or :func:`grid_chunk`, by the spec's mode.
+    """
     fn = threshold_chunk if spec.mode == "threshold" else grid_chunk
     return fn(spec, point, samples)

@@ -117,6 +117,22 @@ def strain_angle(k: int, samples: int, sequence: str = "golden") -> float:
         Samples per grid point (used by ``"uniform"`` only).
     sequence : {"golden", "uniform"}
         ``2 pi frac((k - 1) phi_g)`` or the paper's ``2 pi (k - 1) / samples`` (module docstring).
+
+    Returns
+    -------
+    float
+        theta_k, radians.
+
+    Raises
+    ------
+    InputError
+        On an unknown sequence.
+
+    Examples
+    --------
+    >>> from tensegrity_rigidity.ensemble.spec import strain_angle
+    >>> [round(strain_angle(k, 100), 4) for k in (1, 2, 3)]
+    [0.0, 3.8832, 1.4833]
     """
     if sequence == "golden":
         return 2.0 * math.pi * math.fmod((k - 1) * GOLDEN, 1.0)
@@ -127,7 +143,25 @@ def strain_angle(k: int, samples: int, sequence: str = "golden") -> float:
 
 @dataclass(frozen=True)
 class GridPoint:
-    """One point of the parameter grid (p_r is NaN in threshold mode)."""
+    """One point of the parameter grid.
+
+    Attributes
+    ----------
+    n : int
+        Lattice size.
+    delta : float
+        Node disorder.
+    p_r : float
+        Rod probability (NaN in threshold mode).
+    p_t : float
+        One-sided probability (the total ``p_r + p_t`` on the threshold path "total").
+    f_c : float
+        Cable fraction.
+    phi : float
+        Strain type.
+    seed : int
+        Seed of the samples' randomness.
+    """
 
     n: int
     delta: float
@@ -144,7 +178,30 @@ def _digest(obj) -> str:
 
 @dataclass(frozen=True)
 class Spec:
-    """A validated sweep specification (see the module docstring)."""
+    """A validated sweep specification (see the module docstring); built by :func:`parse_spec`.
+
+    Attributes
+    ----------
+    grid : dict
+        Grid key ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed") -> list of values (no
+        "p_r" in threshold mode); phi as floats.
+    samples : int
+        Samples per grid point.
+    lattice : str
+        "triangular" or "square".
+    gamma : float
+        Strain magnitude.
+    solver : dict
+        Fields of :class:`~tensegrity_rigidity.SolverOptions` given in ``[solver]``.
+    chunk_size : int
+        Samples per result file (the unit of resumption).
+    threshold : dict or None
+        ``{"path": "p_r" | "total"}`` in threshold mode, None in grid mode.
+    angles : str
+        Strain-angle sequence, "golden" or "uniform".
+    verdict : str
+        "exact" or "paper".
+    """
 
     grid: dict[str, list]
     samples: int
@@ -158,15 +215,28 @@ class Spec:
 
     @property
     def mode(self) -> str:
+        """ "threshold" (a ``[threshold]`` section) or "grid"."""
         return "threshold" if self.threshold is not None else "grid"
 
     def n_points(self) -> int:
-        """Number of grid points, without building them."""
+        """Number of grid points, without building them.
+
+        Returns
+        -------
+        int
+            The product of the lengths of the grid's lists.
+        """
         keys = [k for k in GRID_KEYS if k != "p_r" or self.mode == "grid"]
         return math.prod(len(self.grid[k]) for k in keys)
 
     def points(self) -> list[GridPoint]:
-        """All grid points, in a fixed order."""
+        """All grid points, in a fixed order.
+
+        Returns
+        -------
+        list of GridPoint
+            The product of the grid's lists in the order n, delta, p_r, p_t, f_c, phi, seed.
+        """
         g = self.grid
         p_r = g["p_r"] if self.mode == "grid" else [math.nan]
         return [
@@ -177,12 +247,30 @@ class Spec:
         ]
 
     def solver_options(self) -> SolverOptions:
-        """The options every solve of this sweep uses (threshold mode: no minimum norm)."""
+        """The options every solve of this sweep uses.
+
+        Returns
+        -------
+        SolverOptions
+            The ``[solver]`` section over the defaults; threshold mode does not compute the
+            minimum-norm displacements unless asked.
+        """
         base = {"min_norm": False} if self.mode == "threshold" else {}
         return SolverOptions(**(base | self.solver))
 
     def angle(self, k: int) -> float:
-        """theta of sample k (1-based), see :func:`strain_angle`."""
+        """The principal-axis angle of sample k.
+
+        Parameters
+        ----------
+        k : int
+            Sample index, 1-based.
+
+        Returns
+        -------
+        float
+            theta_k of the spec's angle sequence (:func:`strain_angle`).
+        """
         return strain_angle(k, self.samples, self.angles)
 
     def settings(self) -> dict:
@@ -190,6 +278,12 @@ class Spec:
 
         The solver options are listed field by field from the effective
         :class:`SolverOptions`, defaults included, so a changed default is a changed setting.
+
+        Returns
+        -------
+        dict
+            ``mode``, ``threshold_path``, ``lattice``, ``gamma``, ``angles``, ``verdict``,
+            ``solver``.
         """
         return {
             "mode": self.mode,
@@ -202,17 +296,41 @@ class Spec:
         }
 
     def settings_digest(self) -> str:
+        """SHA-256 of :meth:`settings`: a results directory holds rows of one digest.
+
+        Returns
+        -------
+        str
+            64 hexadecimal digits.
+        """
         return _digest(self.settings())
 
     def point_key(self, point: GridPoint) -> str:
-        """Digest of the settings and the grid point: with (sample, theta) a row's identity."""
+        """Digest of the settings and the grid point: with (sample, theta) a row's identity.
+
+        Parameters
+        ----------
+        point : GridPoint
+            A point of this spec's grid.
+
+        Returns
+        -------
+        str
+            24 hexadecimal digits, stored in every row as ``point_key``.
+        """
         p = asdict(point)
         if self.mode == "threshold":
             p["p_r"] = None  # NaN is not JSON
         return _digest({"settings": self.settings(), "point": p})[:24]
 
     def canonical(self) -> dict:
-        """A plain, sorted description of the whole spec (JSON-ready)."""
+        """A plain, sorted description of the whole spec (JSON-ready).
+
+        Returns
+        -------
+        dict
+            What a results directory records as its spec (``_spec.json``).
+        """
         out = {
             "grid": self.grid,
             "samples": self.samples,
@@ -228,6 +346,13 @@ class Spec:
         return out
 
     def n_samples(self) -> int:
+        """Rows the spec asks for.
+
+        Returns
+        -------
+        int
+            Grid points times samples.
+        """
         return self.n_points() * self.samples
 
 
@@ -249,7 +374,35 @@ def _number(key: str, value, integer: bool = False):
 
 
 def parse_spec(data: dict) -> Spec:
-    """Validate a spec given as a dict (the parsed TOML). Raises SpecError with one sentence."""
+    """Validate a spec given as a dict (the parsed TOML).
+
+    Parameters
+    ----------
+    data : dict
+        Flat keys and sections as in the module docstring (what ``tomllib.loads`` returns).
+
+    Returns
+    -------
+    Spec
+        The validated spec.
+
+    Raises
+    ------
+    SpecError
+        One sentence naming the key and what is wrong with it.
+
+    Warns
+    -----
+    UserWarning
+        When ``delta`` is large enough for bonds to cross.
+
+    Examples
+    --------
+    >>> from tensegrity_rigidity import parse_spec
+    >>> spec = parse_spec({"n": 8, "p_r": [0.6, 0.7], "phi": "shear", "samples": 10})
+    >>> spec.mode, spec.n_points(), spec.n_samples()
+    ('grid', 2, 20)
+    """
     if not isinstance(data, dict):
         raise SpecError("a spec must be a table of keys")
     unknown = sorted(k for k in data if k not in FLAT_KEYS and k not in SECTIONS)
@@ -363,7 +516,24 @@ def _check_distinct(key: str, values: list) -> None:
 
 
 def load_spec(path: str | os.PathLike) -> Spec:
-    """Read and validate a TOML spec file."""
+    """Read and validate a TOML spec file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A UTF-8 TOML file (keys in the module docstring).
+
+    Returns
+    -------
+    Spec
+        The validated spec.
+
+    Raises
+    ------
+    SpecError
+        If the file cannot be read, is not UTF-8 or TOML, or is not a valid spec (one
+        sentence, prefixed with the path).
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")

@@ -59,7 +59,18 @@ def probability_table(rows: pd.DataFrame) -> pd.DataFrame:
 
 
 def phi_name(phi: float) -> str:
-    """ "dilation", "shear", "compression" or the angle."""
+    """A strain type for people.
+
+    Parameters
+    ----------
+    phi : float
+        Strain type.
+
+    Returns
+    -------
+    str
+        "dilation", "shear", "compression", or the angle to 4 significant digits.
+    """
     for name, value in NAMED_STRAINS.items():
         if math.isclose(phi, value, abs_tol=1e-12):
             return name
@@ -67,7 +78,22 @@ def phi_name(phi: float) -> str:
 
 
 def format_table(table: pd.DataFrame, max_rows: int = 40) -> str:
-    """Plain-text table; grid columns that do not vary are left out."""
+    """A :func:`probability_table` as plain text; grid columns that do not vary are left out.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        From :func:`probability_table`.
+    max_rows : int
+        Grid points shown; a last line counts the others.
+
+    Returns
+    -------
+    str
+        Right-aligned columns: the varying grid values, ``N``, ``undecided``, then
+        ``rigid`` and ``P [95% Wilson]`` (grid mode) or ``median p_r*`` and ``never rigid``
+        (threshold mode); "(no rows)" for an empty table.
+    """
     if table.empty:
         return "(no rows)"
     grid = [c for c in GRID_COLUMNS if c in table and table[c].nunique(dropna=False) > 1]

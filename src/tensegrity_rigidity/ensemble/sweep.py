@@ -116,6 +116,7 @@ def plan_chunks(
     Parameters
     ----------
     spec : Spec
+        The sweep.
     done : set of (point_key, sample, theta)
         Rows already saved (:attr:`ResultStore.done`).
 
@@ -137,6 +138,11 @@ def plan_chunks(
 
 def estimate(spec: Spec) -> dict:
     """What a spec asks for: rows, memory per sample and of the loaded rows, disk, CPU time.
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep.
 
     Returns
     -------
@@ -180,10 +186,16 @@ def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = N
     Parameters
     ----------
     spec : Spec
-    out : path
+        The sweep.
+    out : str or path-like
         Results directory.
     worker_memory : int, optional
         Memory of one worker in bytes (a Dask worker's limit); default this machine's.
+
+    Returns
+    -------
+    dict
+        :func:`estimate` of the spec.
 
     Raises
     ------
@@ -213,7 +225,7 @@ def check_disk(out: str | os.PathLike, rows: int, parts: int) -> None:
 
     Parameters
     ----------
-    out : path
+    out : str or path-like
         Results directory (or the nearest existing parent).
     rows, parts : int
         Rows and part files still to write.
@@ -295,17 +307,26 @@ def run_sweep(
 
     Parameters
     ----------
-    spec : Spec or path of a TOML file
-    out : directory of results (created; reopened to resume or grow)
-    executor : None/int (local processes, default all cores), "serial",
-        a concurrent.futures.Executor or a distributed.Client
-    scheduler : address of a running Dask scheduler (tcp://host:port), instead of executor
-    progress : show a progress bar (default: when stderr is a terminal)
-    wait_for_workers : seconds to wait for a first worker of a Dask scheduler that has none
+    spec : Spec or str or path-like
+        The sweep, or the path of its TOML file (:func:`load_spec`; its text is kept as
+        ``out/_spec.toml``).
+    out : str or path-like
+        Results directory: created, or reopened to resume or grow (only rows whose keys are
+        missing are computed).
+    executor : None, int, "serial", concurrent.futures.Executor or distributed.Client
+        Where chunks run: None or an int for that many local processes (None: all cores),
+        "serial" in this process, or an executor or Dask client of your own (not shut down).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:8786``), instead of ``executor``.
+    progress : bool, optional
+        Show a progress bar (default: when stderr is a terminal).
+    wait_for_workers : float
+        Seconds to wait for a first worker of a Dask scheduler that has none.
 
     Returns
     -------
     SweepReport
+        Rows reused and run, chunks run and failed, wall time.
 
     Raises
     ------
@@ -435,6 +456,11 @@ def load_results(
 def describe(out: str | os.PathLike) -> dict:
     """What a results directory holds (for ``tensegrity-rigidity info``).
 
+    Parameters
+    ----------
+    out : str or path-like
+        Results directory (read only: no lock is taken, a running sweep may be writing it).
+
     Returns
     -------
     dict
@@ -443,6 +469,11 @@ def describe(out: str | os.PathLike) -> dict:
         spec without a verdict), ``chunks_missing`` (chunks a re-run computes), ``parts``,
         ``damaged`` (parts failing their checksum), ``bytes`` (size of the parts), ``writer``
         (who is writing now, or None), ``frame`` (the spec's rows).
+
+    Raises
+    ------
+    InputError
+        When ``out`` is not a results directory.
     """
     store = ResultStore(out)
     if not store.root.is_dir():

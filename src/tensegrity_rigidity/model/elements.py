@@ -20,7 +20,23 @@ from .network import Element
 
 
 def check_probabilities(p_r: float, p_t: float, f_c: float) -> tuple[float, float, float]:
-    """Validate (p_r, p_t, f_c): each finite in [0, 1] and p_r + p_t <= 1."""
+    """Validate (p_r, p_t, f_c): each finite in [0, 1] and p_r + p_t <= 1.
+
+    Parameters
+    ----------
+    p_r, p_t, f_c : float
+        Rod probability, one-sided probability, cable fraction.
+
+    Returns
+    -------
+    (float, float, float)
+        The three values as floats.
+
+    Raises
+    ------
+    InputError
+        On a value that is not a finite number in [0, 1], or ``p_r + p_t > 1``.
+    """
     out = []
     for name, value in (("p_r", p_r), ("p_t", p_t), ("f_c", f_c)):
         try:
@@ -40,7 +56,20 @@ def check_probabilities(p_r: float, p_t: float, f_c: float) -> tuple[float, floa
 
 
 def site_uniforms(m: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """The per-site uniforms (U, V), each of shape (m,)."""
+    """The per-site uniforms (U, V) of one sample.
+
+    Parameters
+    ----------
+    m : int
+        Number of bond sites.
+    rng : numpy.random.Generator
+        Source; ``U`` is drawn first, then ``V``.
+
+    Returns
+    -------
+    u, v : (m,) float
+        Uniforms in [0, 1): ``U`` decides rod / one-sided / empty, ``V`` cable or strut.
+    """
     u = rng.random(m)
     v = rng.random(m)
     return u, v
@@ -59,7 +88,12 @@ def place_elements(u: np.ndarray, v: np.ndarray, p_r: float, p_t: float, f_c: fl
     Returns
     -------
     kinds : (m,) int64
-        :class:`~tensegrity_rigidity.network.Element` codes.
+        :class:`~tensegrity_rigidity.model.network.Element` codes.
+
+    Raises
+    ------
+    InputError
+        On probabilities outside [0, 1] or ``p_r + p_t > 1``.
     """
     p_r, p_t, f_c = check_probabilities(p_r, p_t, f_c)
     kinds = np.full(u.shape, Element.EMPTY, dtype=np.int64)

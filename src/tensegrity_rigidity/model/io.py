@@ -37,6 +37,14 @@ def save_instance(path: str | os.PathLike, instance: Instance) -> None:
     on any failure (a directory in the way, no permission, a full disk) the temporary file is
     removed and nothing is left behind.
 
+    Parameters
+    ----------
+    path : str or path-like
+        The file to write (its directory must exist); conventionally ``*.npz``.
+    instance : Instance
+        What to store: ``box`` (2, 2), ``positions`` (N, 2), ``bonds`` (m, 2), ``shifts``
+        (m, 2), ``kinds`` (m,) as int8, ``strain`` (2, 2) and ``stiffness`` (m,) when set.
+
     Raises
     ------
     InputError
@@ -136,6 +144,16 @@ def _read_npz(path: Path) -> dict[str, np.ndarray]:
 
 def load_instance(path: str | os.PathLike) -> Instance:
     """Read and validate an instance file written by :func:`save_instance` (or by hand).
+
+    Parameters
+    ----------
+    path : str or path-like
+        An ``.npz`` archive with the keys of the module docstring.
+
+    Returns
+    -------
+    Instance
+        The validated instance.
 
     Raises
     ------

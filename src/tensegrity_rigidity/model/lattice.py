@@ -2,7 +2,7 @@
 
 Every builder takes an explicit ``numpy.random.Generator``; nothing here touches global random
 state. Builders return networks with all bond sites *empty*; elements are placed afterwards by
-:func:`tensegrity_rigidity.elements.place_elements`.
+:func:`tensegrity_rigidity.model.elements.place_elements`.
 """
 
 from __future__ import annotations
@@ -49,11 +49,23 @@ def _check_size(n: int) -> int:
 def inverted_triangles(net: PeriodicNetwork) -> int:
     """Number of inside-out triangles of a grid lattice built here (crossing bonds).
 
+    Parameters
+    ----------
+    net : PeriodicNetwork
+        A network from :func:`triangular_lattice` or :func:`square_lattice` (``N`` nodes).
+
+    Returns
+    -------
+    int
+        Triangles whose orientation flipped; 0 for a network without ``3 N`` sites.
+
+    Notes
+    -----
     Sites ``0..N-1``, ``N..2N-1``, ``2N..3N-1`` join node ``i`` to its ``+b1``, ``+b2`` and
-    ``+(b1 + b2)`` neighbours (``N`` nodes), so the two triangles at node ``i`` have the sides
-    ``(d1, d3)`` and ``(d3, d2)``, both counter-clockwise in the undisturbed lattice; a
-    non-positive cross product means a node crossed the opposite side. Networks with another
-    number of sites (the square lattice without diagonals) have no triangles: 0.
+    ``+(b1 + b2)`` neighbours, so the two triangles at node ``i`` have the sides ``(d1, d3)``
+    and ``(d3, d2)``, both counter-clockwise in the undisturbed lattice; a non-positive cross
+    product means a node crossed the opposite side. Networks with another number of sites (the
+    square lattice without diagonals) have no triangles.
     """
     n_nodes = net.n_nodes
     if net.n_sites != 3 * n_nodes:
@@ -149,8 +161,28 @@ def square_lattice(
 ) -> PeriodicNetwork:
     """Periodic square lattice, n x n nodes, 2 n^2 sites (3 n^2 with one diagonal per square).
 
-    The lattice of the predecessor study (Stephenson et al.). Shapes and ordering as in
-    :func:`triangular_lattice`, with neighbours ``+x``, ``+y`` (and ``+x+y`` with diagonals).
+    The lattice of the predecessor study (Stephenson et al.). Node ``(a, b)`` (index
+    ``a * n + b``) sits at ``(a, b)`` plus a uniform kick in ``[-delta, delta]`` per
+    coordinate; sites join every node to its ``+x``, ``+y`` (and ``+x+y`` with diagonals)
+    neighbours, in that order, wrapped periodically in the box ``n I``.
+
+    Parameters
+    ----------
+    n : int
+        Linear size, at least 2.
+    delta : float
+        Disorder amplitude, ``0 <= delta < 0.5``. With diagonals, kicks from
+        ``delta = 1/4`` can turn a triangle inside out (a :class:`CrossingBondsWarning` says
+        when they did); without them bonds cannot cross.
+    rng : numpy.random.Generator, optional
+        Source of the kicks; required when ``delta > 0``.
+    diagonals : bool
+        Add one diagonal per square (then 3 n^2 sites, as on the triangular lattice).
+
+    Returns
+    -------
+    PeriodicNetwork
+        ``n^2`` nodes, ``2 n^2`` (or ``3 n^2``) empty sites.
     """
     n = _check_size(n)
     delta = _check_delta(delta)
@@ -185,10 +217,18 @@ def random_periodic_network(
     Parameters
     ----------
     n_nodes, n_bonds : int
-        N and m.
+        Number of nodes N (at least 1) and of bond sites m.
     rng : numpy.random.Generator
+        Source of the positions, bonds and shifts (and of the box when omitted).
     box : (2, 2) float, optional
-        Lattice vectors as rows; a random skewed box of unit-order size when omitted.
+        Lattice vectors as rows; a random skewed box of area about ``n_nodes`` when omitted.
+    max_shift : int
+        Largest image shift in each direction.
+
+    Returns
+    -------
+    PeriodicNetwork
+        ``n_nodes`` nodes, ``n_bonds`` empty sites.
     """
     if n_nodes < 1 or n_bonds < 0:
         raise InputError("n_nodes must be >= 1 and n_bonds >= 0")

@@ -24,7 +24,13 @@ SOLVE_BYTES_PER_NODE = 12_000
 
 
 def physical_memory() -> int:
-    """Bytes of physical memory of this machine (a large number where it cannot be read)."""
+    """Bytes of physical memory of this machine.
+
+    Returns
+    -------
+    int
+        ``SC_PAGE_SIZE * SC_PHYS_PAGES``; ``2**50`` where it cannot be read (no guard).
+    """
     try:
         return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
     except (ValueError, OSError, AttributeError):  # not POSIX: do not guard
@@ -32,7 +38,18 @@ def physical_memory() -> int:
 
 
 def format_bytes(n: float) -> str:
-    """A byte count for people: ``format_bytes(1.5e12) == '1.4 TiB'``."""
+    """A byte count for people: ``format_bytes(1.5e12) == '1.4 TiB'``.
+
+    Parameters
+    ----------
+    n : float
+        Bytes.
+
+    Returns
+    -------
+    str
+        The count in bytes, KiB, MiB, GiB, TiB or PiB.
+    """
     value = float(n)
     for unit in ("bytes", "KiB", "MiB", "GiB", "TiB", "PiB"):
         if value < 1024 or unit == "PiB":

@@ -18,16 +18,43 @@ from .network import Element, Instance, PeriodicNetwork
 
 
 def unit_vectors(network: PeriodicNetwork) -> np.ndarray:
-    """Unit bond vectors dhat, shape (m, 2)."""
+    """Unit bond vectors ``dhat_b = d_b / |d_b|``.
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        The network (``m`` sites).
+
+    Returns
+    -------
+    (m, 2) float
+        One unit vector per site (empty sites included).
+    """
     d = network.bond_vectors()
     return d / np.hypot(d[:, 0], d[:, 1])[:, None]
 
 
 def rigidity_matrix(network: PeriodicNetwork, sites: np.ndarray | None = None) -> sp.csr_matrix:
-    """Sparse rigidity matrix R, shape (m, 2N) (or (len(sites), 2N) for a subset of sites).
+    """Sparse rigidity matrix R: row b is ``-dhat_b`` at node i and ``+dhat_b`` at node j.
 
-    A bond joining a node to its own image has a zero row: its length cannot change by
-    displacing nodes, only by the strain.
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        The network (``N`` nodes, ``m`` sites).
+    sites : (k,) int, optional
+        Rows to build (indices of sites); all ``m`` when omitted.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        Shape (m, 2N) (or (k, 2N)); columns ``2 i``, ``2 i + 1`` are node i's x and y.
+
+    Notes
+    -----
+    ``R u`` gives the extensions of the bonds to first order in the displacements ``u``
+    (flattened (2N,)), ``R^T t`` the net forces of tensions ``t``. A bond joining a node to its
+    own image has a zero row: its length cannot change by displacing nodes, only by the
+    strain.
     """
     bonds = network.bonds if sites is None else network.bonds[sites]
     dhat = unit_vectors(network) if sites is None else unit_vectors(network)[sites]
@@ -40,14 +67,42 @@ def rigidity_matrix(network: PeriodicNetwork, sites: np.ndarray | None = None) -
 
 
 def affine_extensions(network: PeriodicNetwork, strain: np.ndarray) -> np.ndarray:
-    """Affine extensions e0_b = dhat_b . eps . d_b, shape (m,)."""
+    """Affine extensions ``e0_b = dhat_b . eps . d_b`` (MODEL.md: a scalar per bond).
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        The network (``m`` sites).
+    strain : (2, 2) float
+        Strain tensor eps, magnitude included.
+
+    Returns
+    -------
+    (m,) float
+        The extension of every site under the affine deformation ``u = 0``.
+    """
     d = network.bond_vectors()
     length = np.hypot(d[:, 0], d[:, 1])
     return np.einsum("bi,ij,bj->b", d, np.asarray(strain, dtype=float), d) / length
 
 
 def tensions_from_extensions(kinds: np.ndarray, stiffness: np.ndarray, e: np.ndarray) -> np.ndarray:
-    """Tensions t_b = k_b h_b(e_b) e_b, shape (m,)."""
+    """Tensions ``t_b = k_b h_b(e_b) e_b`` (positive pulls).
+
+    Parameters
+    ----------
+    kinds : (m,) int
+        :class:`~.network.Element` codes.
+    stiffness : (m,) float
+        Spring constants.
+    e : (m,) float
+        Extensions.
+
+    Returns
+    -------
+    (m,) float
+        ``k e`` on rods, on stretched cables and on compressed struts; 0 elsewhere.
+    """
     t = np.zeros_like(e)
     rod = kinds == Element.ROD
     cable = (kinds == Element.CABLE) & (e > 0)
@@ -58,13 +113,41 @@ def tensions_from_extensions(kinds: np.ndarray, stiffness: np.ndarray, e: np.nda
 
 
 def energy_from_extensions(kinds: np.ndarray, stiffness: np.ndarray, e: np.ndarray) -> float:
-    """E = 1/2 sum_b k_b h_b(e_b) e_b^2 for extensions e of shape (m,)."""
+    """The energy ``E = 1/2 sum_b k_b h_b(e_b) e_b^2`` of given extensions.
+
+    Parameters
+    ----------
+    kinds : (m,) int
+        :class:`~.network.Element` codes.
+    stiffness : (m,) float
+        Spring constants.
+    e : (m,) float
+        Extensions.
+
+    Returns
+    -------
+    float
+        E.
+    """
     t = tensions_from_extensions(kinds, stiffness, e)
     return 0.5 * float(np.dot(t, e))
 
 
 def extensions(instance: Instance, displacements: np.ndarray | None = None) -> np.ndarray:
-    """Total extensions e = e0 + R u, shape (m,); ``displacements`` is (N, 2) or None (affine)."""
+    """Total extensions ``e = e0 + R u``.
+
+    Parameters
+    ----------
+    instance : Instance
+        Network and strain.
+    displacements : (N, 2) float, optional
+        Node displacements ``u``; the affine deformation (``u = 0``) when omitted.
+
+    Returns
+    -------
+    (m,) float
+        Extension of every site.
+    """
     net = instance.network
     e = affine_extensions(net, instance.strain)
     if displacements is not None:
@@ -73,7 +156,20 @@ def extensions(instance: Instance, displacements: np.ndarray | None = None) -> n
 
 
 def energy(instance: Instance, displacements: np.ndarray | None = None) -> float:
-    """Energy E(u) of the instance for displacements (N, 2); the affine energy when None."""
+    """The energy ``E(u)`` of an instance.
+
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements, stiffness and strain.
+    displacements : (N, 2) float, optional
+        Node displacements; the affine energy ``E(u = 0)`` when omitted.
+
+    Returns
+    -------
+    float
+        E.
+    """
     net = instance.network
     return energy_from_extensions(
         net.kinds, net.stiffness_or_ones(), extensions(instance, displacements)
@@ -81,7 +177,20 @@ def energy(instance: Instance, displacements: np.ndarray | None = None) -> float
 
 
 def tensions(instance: Instance, displacements: np.ndarray | None = None) -> np.ndarray:
-    """Tensions t (m,) for displacements (N, 2); affine tensions when None."""
+    """Tensions of the elements at given displacements.
+
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements, stiffness and strain.
+    displacements : (N, 2) float, optional
+        Node displacements; the affine tensions when omitted.
+
+    Returns
+    -------
+    (m,) float
+        ``t_b = k_b h_b(e_b) e_b`` (:func:`tensions_from_extensions`).
+    """
     net = instance.network
     return tensions_from_extensions(
         net.kinds, net.stiffness_or_ones(), extensions(instance, displacements)
@@ -89,5 +198,18 @@ def tensions(instance: Instance, displacements: np.ndarray | None = None) -> np.
 
 
 def net_forces(network: PeriodicNetwork, t: np.ndarray) -> np.ndarray:
-    """Net force on each node from bond tensions t (m,): R^T t reshaped to (N, 2)."""
+    """Net force on each node from bond tensions: ``R^T t``.
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        The network (``N`` nodes, ``m`` sites).
+    t : (m,) float
+        Tensions (positive pulls).
+
+    Returns
+    -------
+    (N, 2) float
+        Force on every node; zero everywhere for a self-stress.
+    """
     return (rigidity_matrix(network).T @ t).reshape(-1, 2)

@@ -11,7 +11,7 @@ compression), cable (resists only extension) or strut (resists only compression)
 optional stiffness (unit by default).
 
 An :class:`Instance` is a network plus a symmetric 2x2 strain tensor ``eps`` (magnitude
-included). It is exactly what an instance file stores (see :mod:`tensegrity_rigidity.io`).
+included). It is exactly what an instance file stores (see :mod:`tensegrity_rigidity.model.io`).
 """
 
 from __future__ import annotations
@@ -31,7 +31,19 @@ MAX_POSITION_REACH = 1e6
 
 
 class Element(IntEnum):
-    """Element kinds, with the integer codes used in arrays and files."""
+    """Element kinds, with the integer codes used in ``kinds`` arrays and instance files.
+
+    Attributes
+    ----------
+    EMPTY
+        0: no element, the site carries no force.
+    ROD
+        1: resists extension and compression (tension of either sign).
+    CABLE
+        2: resists only extension (tension ``t >= 0``).
+    STRUT
+        3: resists only compression (tension ``t <= 0``).
+    """
 
     EMPTY = 0
     ROD = 1
@@ -181,7 +193,13 @@ class PeriodicNetwork:
         return int(self.bonds.shape[0])
 
     def bond_vectors(self) -> np.ndarray:
-        """Bond vectors d_b, shape (m, 2)."""
+        """Bond vectors ``d_b = positions[j] + shifts[b] @ box - positions[i]``.
+
+        Returns
+        -------
+        (m, 2) float
+            One row per bond site (empty sites included).
+        """
         return (
             self.positions[self.bonds[:, 1]]
             + self.shifts @ self.box
@@ -189,25 +207,76 @@ class PeriodicNetwork:
         )
 
     def bond_lengths(self) -> np.ndarray:
-        """Bond lengths |d_b|, shape (m,)."""
+        """Bond lengths ``|d_b|``.
+
+        Returns
+        -------
+        (m,) float
+            One per bond site (empty sites included).
+        """
         d = self.bond_vectors()
         return np.hypot(d[:, 0], d[:, 1])
 
     def stiffness_or_ones(self) -> np.ndarray:
-        """Stiffness per site, shape (m,); ones when none was given."""
+        """Stiffness per site, ones when none was given.
+
+        Returns
+        -------
+        (m,) float
+            Spring constants ``k_b``.
+        """
         return np.ones(self.n_sites) if self.stiffness is None else self.stiffness
 
     def with_kinds(self, kinds) -> PeriodicNetwork:
-        """The same geometry with other element kinds, shape (m,)."""
+        """The same geometry with other element kinds.
+
+        Parameters
+        ----------
+        kinds : (m,) int
+            :class:`Element` codes, one per site.
+
+        Returns
+        -------
+        PeriodicNetwork
+            A new, validated network (this one is unchanged).
+        """
         return replace(self, kinds=kinds)
 
     def count(self, kind: Element) -> int:
-        """Number of sites holding ``kind``."""
+        """Number of sites holding ``kind``.
+
+        Parameters
+        ----------
+        kind : Element
+            The element kind.
+
+        Returns
+        -------
+        int
+            How many of the ``m`` sites hold it.
+        """
         return int(np.count_nonzero(self.kinds == kind))
 
 
 def check_strain(strain) -> np.ndarray:
-    """Validate a strain tensor: finite, shape (2, 2), symmetric. Returns a float copy."""
+    """Validate a strain tensor: finite, shape (2, 2), symmetric.
+
+    Parameters
+    ----------
+    strain : (2, 2) array_like
+        The tensor; off-diagonal entries may differ by round-off (``1e-12`` of the largest
+        entry), the lower one is then set to the upper one.
+
+    Returns
+    -------
+    (2, 2) float
+        A symmetric float copy.
+
+    Raises
+    ------
+    InputError
+        On a wrong shape, non-finite or complex values, or an asymmetric tensor.
+    """
     eps = _as_float_array("strain", strain, (2, 2))
     if abs(eps[0, 1] - eps[1, 0]) > 1e-12 * float(np.abs(eps).max()):
         raise InputError(
@@ -242,13 +311,63 @@ class Instance:
 
     @classmethod
     def from_arrays(cls, box, positions, bonds, shifts, kinds, strain, stiffness=None) -> Instance:
-        """Build and validate an instance from raw arrays (shapes as in PeriodicNetwork)."""
+        """Build and validate an instance from raw arrays.
+
+        Parameters
+        ----------
+        box : (2, 2) float
+            Lattice vectors of the periodic box, as rows.
+        positions : (N, 2) float
+            Node positions.
+        bonds : (m, 2) int
+            Node indices ``(i, j)`` of each bond site.
+        shifts : (m, 2) int
+            Integer image offsets of node ``j``.
+        kinds : (m,) int
+            :class:`Element` codes.
+        strain : (2, 2) float
+            Symmetric strain tensor, magnitude included.
+        stiffness : (m,) float, optional
+            Positive spring constants (unit when omitted).
+
+        Returns
+        -------
+        Instance
+            The validated instance.
+
+        Raises
+        ------
+        InputError
+            As :class:`PeriodicNetwork` and :func:`check_strain`.
+        """
         return cls(PeriodicNetwork(box, positions, bonds, shifts, kinds, stiffness), strain)
 
     def with_kinds(self, kinds) -> Instance:
-        """The same instance with other element kinds, shape (m,)."""
+        """The same instance with other element kinds.
+
+        Parameters
+        ----------
+        kinds : (m,) int
+            :class:`Element` codes, one per site.
+
+        Returns
+        -------
+        Instance
+            Same geometry and strain.
+        """
         return Instance(self.network.with_kinds(kinds), self.strain)
 
     def with_strain(self, strain) -> Instance:
-        """The same network under another strain tensor."""
+        """The same network under another strain tensor.
+
+        Parameters
+        ----------
+        strain : (2, 2) float
+            Symmetric strain tensor, magnitude included.
+
+        Returns
+        -------
+        Instance
+            Same network and elements.
+        """
         return Instance(self.network, strain)

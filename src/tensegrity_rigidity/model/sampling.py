@@ -21,7 +21,23 @@ LATTICES = {"triangular": triangular_lattice, "square": square_lattice}
 
 
 def check_seed(seed) -> int | None:
-    """Validate a seed: ``None`` or a non-negative integer (what ``SeedSequence`` accepts)."""
+    """Validate a seed: ``None`` or a non-negative integer (what ``SeedSequence`` accepts).
+
+    Parameters
+    ----------
+    seed : int or None
+        The seed.
+
+    Returns
+    -------
+    int or None
+        The seed as a Python int.
+
+    Raises
+    ------
+    InputError
+        On anything else (a negative number, a float, a bool).
+    """
     if seed is None:
         return None
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
@@ -34,7 +50,31 @@ def check_seed(seed) -> int | None:
 def lattice_geometry(
     n: int, delta: float, rng: np.random.Generator, lattice: str = "triangular"
 ) -> tuple[PeriodicNetwork, np.ndarray, np.ndarray]:
-    """An empty lattice and its site uniforms (U, V), each (m,), drawn from ``rng``."""
+    """An empty lattice and its site uniforms, drawn from ``rng`` (kicks first, then U, V).
+
+    Parameters
+    ----------
+    n : int
+        Linear size.
+    delta : float
+        Node disorder.
+    rng : numpy.random.Generator
+        Source of the kicks and the uniforms.
+    lattice : {"triangular", "square"}
+        The builder (:func:`~.lattice.triangular_lattice`, :func:`~.lattice.square_lattice`).
+
+    Returns
+    -------
+    network : PeriodicNetwork
+        ``n^2`` nodes, ``m`` empty sites.
+    u, v : (m,) float
+        The site uniforms (:func:`~.elements.site_uniforms`).
+
+    Raises
+    ------
+    InputError
+        On an unknown lattice or invalid ``n``, ``delta``.
+    """
     try:
         builder = LATTICES[lattice]
     except KeyError:
@@ -65,18 +105,41 @@ def lattice_instance(
     n : int
         Linear size (n x n nodes, 3 n^2 sites on the triangular lattice).
     p_r, p_t, f_c : float
-        Rod probability, one-sided probability, cable fraction of one-sided elements.
-    phi, theta, gamma : float
-        Strain type (or "dilation", "shear", "compression"), principal-axis angle, magnitude.
+        Rod probability, one-sided probability (``p_r + p_t <= 1``), cable fraction of the
+        one-sided elements (``f_c = 1``: cables only, ``0``: struts only).
+    phi : float or str
+        Strain type: an angle, or "dilation" (0), "shear" (pi/2), "compression" (pi).
+    theta : float
+        Principal-axis angle of the strain, radians.
+    gamma : float
+        Strain magnitude (positive); energies scale as ``gamma^2``, verdicts do not change.
     delta : float
-        Node disorder.
+        Node disorder, in lattice constants (:data:`~.lattice.DEFAULT_DELTA`).
     seed : int or numpy.random.Generator
         Randomness of the geometry and the site uniforms; an integer must be non-negative.
+        The same seed gives the same geometry and uniforms for every ``(p_r, p_t, f_c)`` and
+        strain (common random numbers).
+    lattice : {"triangular", "square"}
+        The lattice builder.
 
     Returns
     -------
     Instance
         The network (``n^2`` nodes, ``3 n^2`` sites on the triangular lattice) and its strain.
+
+    Raises
+    ------
+    InputError
+        On invalid probabilities, sizes, strains or seeds (one sentence).
+
+    Examples
+    --------
+    >>> from tensegrity_rigidity import lattice_instance, solve
+    >>> inst = lattice_instance(8, p_r=0.9, phi="dilation", seed=1)
+    >>> inst.network.n_nodes, inst.network.n_sites
+    (64, 192)
+    >>> solve(inst).status
+    'rigid'
     """
     check_probabilities(p_r, p_t, f_c)
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))

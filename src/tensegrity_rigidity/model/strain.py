@@ -2,7 +2,9 @@
 cos phi - sin phi) A(-theta), times a magnitude gamma.
 
 ``phi = 0`` is dilation, ``pi/2`` pure shear, ``pi`` compression; ``theta`` rotates the principal
-axes. Run ``k`` (1-based) of ``eta`` uses ``theta = 2 pi (k - 1) / eta``.
+axes. The paper's run ``k`` (1-based) of ``eta`` uses ``theta = 2 pi (k - 1) / eta``
+(:func:`run_angle`); sweeps default to a golden-angle sequence that does not depend on the
+number of samples (:func:`tensegrity_rigidity.ensemble.spec.strain_angle`).
 """
 
 from __future__ import annotations
@@ -18,7 +20,24 @@ NAMED_STRAINS = {"dilation": 0.0, "shear": math.pi / 2, "compression": math.pi}
 
 
 def parse_phi(phi: float | str) -> float:
-    """phi as a float; accepts the names "dilation", "shear", "compression"."""
+    """The strain type phi as a float.
+
+    Parameters
+    ----------
+    phi : float or str
+        An angle (radians, or its text), or one of the names "dilation" (0), "shear" (pi/2),
+        "compression" (pi), in any case.
+
+    Returns
+    -------
+    float
+        phi.
+
+    Raises
+    ------
+    InputError
+        On an unknown name or a non-finite value.
+    """
     if isinstance(phi, str):
         key = phi.strip().lower()
         if key in NAMED_STRAINS:
@@ -35,13 +54,51 @@ def parse_phi(phi: float | str) -> float:
 
 
 def rotation(theta: float) -> np.ndarray:
-    """A(theta), the 2x2 rotation by theta."""
+    """The rotation A(theta).
+
+    Parameters
+    ----------
+    theta : float
+        Angle, radians.
+
+    Returns
+    -------
+    (2, 2) float
+        ``[[cos, -sin], [sin, cos]]``.
+    """
     c, s = math.cos(theta), math.sin(theta)
     return np.array([[c, -s], [s, c]])
 
 
 def strain_tensor(phi: float | str, theta: float = 0.0, gamma: float = 1.0) -> np.ndarray:
-    """The symmetric strain tensor gamma * eps(phi, theta), shape (2, 2)."""
+    """The symmetric strain tensor ``gamma eps(phi, theta)`` of the supplement.
+
+    Parameters
+    ----------
+    phi : float or str
+        Strain type (:func:`parse_phi`): 0 dilation, pi/2 shear, pi compression.
+    theta : float
+        Angle of the principal axes, radians.
+    gamma : float
+        Magnitude, positive.
+
+    Returns
+    -------
+    (2, 2) float
+        ``gamma A(theta) diag(cos phi + sin phi, cos phi - sin phi) A(-theta)``, symmetric.
+
+    Raises
+    ------
+    InputError
+        On a non-finite angle or magnitude, or ``gamma <= 0``.
+
+    Examples
+    --------
+    >>> from tensegrity_rigidity import strain_tensor
+    >>> strain_tensor("dilation")
+    array([[1., 0.],
+           [0., 1.]])
+    """
     phi = parse_phi(phi)
     theta, gamma = float(theta), float(gamma)
     if not (math.isfinite(theta) and math.isfinite(gamma)):
@@ -55,7 +112,25 @@ def strain_tensor(phi: float | str, theta: float = 0.0, gamma: float = 1.0) -> n
 
 
 def run_angle(k: int, eta: int) -> float:
-    """theta of run k (1-based) out of eta runs: 2 pi (k - 1) / eta."""
+    """The paper's principal-axis angle of run k (1-based) out of eta: 2 pi (k - 1) / eta.
+
+    Parameters
+    ----------
+    k : int
+        Run, ``1 <= k <= eta``.
+    eta : int
+        Number of runs.
+
+    Returns
+    -------
+    float
+        theta, radians.
+
+    Raises
+    ------
+    InputError
+        When ``k`` is out of range.
+    """
     if eta < 1 or not 1 <= k <= eta:
         raise InputError(f"need 1 <= k <= eta, got k={k}, eta={eta}")
     return 2.0 * math.pi * (k - 1) / eta

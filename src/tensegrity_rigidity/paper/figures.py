@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -11,11 +12,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
-from matplotlib.colors import LinearSegmentedColormap, LogNorm, TwoSlopeNorm  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.colors import LogNorm  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
+from .plotting import bond_segments, draw_network  # noqa: E402
+
+if TYPE_CHECKING:
+    from .finite_size import FiniteSizeResult
+    from .studies import (
+        DisplacementField,
+        Fig1bResult,
+        Fig1cResult,
+        Fig2Result,
+        Fig3Result,
+        Fig4Result,
+    )
 
 STRAIN_COLOURS = {
     "dilation": "tab:red",
@@ -40,12 +52,6 @@ def _save(fig, figdir: Path, fid: str) -> list[Path]:
     return paths
 
 
-def _segments(inst):
-    net = inst.network
-    start = net.positions[net.bonds[:, 0]]
-    return np.stack([start, start + net.bond_vectors()], axis=1)
-
-
 def _placeholder(fid: str, text: str, figdir: Path) -> list[Path]:
     """A figure that says why it is empty (no sample of its sweep qualified)."""
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
@@ -55,54 +61,19 @@ def _placeholder(fid: str, text: str, figdir: Path) -> list[Path]:
     return _save(fig, figdir, fid)
 
 
-def fig1a(field, figdir: Path):
+def fig1a(field: DisplacementField, figdir: Path):
     """A force-balanced configuration: rods solid, cables dashed, struts hollow; red/green/blue
-    for positive/zero/negative tension."""
+    for positive/zero/negative tension, line width growing with |t| (:func:`.draw_network`)."""
     inst, res = field.mixed_instance, field.mixed_result
     if inst is None:
         return _placeholder("1A", "no rigid sample in the Fig. 1A sweep", figdir)
-    seg = _segments(inst)
-    kinds = inst.network.kinds
-    t = res.tensions
-    scale = np.abs(t).max() or 1.0
-    norm = TwoSlopeNorm(vmin=-scale, vcenter=0.0, vmax=scale)
-    cmap = LinearSegmentedColormap.from_list("tension", ["blue", "limegreen", "red"])
     fig, ax = plt.subplots(figsize=(6, 5.2))
-    styles = {
-        Element.ROD: dict(linestyles="solid", linewidths=2.2),
-        Element.CABLE: dict(linestyles=(0, (3, 2)), linewidths=1.8),
-        Element.STRUT: dict(linestyles="solid", linewidths=4.0),
-    }
-    for kind, style in styles.items():
-        m = kinds == kind
-        if not m.any():
-            continue
-        lc = LineCollection(seg[m], colors=cmap(norm(t[m])), **style)
-        ax.add_collection(lc)
-        if kind == Element.STRUT:  # hollow: a white core inside the coloured outline
-            ax.add_collection(LineCollection(seg[m], colors="white", linewidths=1.6))
-    ax.plot(*inst.network.positions.T, "k.", ms=2)
-    sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
-    fig.colorbar(sm, ax=ax, label="tension t")
-    ax.set_aspect("equal")
-    ax.autoscale()
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    draw_network(ax, inst, res, colour="tension", arrows=False)
     ax.set_title("1A  rigid sample under shear (red pulls, blue pushes)", fontsize=9)
-    ax.legend(
-        handles=[
-            Line2D([], [], color="k", lw=2, label="rod"),
-            Line2D([], [], color="k", lw=1.8, ls="--", label="cable"),
-            Line2D([], [], color="k", lw=4, label="strut (hollow)"),
-        ],
-        loc="upper left",
-        fontsize=7,
-        framealpha=0.9,
-    )
     return _save(fig, figdir, "1A")
 
 
-def fig1b(r: dict, figdir: Path):
+def fig1b(r: Fig1bResult, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     P = np.ma.masked_invalid(r.P)
     mesh = ax.pcolormesh(r.p_r, r.p_t, P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
@@ -120,7 +91,7 @@ def fig1b(r: dict, figdir: Path):
     return _save(fig, figdir, "1B")
 
 
-def fig1c(r: dict, figdir: Path):
+def fig1c(r: Fig1cResult, figdir: Path):
     fits = r.fits
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for strain, sub in fits.groupby("strain"):
@@ -141,7 +112,7 @@ def fig1c(r: dict, figdir: Path):
     return _save(fig, figdir, "1C")
 
 
-def fig2a(r, figdir: Path):
+def fig2a(r: Fig2Result, figdir: Path):
     """Nonaffine displacements: unit arrows coloured by log10 |u| over a log-scaled background.
 
     Near the transition a few nodes move 1e3-1e4 times more than the rest; arrows of true
@@ -150,7 +121,7 @@ def fig2a(r, figdir: Path):
     """
     field = r.field
     inst, res = field.instance, field.result
-    if inst is None:
+    if inst is None or res is None:  # None together: no sample qualified
         return _placeholder("2A", "no sample of the Fig. 2A sweep has a usable threshold", figdir)
     pos = inst.network.positions
     u = res.displacements
@@ -160,7 +131,7 @@ def fig2a(r, figdir: Path):
     norm = LogNorm(vmin=mag_c.min(), vmax=mag_c.max())
     fig, ax = plt.subplots(figsize=(6, 5.2))
     ax.tripcolor(pos[:, 0], pos[:, 1], mag_c, shading="gouraud", cmap="Greys", norm=norm, alpha=0.6)
-    seg = _segments(inst)
+    seg = bond_segments(inst.network)
     kinds = inst.network.kinds
     ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=0.8))
     ax.add_collection(
@@ -194,7 +165,7 @@ def fig2a(r, figdir: Path):
     return _save(fig, figdir, "2A")
 
 
-def fig2b(r, figdir: Path):
+def fig2b(r: Fig2Result, figdir: Path):
     """Gamma versus p_r: median with the interquartile band, mean as open markers."""
     c = r.curves
     sub = c[np.isclose(c.phi, math.pi)]
@@ -221,7 +192,7 @@ def fig2b(r, figdir: Path):
     return _save(fig, figdir, "2B")
 
 
-def fig2e(r, figdir: Path):
+def fig2e(r: Fig2Result, figdir: Path):
     """CCDF of Gamma over samples at the grid p_r nearest p_crit (compression), per p_t."""
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     at = r.at_pcrit
@@ -246,12 +217,12 @@ def fig2e(r, figdir: Path):
     return _save(fig, figdir, "2E")
 
 
-def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
+def _energy_fig(r: Fig2Result, phi: float, fid: str, figdir: Path):
     c = r.curves
     fits = r.fits
     sub = c[np.isclose(c.phi, phi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    inset = ax.inset_axes([0.12, 0.5, 0.35, 0.4])
+    inset = ax.inset_axes((0.12, 0.5, 0.35, 0.4))
     for p_t, s in sub.groupby("p_t"):
         line = ax.errorbar(
             s.p_r,
@@ -279,15 +250,15 @@ def _energy_fig(r: dict, phi: float, fid: str, figdir: Path):
     return _save(fig, figdir, fid)
 
 
-def fig2c(r: dict, figdir: Path):
+def fig2c(r: Fig2Result, figdir: Path):
     return _energy_fig(r, math.pi, "2C", figdir)
 
 
-def fig2d(r: dict, figdir: Path):
+def fig2d(r: Fig2Result, figdir: Path):
     return _energy_fig(r, 0.0, "2D", figdir)
 
 
-def fig3b(r: dict, figdir: Path):
+def fig3b(r: Fig3Result, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     sim = r.sim
     for p_r, curve in r.analytic.items():
@@ -309,7 +280,7 @@ def fig3b(r: dict, figdir: Path):
     return _save(fig, figdir, "3B")
 
 
-def fig4a(r: dict, figdir: Path):
+def fig4a(r: Fig4Result, figdir: Path):
     pp = r.per_phi
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     cmap = plt.get_cmap("coolwarm")
@@ -331,7 +302,7 @@ def fig4a(r: dict, figdir: Path):
     return _save(fig, figdir, "4A")
 
 
-def fig4b(r: dict, figdir: Path):
+def fig4b(r: Fig4Result, figdir: Path):
     a = r.average
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     ax.errorbar(a.f_c, a.S_c_rel, yerr=a.S_c_rel_err, marker="o", capsize=3, label="S_c / S_r")
@@ -344,7 +315,7 @@ def fig4b(r: dict, figdir: Path):
     return _save(fig, figdir, "4B")
 
 
-def fig4c(r: dict, figdir: Path):
+def fig4c(r: Fig4Result, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for name in ("average", "dilation", "compression"):
         s = getattr(r, name)
@@ -365,7 +336,7 @@ def fig4c(r: dict, figdir: Path):
     return _save(fig, figdir, "4C")
 
 
-def fig_fss(r, figdir: Path):
+def fig_fss(r: FiniteSizeResult, figdir: Path):
     """Finite size: the rods-only P = 1/2 point and S_t/S_r of the one-sided systems versus
     n^(-1/nu), with the extrapolations to n -> infinity and the paper's values."""
     ex = r.extrapolated.set_index("key")

@@ -124,7 +124,8 @@ class FiniteSizeResult:
 
 def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     """The headline claims at each of ``scale.fss_sizes`` and their n -> infinity limits."""
-    frames, excluded = [], {}
+    frames: list[pd.DataFrame] = []
+    excluded: dict[str, int] = {}
     for n in scale.fss_sizes:
         f, ex = headline(out, n, DEFAULT_DELTA, scale.samples_fss, scale.bootstrap, **kw)
         frames.append(f.assign(n=n))
@@ -200,7 +201,8 @@ class DeltaResult:
 
 def study_delta(out, scale: Scale, **kw) -> DeltaResult:
     """The headline claims at n = ``scale.n_delta`` for each delta of ``scale.deltas``."""
-    frames, excluded = [], {}
+    frames: list[pd.DataFrame] = []
+    excluded: dict[str, int] = {}
     for delta in scale.deltas:
         f, ex = headline(out, scale.n_delta, delta, scale.samples_delta, scale.bootstrap, **kw)
         frames.append(f.assign(delta=delta))

@@ -32,8 +32,40 @@ EXPECTED = {
 def reproduce(
     out, scale: str = "quick", workers=None, scheduler=None, progress=None, studies=None
 ) -> dict:
-    """Run the studies of ``scale`` (or the named ``studies``) into ``out`` and write
-    report.md / report.html there."""
+    """Run the studies of a scale into ``out``, draw the figures and write the report.
+
+    Parameters
+    ----------
+    out : str or path-like
+        Output directory (created): samples under ``out/studies`` (resumable sweeps),
+        figures under ``out/figures``, ``report.md`` and ``report.html``.
+    scale : {"tiny", "quick", "paper", "fss"}
+        System sizes and sample counts (:data:`~tensegrity_rigidity.paper.studies.SCALES`);
+        :data:`EXPECTED` gives their run times.
+    workers : int, optional
+        Local worker processes (default: all cores).
+    scheduler : str, optional
+        Address of a running Dask scheduler, instead of local processes.
+    progress : bool, optional
+        Progress bars (default: when stderr is a terminal).
+    studies : list of str, optional
+        Run only these studies (names of :data:`~tensegrity_rigidity.paper.registry.STUDIES`)
+        instead of the scale's.
+
+    Returns
+    -------
+    dict
+        ``results`` (study name -> its frozen result), ``figures`` (figure id -> [png, svg]
+        paths), ``report`` (paths of ``md``, ``html`` and the CSV tables), ``timings``
+        (study name -> seconds).
+
+    Raises
+    ------
+    InputError
+        On an unknown scale or study.
+    SweepInterrupted
+        On Ctrl-C; finished samples are kept and a re-run resumes.
+    """
     if scale not in SCALES:
         raise InputError(f"unknown scale {scale!r}; choose from {', '.join(SCALES)}")
     sc = SCALES[scale]

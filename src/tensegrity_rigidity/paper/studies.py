@@ -262,15 +262,15 @@ def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
         t = df[np.isclose(df.p_t, pt)].threshold_p_r.to_numpy()
         ok = p_r + pt <= 1 + 1e-12
         P[i, ok] = an.probability_from_thresholds(t, p_r[ok])
-    half = []
+    halves = []
     for i, pt in enumerate(p_t):
         ok = np.isfinite(P[i])
         if ok.sum() > 2 and P[i, ok].max() >= 0.5:
-            half.append(float(np.interp(0.5, P[i, ok], p_r[ok])) + pt / 2)
+            halves.append(float(np.interp(0.5, P[i, ok], p_r[ok])) + pt / 2)
     y, pr, pt = an.outcomes_from_thresholds(df, np.arange(0.0, 1.0001, 0.01))
     collapse = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
     system = f"n = {scale.n_threshold}, {collapse.n_samples} samples x {len(p_t)} p_t"
-    half = np.array(half)
+    half = np.array(halves)
     note = (
         f"collapse fit over p_t = 0 ... 0.8; p_r + p_t/2 at P = 1/2: mean {half.mean():.3f}, "
         f"spread {half.std():.3f} over {half.size} values of p_t"
@@ -1087,7 +1087,8 @@ def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
     _, per_phi["lo"], per_phi["hi"] = an.wilson(per_phi.P * per_phi.N, per_phi.N)
     slopes = {
         name: an.paired_slope(
-            np.column_stack([outcomes(centre, phi=phi, f_c=f) for f in FIG4_FC]), FIG4_FC
+            np.column_stack([outcomes(centre, phi=phi, f_c=f) for f in FIG4_FC]),
+            np.asarray(FIG4_FC),
         )
         for name, phi in (("dilation", 0.0), ("compression", math.pi))
     }

@@ -74,8 +74,15 @@ class InexactResult:
     seconds: float
 
     def record(self) -> dict:
-        """The per-sample scalars stored by sweeps (``decided`` is always True: the method
-        always answers, which is the point of comparing it)."""
+        """The per-sample scalars stored by sweeps with ``verdict = "paper"``.
+
+        Returns
+        -------
+        dict
+            ``rigid``, ``decided`` (always True: the method always answers, which is the
+            point of comparing it), ``energy``, ``affine_energy``, ``iterations``,
+            ``evaluations``, ``converged``, ``method`` ("paper-lbfgsb"), ``solve_seconds``.
+        """
         return {
             "rigid": bool(self.rigid),
             "decided": True,

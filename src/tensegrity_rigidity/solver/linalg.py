@@ -111,6 +111,6 @@ class PatternFactor:
             x = _cvx_matrix(np.asarray(b, dtype=float))
             _cholmod.solve(self._symbolic, x)
             return np.asarray(x).ravel()
-        if self.backend == "qdldl":
+        if self.backend == "qdldl" and self._qdldl is not None:  # set together by factor()
             return self._qdldl.solve(b)
         raise RuntimeError("solve() before factor()")

@@ -64,8 +64,27 @@ def lp_verdict(
 ) -> ReferenceResult:
     """Rigidity verdict from the Farkas linear program, solved by HiGHS.
 
-    ``rigid`` is True when the maximal work of an admissible self-stress with ``|t_b| <= 1``
-    exceeds ``tol * sum |e0|``.
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements and strain.
+    tol : float
+        ``rigid`` is True when the maximal work of an admissible self-stress with
+        ``|t_b| <= 1`` exceeds ``tol * sum |e0|``.
+    time_limit : float, optional
+        Seconds HiGHS may spend (no limit by default).
+
+    Returns
+    -------
+    ReferenceResult
+        ``value`` the maximal work, ``tensions`` (m,) the maximiser, ``displacements``
+        (N, 2) the LP's dual (admissible extensions when the optimum is 0); ``value`` NaN
+        and status "time limit" when the limit was reached.
+
+    Raises
+    ------
+    RuntimeError
+        When HiGHS fails for another reason.
     """
     from scipy.optimize import linprog
 
@@ -109,6 +128,13 @@ def lp_zero_energy_displacement(
     hard floppy samples near the transition, whose zero-energy displacements are 1e4 to 1e7
     times the affine ones, HiGHS's simplex solves it 3 to 15 times faster than the verdict LP of
     :func:`lp_verdict` (n = 64: 0.6-1 s against 3-9 s; n = 128: 27 s against more than 120 s).
+
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements and strain.
+    time_limit : float, optional
+        Seconds HiGHS may spend (no limit by default).
 
     Returns
     -------
@@ -170,6 +196,19 @@ def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
     equality rows contain an identity block, so they have full rank whatever the network; the
     dual form ``min 1/2 t K^-1 t - e0 . t`` over ``R^T t = 0`` does not, and interior-point
     solvers stall on it. The problem is solved for the unit-norm strain and rescaled.
+
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements, stiffness and strain.
+    tol : float
+        Clarabel's gap and feasibility tolerances.
+
+    Returns
+    -------
+    ReferenceResult
+        ``value`` the energy E*, ``rigid`` whether ``E* > 1e-14 E(u = 0)``, ``tensions``
+        (m,) t*, ``displacements`` (N, 2) a minimiser.
     """
     import clarabel
 
@@ -234,10 +273,26 @@ def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
 def min_norm_minimizer(instance: Instance, tensions: np.ndarray) -> tuple[np.ndarray, str]:
     """Minimum-norm displacement among all minimisers of the energy, by Clarabel.
 
-    Given the unique optimal tensions ``t*`` (m,), the minimisers form the polyhedron
-    ``U* = {u : e_b = t*_b / k_b on rods and stressed one-sided elements, and the sign constraint
-    on unstressed one-sided elements}``; this returns ``argmin |u|`` over ``U*`` (shape (N, 2))
-    and the solver status. It is the limit of the minimiser of ``E(u) + mu/2 |u|^2`` as
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements, stiffness and strain.
+    tensions : (m,) float
+        The unique optimal tensions ``t*`` (from :func:`qp_solve` or
+        :func:`~tensegrity_rigidity.solve`).
+
+    Returns
+    -------
+    u : (N, 2) float
+        ``argmin |u|`` over the minimisers.
+    status : str
+        Clarabel's status ("Solved" on success; "trivial" without elements).
+
+    Notes
+    -----
+    Given ``t*``, the minimisers form the polyhedron ``U* = {u : e_b = t*_b / k_b on rods and
+    stressed one-sided elements, and the sign constraint on unstressed one-sided elements}``.
+    Its minimum-norm point is the limit of the minimiser of ``E(u) + mu/2 |u|^2`` as
     ``mu -> 0`` (a vanishing background stiffness).
     """
     import clarabel
