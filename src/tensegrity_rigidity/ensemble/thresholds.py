@@ -218,7 +218,7 @@ def find_threshold(
     def _transfer(i: int, kinds: np.ndarray, verdict: Verdict) -> None:
         nonlocal jumps
         sites = np.flatnonzero(kinds != Element.EMPTY)
-        if verdict.status == "rigid":
+        if verdict.status == "rigid" and verdict.rigid is not None:
             t = np.zeros(kinds.size)
             t[sites] = verdict.rigid.t
             hints["t"] = t
@@ -226,7 +226,7 @@ def find_threshold(
             if j < i:
                 jumps += 1
             hi_cert[0] = min(hi_cert[0], j)
-        elif verdict.status == "floppy":
+        elif verdict.status == "floppy" and verdict.floppy is not None:
             hints["u"] = verdict.floppy.u * verdict.scale
             vr, vo = _violated(network, strain, verdict.floppy, res, ev.cable)
             j = ev.last_admitting(vr, vo)

@@ -113,6 +113,13 @@ class SolverOptions:
 
     @property
     def resolution(self) -> Resolution:
+        """The resolution model of the certificates.
+
+        Returns
+        -------
+        Resolution
+            ``Resolution(violation_tol, displacement_bound)``.
+        """
         return Resolution(self.violation_tol, self.displacement_bound)
 
 
@@ -150,6 +157,14 @@ class Verdict:
 
     @property
     def decided(self) -> bool:
+        """Whether a certificate was accepted.
+
+        Returns
+        -------
+        bool
+            False when the instance is within resolution of the boundary (or no stage found
+            a certificate).
+        """
         return self.status != "undecided"
 
 
@@ -231,7 +246,14 @@ class SolveResult:
         return "rigid" if self.rigid else "floppy"
 
     def summary(self) -> dict:
-        """Scalars of the result as a JSON-ready dict (non-finite values as None)."""
+        """Scalars of the result as a JSON-ready dict.
+
+        Returns
+        -------
+        dict
+            Status, verdict, energies, certificate residuals, work counts, method and
+            message; non-finite numbers as None (so that ``json.dumps`` writes valid JSON).
+        """
 
         def num(x):
             x = float(x)

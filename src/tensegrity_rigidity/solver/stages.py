@@ -77,7 +77,7 @@ class Search:
 
     p: Problem
     resolution: Resolution
-    u: np.ndarray = field(default=None)  # type: ignore[assignment]
+    u: np.ndarray = field(default_factory=lambda: np.zeros(0))
     E: float = np.inf
     floppy: FloppyCertificate | None = None
     rigid: RigidCertificate | None = None
@@ -85,7 +85,7 @@ class Search:
     iterations: int = 0
 
     def __post_init__(self):
-        if self.u is None:
+        if self.u.size == 0:  # start at the origin
             self.u = np.zeros(self.p.n2)
             self.E = self.p.energy(self.u)
 
@@ -299,9 +299,9 @@ class LinearProgram:
             u = np.asarray(sol.row_dual, dtype=float)
             if s.offer_u(u, self.name) or s.crossovers(u, self.name):
                 return
-        u = _feasibility_vertex(p, int(self.simplex_iterations_per_site * p.sites.size))
-        if u is not None and not s.offer_u(u, self.name):
-            s.crossovers(u, self.name)
+        vertex = _feasibility_vertex(p, int(self.simplex_iterations_per_site * p.sites.size))
+        if vertex is not None and not s.offer_u(vertex, self.name):
+            s.crossovers(vertex, self.name)
 
 
 def _feasibility_vertex(p: Problem, max_iter: int) -> np.ndarray | None:
