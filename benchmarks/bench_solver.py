@@ -110,14 +110,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--sizes", type=int, nargs="+", default=[16, 32, 64, 128])
     ap.add_argument("--max-baseline", type=int, default=64)
+    ap.add_argument("--near-max", type=int, default=64, help="largest n of the at-threshold block")
     args = ap.parse_args()
     warnings.simplefilter("ignore", UndecidedWarning)
     rows, agree_rows = [], []
     for n in args.sizes:
-        blocks = {
-            "phase diagram": phase_diagram(n),
-            "at threshold": at_threshold(n, NEAR_SAMPLES[n]),
-        }
+        blocks = {"phase diagram": phase_diagram(n)}
+        if n <= args.near_max:
+            blocks["at threshold"] = at_threshold(n, NEAR_SAMPLES[n])
         for block, cases in blocks.items():
             T = {k: [] for k in ("decide", "solve", "solve+u", "clarabel", "highs-lp", "l-bfgs-b")}
             ref = [refactor_seconds(inst) for _, inst in cases]
