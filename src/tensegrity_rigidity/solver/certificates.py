@@ -54,7 +54,8 @@ ROUNDOFF = 1e-15
 
 
 def violation_roundoff(size: float) -> float:
-    """Round-off bound of an extended-precision violation at displacements of ``size``.
+    """Round-off bound of an extended-precision violation at displacements of ``size``
+    (units of ``max |e0|``; returns a float in the same units).
 
     ``v_b = e0_b + dhat_b . (u_j - u_i)`` takes about ten roundings of quantities up to
     ``1 + 4 size`` (unit bond vectors and displacements); ``1e-18`` is ten units in the last
@@ -151,13 +152,33 @@ class ExactGeometry:
         self.n_nodes = n_nodes
 
     def extensions(self, u_n: np.ndarray) -> np.ndarray:
-        """``e0_n + R u_n`` in extended precision, shape (m,)."""
+        """``e0 + R u`` in extended precision.
+
+        Parameters
+        ----------
+        u_n : (2N,) float
+            Displacements in units of ``max |e0|``.
+
+        Returns
+        -------
+        (m,) longdouble
+        """
         u = np.asarray(u_n, dtype=np.longdouble).reshape(-1, 2)
         i, j = self.bonds[:, 0], self.bonds[:, 1]
         return self.e0n + (self.dhat * (u[j] - u[i])).sum(axis=1)
 
     def forces(self, t: np.ndarray) -> np.ndarray:
-        """``R^T t`` in extended precision, shape (2N,)."""
+        """Net forces ``R^T t`` in extended precision.
+
+        Parameters
+        ----------
+        t : (m,) float or longdouble
+            Tensions.
+
+        Returns
+        -------
+        (2N,) longdouble
+        """
         t = np.asarray(t, dtype=np.longdouble)
         f = np.zeros((self.n_nodes, 2), dtype=np.longdouble)
         contrib = self.dhat * t[:, None]
@@ -166,11 +187,34 @@ class ExactGeometry:
         return f.ravel()
 
     def violations(self, v: np.ndarray) -> np.ndarray:
-        """Per-site violation of extensions ``v`` (m,): |v| rods, max(sigma v, 0) otherwise."""
+        """Per-site violation of extensions.
+
+        Parameters
+        ----------
+        v : (m,) float or longdouble
+            Extensions.
+
+        Returns
+        -------
+        (m,) array
+            ``|v|`` on rods, ``max(sigma v, 0)`` on one-sided elements.
+        """
         return np.where(self.rod, np.abs(v), np.maximum(self.sigma * v, 0))
 
     def floppy(self, u: np.ndarray, res: Resolution) -> FloppyCertificate:
-        """Check displacements ``u`` ((2N,), in units of ``max |e0|``) as a floppy certificate."""
+        """Check displacements as a floppy certificate.
+
+        Parameters
+        ----------
+        u : (2N,) float
+            Displacements in units of ``max |e0|``.
+        res : Resolution
+            The tolerances.
+
+        Returns
+        -------
+        FloppyCertificate
+        """
         u_n = np.asarray(u, dtype=float).ravel()
         if not self.strained:  # nothing is strained: u = 0 is exact
             return FloppyCertificate(np.zeros_like(u_n), 0.0, 0.0, True)
@@ -182,7 +226,19 @@ class ExactGeometry:
         return FloppyCertificate(u_n, viol, size, ok)
 
     def rigid(self, t: np.ndarray, res: Resolution) -> RigidCertificate:
-        """Check tensions ``t`` ((m,), signs admissible) as a rigid certificate."""
+        """Check tensions as a rigid certificate.
+
+        Parameters
+        ----------
+        t : (m,) float or longdouble
+            Tensions on the non-empty sites (wrong signs are rejected, never clipped).
+        res : Resolution
+            The tolerances.
+
+        Returns
+        -------
+        RigidCertificate
+        """
         t = np.asarray(t)
         if t.dtype != np.longdouble:
             t = t.astype(float)

@@ -13,7 +13,23 @@ from .problem import Problem
 
 
 def line_search(p: Problem, e: np.ndarray, s: np.ndarray) -> float:
-    """Exact minimiser alpha >= 0 of E along extensions e + alpha s (s = R d)."""
+    """Exact minimiser ``alpha >= 0`` of the energy along ``e + alpha s``.
+
+    Parameters
+    ----------
+    p : Problem
+        The problem.
+    e : (m,) float
+        Extensions at the current point.
+    s : (m,) float
+        ``R d`` for the search direction ``d``.
+
+    Returns
+    -------
+    float
+        The minimiser of the one-dimensional convex piecewise quadratic (breakpoints where
+        one-sided elements engage or slacken, sorted).
+    """
     k, sig = p.k, p.sigma
     ks, kes = k * s * s, k * e * s
     et, st = sig * e, sig * s
@@ -58,7 +74,24 @@ def prox_minimize(p: Problem, w: np.ndarray, x: np.ndarray, max_iter: int = 100)
     closest to the start (floppy directions of W are left alone). Stops when the gradient has
     not halved for three iterations (round-off reached): on very floppy sets round-off along the
     floppy modes then grows, so the iterate with the smallest gradient is returned.
-    Returns (x, gradient norm at x).
+
+    Parameters
+    ----------
+    p : Problem
+        The problem.
+    w : (m,) float
+        Weights (the fixed active set's stiffnesses).
+    x : (2N,) float
+        Start.
+    max_iter : int
+        Most iterations.
+
+    Returns
+    -------
+    x : (2N,) float
+        The iterate with the smallest gradient.
+    g : float
+        Its gradient norm.
     """
     solver = p.factor(w)
     best_x, best_g, g0, since = x, np.inf, None, 0

@@ -19,7 +19,36 @@ from .linalg import PatternFactor
 
 
 class Problem:
-    """The non-empty part of an instance with a reusable factorisation of the Newton matrix."""
+    """The non-empty part of an instance with a reusable factorisation of the Newton matrix.
+
+    Parameters
+    ----------
+    instance : Instance
+        Network, elements and strain.
+    regularization : float
+        ``mu``, the diagonal shift of ``R^T D R + mu I`` relative to the mean stiffness.
+    backend : {"auto", "cholmod", "qdldl"}
+        Factorisation backend (:class:`~.linalg.PatternFactor`).
+    unit_stiffness : bool
+        Use unit stiffness on every element (the verdict does not depend on stiffness).
+
+    Attributes
+    ----------
+    sites : (m,) int
+        The non-empty bond sites of the instance.
+    R, RT : sparse (m, 2N), (2N, m)
+        Rigidity matrix of those sites and its transpose.
+    e0 : (m,) float
+        Affine extensions in units of ``scale``.
+    k : (m,) float
+        Stiffnesses relative to ``k_scale``.
+    sigma : (m,) float
+        +1 on cables, -1 on struts, 0 on rods.
+    scale, k_scale : float
+        ``max |e0|`` over all bond sites and the mean stiffness (physical units).
+    factorizations : int
+        Numeric factorisations so far.
+    """
 
     def __init__(
         self,
@@ -100,15 +129,38 @@ class Problem:
         self._nnz = len(uniq)
 
     def values(self, weights: np.ndarray, shift: float | None = None) -> np.ndarray:
-        """Entries of R^T diag(weights) R + shift I (default shift ``mu``) in the fixed
-        upper-triangular pattern."""
+        """Entries of ``R^T diag(weights) R + shift I`` in the fixed upper-triangular pattern.
+
+        Parameters
+        ----------
+        weights : (m,) float
+            Per-element weights.
+        shift : float, optional
+            Diagonal shift (default ``mu``).
+
+        Returns
+        -------
+        (nnz,) float
+            Values in the pattern's CSC order.
+        """
         shift = self.mu if shift is None else shift
         w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, shift)]
         return np.bincount(self._inverse, weights=w, minlength=self._nnz)
 
     def factor(self, weights: np.ndarray) -> PatternFactor:
         """The factorisation of ``R^T diag(weights) R + mu I``, reused while the weights do
-        not change."""
+        not change.
+
+        Parameters
+        ----------
+        weights : (m,) float
+            Per-element weights.
+
+        Returns
+        -------
+        PatternFactor
+            Solves with the factorised matrix (``.solve(b)``, b of shape (2N,)).
+        """
         if self._weights is None or not np.array_equal(weights, self._weights):
             self._weights = None  # until the factorisation below succeeds
             self._factor.factor(self.values(weights, self.mu))
@@ -117,21 +169,46 @@ class Problem:
         return self._factor
 
     def factor_values(self, values: np.ndarray) -> PatternFactor:
-        """Factorise a matrix given by its values in the fixed pattern (see :meth:`values`)."""
+        """Factorise a matrix given by its values in the fixed pattern.
+
+        Parameters
+        ----------
+        values : (nnz,) float
+            Values as returned by :meth:`values`.
+
+        Returns
+        -------
+        PatternFactor
+            The factorisation.
+        """
         self._weights = None
         self._factor.factor(values)
         self.factorizations += 1
         return self._factor
 
     def energy(self, u: np.ndarray) -> float:
-        """E(u), the energy of displacements u (without any background stiffness)."""
+        """The energy ``E(u)`` (no background stiffness).
+
+        Parameters
+        ----------
+        u : (2N,) float
+            Displacements in units of ``scale``.
+
+        Returns
+        -------
+        float
+            ``1/2 sum_b k_b h_b(e_b) e_b^2`` in units of ``k_scale scale^2``.
+        """
         e, _, t = self.state(u)
         return 0.5 * float(np.dot(t, e))
 
     def active(self, e: np.ndarray) -> np.ndarray:
+        """Engaged elements at extensions ``e`` ((m,)): rods, stretched cables, compressed
+        struts; returns an (m,) bool array."""
         return self.rod | (self.sigma * e > 0)
 
     def state(self, u: np.ndarray):
+        """Extensions (m,), engaged mask (m,) and tensions (m,) at displacements ``u`` (2N,)."""
         e = self.e0 + self.R @ u
         act = self.active(e)
         t = np.where(act, self.k * e, 0.0)

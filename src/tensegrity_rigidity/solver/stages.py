@@ -91,14 +91,31 @@ class Search:
 
     @property
     def decided(self) -> bool:
+        """Whether a candidate was accepted."""
         return bool(self.stage)
 
     @property
     def rigid_verdict(self) -> bool:
+        """Whether the accepted candidate is a self-stress."""
         return self.rigid is not None and self.rigid.accepted
 
     def offer_u(self, u: np.ndarray, stage: str, E: float | None = None) -> bool:
-        """Offer displacements; True once the search is decided."""
+        """Offer displacements as a floppy candidate (and as the lowest-energy point).
+
+        Parameters
+        ----------
+        u : (2N,) float
+            Displacements (units of ``max |e0|``).
+        stage : str
+            The stage offering them.
+        E : float, optional
+            Their energy, if known.
+
+        Returns
+        -------
+        bool
+            True once the search is decided.
+        """
         if self.decided:
             return True
         u = np.asarray(u, dtype=float)
@@ -115,7 +132,20 @@ class Search:
         return self.decided
 
     def offer_t(self, t: np.ndarray, stage: str) -> bool:
-        """Offer approximate tensions (purified first); True once the search is decided."""
+        """Offer approximate tensions as a rigid candidate, purified first.
+
+        Parameters
+        ----------
+        t : (m,) float
+            Approximate tensions on the non-empty sites.
+        stage : str
+            The stage offering them.
+
+        Returns
+        -------
+        bool
+            True once the search is decided.
+        """
         if self.decided:
             return True
         t = np.asarray(t, dtype=float)
@@ -137,13 +167,15 @@ class Search:
         return self.decided
 
     def offer_point(self, u: np.ndarray, stage: str) -> bool:
-        """Offer displacements and the tensions of the energy at them."""
+        """Offer displacements ``u`` (2N,) and the tensions of the energy at them; True
+        once the search is decided."""
         e, _, t = self.p.state(u)
         E = 0.5 * float(np.dot(t, e))
         return self.offer_u(u, stage, E) or (E > 0 and self.offer_t(t, stage))
 
     def crossovers(self, u: np.ndarray, stage: str, taus=(1e-7, 1e-5, 1e-3)) -> bool:
-        """Crossovers from u with widening near-tight guesses; True once decided."""
+        """Crossovers (:func:`~.newton.crossover`) from ``u`` (2N,) with the near-tight set
+        guessed at the widening thresholds ``taus``; True once the search is decided."""
         for tau in taus:
             x = crossover(self.p, u, tau=tau)
             if x is not None and self.offer_point(x, stage):
@@ -359,7 +391,25 @@ def search(
     start: np.ndarray | None = None,
     start_tensions: np.ndarray | None = None,
 ) -> Search:
-    """Run ``stages`` (Stage objects) in order until a certificate is accepted.
+    """Run ``stages`` (stage objects) in order until a certificate is accepted.
+
+    Parameters
+    ----------
+    p : Problem
+        The problem.
+    resolution : Resolution
+        Tolerances of the certificates.
+    stages : sequence of stages
+        Objects with a ``run(search)`` method, e.g. ``STAGES[name]``.
+    start : (2N,) float, optional
+        Starting displacements (units of ``max |e0|``).
+    start_tensions : (m,) float, optional
+        Starting tensions on the non-empty sites.
+
+    Returns
+    -------
+    Search
+        The final state: the accepted certificate (or the best candidates) and the stage.
 
     ``start`` ((2N,), normalised units) and ``start_tensions`` ((m,), non-empty sites) are
     candidates from elsewhere (a neighbouring configuration, say): the tensions are purified
