@@ -60,7 +60,11 @@ class Scale:
     """System sizes and sample counts of a reproduction, and which studies it runs.
 
     ``studies`` lists the studies (keys of :data:`tensegrity_rigidity.paper.registry.STUDIES`)
-    that ``reproduce`` runs at this scale.
+    that ``reproduce`` runs at this scale. The work each study does at a scale, its run time
+    and the error bar each headline claim can expect are computed by
+    :mod:`tensegrity_rigidity.paper.budget` (``tensegrity-rigidity reproduce --scale NAME
+    --estimate``); the comments at :data:`SCALES` say where the counts of the large scales come
+    from.
     """
 
     name: str
@@ -83,6 +87,7 @@ class Scale:
     studies: tuple[str, ...] = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
     samples_curve: int | None = None  # Fig. 1C at f_c = 0.25, 0.75 (None: samples_threshold)
     samples_fig1b: int | None = None  # Fig. 1B (None: samples_threshold)
+    budget_minutes: float | None = None  # the estimated wall time on 2 workers stays below
 
     def __post_init__(self):
         if isinstance(self.samples_fss, tuple) and len(self.samples_fss) != len(self.fss_sizes):
@@ -107,26 +112,78 @@ class Scale:
 
 
 FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
+#: Sample counts of the large scales, from target error bars (paper.budget states every constant):
+#: a headline estimator's bootstrap error is sigma_1(n) / sqrt(S), sigma_1 measured (SIGMA_1).
+#: Targets: S_t/S_r +-0.013 (the paper's), p_crit and p_c +-0.005, the fraction of taut cables
+#: +-0.02, Fig. 4C +-0.1 (no printed error bar; a third of the 0.28 deviation seen at n = 12).
+#: Floor: S >= 24 wherever an error bar is compared, so that the bootstrap's own error of the
+#: error bar, 1 / sqrt(2 (S - 1)), stays below 15 %.
+#:
+#: paper (n = 32; 50 min on 2 workers, estimate 44 min; per-sample CPU costs in brackets):
+#:   Fig. 1C headline f_c = 0, 0.5, 1 x 5 strains: the target needs (0.0401 / 0.013)^2 = 10
+#:     samples; the floor gives 24: +-0.0082 per strain, +-0.0037 for the 5-strain average
+#:     (24.7 s). The rest of the curve (f_c = 0.25, 0.75): 12 samples, +-0.0116 (15.6 s).
+#:   Fig. 1B (collapse over p_t = 0 ... 0.8, 9 threshold searches): 10 needed, floor 24 (12.8 s).
+#:   Fig. 2 thresholds: p_crit needs (0.0184 / 0.005)^2 = 14, floor 24: +-0.0038 (8.3 s);
+#:     grid: the taut fraction needs (0.077 / 0.02)^2 = 15, floor 24: +-0.016 (24.2 s).
+#:   Fig. 4 (225 grid points per sample at p_t ~ 0.6, 94 s): its middle cannot be measured at
+#:     n = 32 with any count. Thresholds along p_r at p_t = 0.6 (n = 32, 6 samples, seed 41,
+#:     dilation, shear, compression) lie in 0.330 ... 0.393 for every f_c in 0.25 ... 0.75:
+#:     all 18 samples are floppy at (0.3, 0.6) and none changes between p_r = 0.275 and 0.325,
+#:     so S_r = S_t = 0 there and (S_c + S_s)/S_r is 0/0. Only at f_c <= 0.125 and >= 0.875 do
+#:     samples change in that window (2 to 5 of 6). Under dilation P(0.3, 0.6) is 0 up to
+#:     f_c = 0.875 and 1 at f_c = 1 (all 6): Fig. 4A's signs need few samples. 8 samples; the
+#:     ends of 4C then exceed the +-0.1 target (0.89 / sqrt 8 = 0.31 on the n = 12 calibration).
+#:   Method (the paper's verdict beside ours) at the claims' own n = 32, p_r step 0.025 (128
+#:     grid points, L-BFGS-B 1.04 s each: 151 s): 16 samples; the shifts' errors, scaled from
+#:     n = 12 (0.096 and 0.024 per sample) by the S_t/S_r and p_crit calibrations (x 0.39 and
+#:     x 0.58): +-0.009 on S_t/S_r, +-0.0035 on p_crit.
+#:   Fig. 3: 10,000 trials per point, binomial error <= 0.5 / 100 = 0.005 (17 s in-process).
+#:   Exceeding the paper's error bars: none of the S_t/S_r and p_crit claims; Fig. 4C (above).
+#:   Energy exponents alpha and the nonaffinity peak are not set by S (least-squares errors over
+#:   4-5 grid points; the p_r grid).
+#:
+#: fss (110 min on 2 workers, estimate 92 min): per size 12.5 threshold searches per sample (in
+#:   units of one at p_t = 0.3: 3 rods-only x 0.17, 9 at p_t = 0.3, 4 at p_t = 0.1, 0.2 x 0.75):
+#:   0.13, 2.1, 19.5, 600 s at n = 8, 16, 32, 64. n = 64 takes what is left of the budget: 12
+#:   samples (7,200 CPU s): S_t/S_r +-0.0087, p_crit +-0.0036. The cheaper sizes get errors no
+#:   larger: n = 8: 400 (p_crit +-0.0020, S_t/S_r +-0.0125), 16: 200 (+-0.0019, +-0.0038), 32:
+#:   96 (+-0.0019, +-0.0041). With these, a synthetic extrapolation p_c(n) = p_c + a n^(-1/nu)
+#:   (nu fitted) scatters by +-0.010 around the true p_c (60 draws): the extrapolated rods-only
+#:   p_c carries about +-0.01, which only n = 128 (fss-cluster) narrows. Node disorder: n = 32,
+#:   32 samples per delta (S_t/S_r +-0.0071, p_c +-0.0033); delta = 0.2 reads the first 32
+#:   samples of the fss sweeps at n = 32.
+#:
+#: fss-cluster: fss plus n = 128 (8 samples: one threshold search there is extrapolated to
+#:   25 min, 41 CPU hours for n = 128, 47 in all) and 32 samples at n = 64 (S_t/S_r +-0.0053,
+#:   p_crit +-0.0022); meant for a Dask cluster (--scheduler; --estimate --workers N gives the
+#:   wall time). Its sweeps extend those of fss in the same output directory.
 SCALES = {
     "tiny": Scale(
         "tiny", 5, 5, 6, 4, 6, 0.1, 300, 10,
         fss_sizes=(4, 5, 6, 8), samples_fss=3, n_delta=5, samples_delta=3,
-        studies=(*FIGURES, "method", "fss", "delta"),
+        studies=(*FIGURES, "method", "fss", "delta"), budget_minutes=2,
     ),
     "quick": Scale(
         "quick", 12, 12, 48, 24, 96, 0.05, 4000, 100,
         n_method=12, samples_method=16, method_step=0.05,
-        studies=(*FIGURES, "method"),
+        studies=(*FIGURES, "method"), budget_minutes=10,
     ),
     "paper": Scale(
-        "paper", 32, 32, 400, 100, 800, 0.025, 40000, 200,
-        n_method=16, samples_method=48, method_step=0.025,
-        studies=(*FIGURES, "method"),
+        "paper", 32, 32, 24, 24, 8, 0.025, 10000, 200,
+        n_method=32, samples_method=16, method_step=0.025,
+        studies=(*FIGURES, "method"), samples_curve=12, budget_minutes=50,
     ),
     "fss": Scale(
-        "fss", 32, 32, 200, 0, 0, 0.025, 0, 200,
-        fss_sizes=(8, 16, 32, 64), samples_fss=100,
-        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=100,  # n = 32 shared with fss
+        "fss", 32, 32, 0, 0, 0, 0.025, 0, 200,
+        fss_sizes=(8, 16, 32, 64), samples_fss=(400, 200, 96, 12),
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
+        studies=("fss", "delta"), budget_minutes=110,
+    ),
+    "fss-cluster": Scale(
+        "fss-cluster", 32, 32, 0, 0, 0, 0.025, 0, 200,
+        fss_sizes=(8, 16, 32, 64, 128), samples_fss=(400, 200, 96, 32, 8),
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
         studies=("fss", "delta"),
     ),
 }  # fmt: skip
