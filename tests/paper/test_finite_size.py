@@ -5,10 +5,12 @@ from __future__ import annotations
 import shutil
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.paper import finite_size as fs
+from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS
 from tensegrity_rigidity.paper.reproduce import reproduce
 
@@ -59,20 +61,42 @@ def test_delta_study_gives_evidence_for_the_other_deltas_only(runs):
     assert np.isfinite(delta.by_delta.z_paper).any()
 
 
-def test_same_samples_across_the_two_sweeps_of_one_size(runs):
-    """The rods-only and the mixed sweep share seed, n and delta, so sample k is the same
-    lattice in both (common random numbers): adding one-sided elements (p_t = 0.1) can only
-    lower a sample's threshold, sample by sample."""
+def test_same_samples_across_the_sweeps_of_one_size(runs):
+    """The rods-only and the one-sided sweeps share seed, n and delta, so sample k is the same
+    lattice in each (common random numbers): adding one-sided elements can only lower a
+    sample's threshold, sample by sample, at p_t = 0.1 (f_c = 1) and at p_t = 0.3 (every f_c)."""
     fss, _, out = runs
-    rods = load_results(out / "studies" / "headline_n8_delta0.2_s3_rods")
+    rods = load_results(out / "studies" / "headline_n8_delta0.2_rods")
     rods = rods[["phi", "sample", "threshold_p_r"]]
-    mixed = load_results(out / "studies" / "headline_n8_delta0.2_s3_mixed")
-    mixed = mixed[np.isclose(mixed.p_t, 0.1)]
-    for f_c, sub in mixed.groupby("f_c"):
+    pcrit = load_results(out / "studies" / "headline_n8_delta0.2_pcrit")
+    mixed = load_results(out / "studies" / "headline_n8_delta0.2_mixed")
+    assert set(np.round(mixed.p_t, 9)) == {fs.FIG1C_PT} and set(pcrit.f_c) == {1.0}
+    one_sided = pd.concat([pcrit[np.isclose(pcrit.p_t, 0.1)], mixed])
+    for (f_c, p_t), sub in one_sided.groupby(["f_c", "p_t"]):
         joined = sub.merge(rods, on=["phi", "sample"], suffixes=("", "_rods"))
         both = joined.dropna(subset=["threshold_p_r", "threshold_p_r_rods"])
-        assert len(both) and (both.threshold_p_r <= both.threshold_p_r_rods + 1e-12).all(), f_c
+        assert len(both) and (both.threshold_p_r <= both.threshold_p_r_rods + 1e-12).all(), (
+            f_c,
+            p_t,
+        )
     assert all(v >= 0 for v in fss.excluded.values())
+
+
+def test_the_two_studies_share_their_sweeps_where_they_meet():
+    """n_delta among the sizes at the default delta: the same sweep names, so the delta study
+    reads the first samples of the finite-size study's sweeps."""
+    scale = studies.SCALES["fss"]
+    shared = set(fs.fss_sweeps(scale)) & set(fs.delta_sweeps(scale))
+    assert shared == set(fs.headline_sweeps(scale.n_delta, 0.2, 1))
+    assert scale.samples_delta <= scale.fss_samples(scale.n_delta)
+
+
+def test_large_sizes_resume_in_small_chunks():
+    """At n = 64 a threshold search takes about 48 s: chunks of 2 samples (1 at n = 128) keep
+    an interruption's loss small; rows do not depend on the chunk size."""
+    assert fs.chunk_size(32) == 32 and fs.chunk_size(64) == 2 and fs.chunk_size(128) == 1
+    spec = fs.headline_sweeps(64, 0.2, 12)["headline_n64_delta0.2_rods"]
+    assert spec["output"]["chunk_size"] == 2
 
 
 def test_a_report_of_the_finite_size_studies_alone(tiny_out, tmp_path):

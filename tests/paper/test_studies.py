@@ -82,7 +82,7 @@ def test_results_are_frozen_dataclasses_that_carry_their_exclusions(mini):
             r.excluded = {}
         assert all(isinstance(v, int) for v in r.excluded.values())
     total = excluded_samples(mini)
-    assert set(total) >= {"fig1b", "fig1c", "fig2_thresholds", "fig4_centre"}
+    assert set(total) >= {"fig1b", "fig1c_rods", "fig1c_mixed", "fig2_thresholds", "fig4_centre"}
 
 
 def test_drawn_samples_come_from_the_sweeps_and_are_solved(mini):

@@ -12,27 +12,63 @@ def add_parser(sub) -> None:
         "reproduce",
         help="run every study of the paper and write the report",
         description="Run the paper's studies through the sweep engine and write report.html, "
-        "report.md, figures (PNG, SVG) and tables (CSV) into DIR. Expected run times on 2 cores: "
+        "report.md, figures (PNG, SVG) and tables (CSV) into DIR. Run times on 2 cores: "
         + "; ".join(f"{k}: {v}" for k, v in EXPECTED.items())
-        + ". Re-running resumes.",
+        + ". Re-running resumes. --estimate prints the work of each study, the estimated run "
+        "time and the error bar each headline claim can expect, and runs nothing.",
     )
     p.add_argument(
         "--scale",
         default="quick",
-        choices=sorted(EXPECTED),
+        choices=list(EXPECTED),
         help="system sizes and sample counts (default quick)",
     )
-    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--out", default=None, help="output directory (required unless --estimate)")
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
+    p.add_argument(
+        "--estimate",
+        action="store_true",
+        help="print the threshold searches and grid solves per study and size, the estimated "
+        "wall time on --workers (default: all cores) and the expected error bars; with --out, "
+        "count only what is not stored there yet. Exit status 1 when the estimate on 2 workers "
+        "exceeds the scale's budget",
+    )
     p.set_defaults(handler=_run)
+
+
+def _estimate(args) -> int:
+    import os
+
+    from ..errors import InputError
+    from ..paper.budget import describe, estimate, expected_errors
+
+    workers = args.workers or os.cpu_count() or 1
+    if workers < 1:
+        raise InputError(f"--workers must be at least 1, got {workers}")
+    est = estimate(args.scale, workers, out=args.out)
+    print(describe(est, expected_errors(args.scale)))
+    on_two = est if workers == 2 else estimate(args.scale, 2, out=args.out)
+    if workers != 2 and on_two.budget_minutes is not None:
+        verdict = "OVER BUDGET" if on_two.over_budget else "within"
+        print(
+            f"on 2 workers: {on_two.wall_seconds / 60:.0f} min, budget "
+            f"{on_two.budget_minutes:g} min ({verdict})"
+        )
+    return 1 if on_two.over_budget else 0
 
 
 def _run(args) -> int:
     from ..ensemble.sweep import SweepInterrupted
     from ..paper.reproduce import reproduce
 
+    if args.estimate:
+        return _estimate(args)
+    if args.out is None:
+        from ..errors import InputError
+
+        raise InputError("reproduce needs --out DIR (or --estimate, which runs nothing)")
     check_out(args.out)
     try:
         res = reproduce(

@@ -3,10 +3,11 @@
 Two studies, defined here and tested at tiny sizes; at the ``fss`` scale they run at
 n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
 
-* :func:`study_fss`: per size, exact per-sample thresholds along p_r (rods only; and rods +
-  one-sided elements at p_t = 0.1, 0.2, 0.3 with f_c = 0, 0.5, 1) under dilation, shear and
-  compression, giving the headline claims at that size: the rods-only P = 1/2 point, S_t/S_r
-  for f_c = 0.5 per strain and for the one-sided systems, and p_crit of rods + cables per p_t.
+* :func:`study_fss`: per size, exact per-sample thresholds along p_r (rods only; rods +
+  one-sided elements at p_t = 0.3 with f_c = 0, 0.5, 1; rods + cables at p_t = 0.1, 0.2; see
+  :func:`headline_sweeps`) under dilation, shear and compression, giving the headline claims
+  at that size: the rods-only P = 1/2 point, S_t/S_r for f_c = 0.5 per strain and for the
+  one-sided systems, and p_crit of rods + cables per p_t.
   Each is extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
   (:func:`~tensegrity_rigidity.analysis.estimators.fit_finite_size`): for the rods-only
   threshold with nu fitted (the literature's nu = 1.16 to 1.21 is a check, not an input), for
@@ -29,7 +30,7 @@ from ..analysis import estimators as an
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS, REFERENCES, Measurement
 from .comparison import z_score
-from .studies import PT4, Scale, strain_name, sweep_rows
+from .studies import FIG1C_PT, PT4, Scale, strain_name, sweep_rows
 
 STRAINS3 = [0.0, math.pi / 2, math.pi]
 FC3 = [0.0, 0.5, 1.0]
@@ -47,20 +48,48 @@ NU_CHECK = REFERENCES["nu_moukarzel_duxbury"]
 PC_CHECK = REFERENCES["pc_javerzat_notarmuzi"]
 
 
-def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
-    """The headline claims at one (n, delta) from two threshold sweeps.
+def chunk_size(n: int) -> int:
+    """Samples per chunk of the threshold sweeps at size ``n`` (the unit of resumption).
 
-    Returns (frame with columns key, value, err; excluded counts). The rods-only sweep runs at
-    p_t = 0 (f_c does not matter there), the mixed one at p_t = 0.1, 0.2, 0.3 and
-    f_c = 0, 0.5, 1; both under dilation, shear and compression, seed 61. The sweeps are named
-    by (n, delta, samples) only, so the two studies share them where they meet (n_delta among the
-    sizes, delta the default).
+    One threshold search takes about 1.6 s at n = 32, 48 s at n = 64 and, extrapolated, 25 min
+    at n = 128 (:data:`~tensegrity_rigidity.paper.budget.THRESHOLD_SECONDS`): chunks of 2
+    samples at n = 64 and 1 beyond keep what an interruption loses to a few minutes per worker
+    and let two workers share the last chunks of a sweep. Rows do not depend on it.
     """
-    name = f"headline_n{n}_delta{delta:g}_s{samples}"
+    return 32 if n < 64 else max(1, 128 // n)
+
+
+def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
+    """Sweep name -> spec of the headline claims at one (n, delta); seed 61, threshold mode.
+
+    ``_rods``: p_t = 0 (f_c does not matter there) under dilation, shear and compression;
+    ``_mixed``: p_t = :data:`~tensegrity_rigidity.paper.studies.FIG1C_PT` at f_c = 0, 0.5, 1
+    under the three strains (S_t/S_r from the collapse over p_t = 0 and 0.3, as Fig. 1C);
+    ``_pcrit``: p_t = 0.1, 0.2 for rods + cables (f_c = 1) under dilation and compression, for
+    p_crit at every p_t. The names carry (n, delta) only, so the two studies share a sweep where
+    they meet (n_delta among the sizes, delta the default), the smaller reading the first
+    samples of the larger.
+    """
+    name = f"headline_n{n}_delta{delta:g}"
     base = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": STRAINS3}
-    base |= {"threshold": {"path": "p_r"}}
-    rods, ex_r = sweep_rows(out, f"{name}_rods", base | {"p_t": 0.0, "f_c": 0.5}, **kw)
-    mixed, ex_m = sweep_rows(out, f"{name}_mixed", base | {"p_t": PT4[1:], "f_c": FC3}, **kw)
+    base |= {"threshold": {"path": "p_r"}, "output": {"chunk_size": chunk_size(n)}}
+    return {
+        f"{name}_rods": base | {"p_t": 0.0, "f_c": 0.5},
+        f"{name}_mixed": base | {"p_t": FIG1C_PT, "f_c": FC3},
+        f"{name}_pcrit": base | {"p_t": PT4[1:-1], "f_c": 1.0, "phi": [0.0, math.pi]},
+    }
+
+
+def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
+    """The headline claims at one (n, delta) from the sweeps of :func:`headline_sweeps`.
+
+    Returns (frame with columns key, value, err; excluded counts).
+    """
+    frames, excluded = {}, {}
+    for name, spec in headline_sweeps(n, delta, samples).items():
+        part = name.rsplit("_", 1)[1]
+        frames[part], excluded[name] = sweep_rows(out, name, spec, **kw)
+    rods, mixed, pcrit = frames["rods"], frames["mixed"], frames["pcrit"]
     rows = []
     pc, pc_err = an.critical_point(rods.threshold_p_r.to_numpy())
     rows.append({"key": "rods_only_pc", "value": pc, "err": pc_err})
@@ -76,14 +105,15 @@ def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
         y, pr, pt = an.outcomes_from_thresholds(sub, grid)
         fit = an.fit_collapse(y, pr, pt, n_boot=n_boot)
         rows.append({"key": key, "value": fit.lam, "err": fit.lam_err})
+    cables = pd.concat([pcrit, mixed[np.isclose(mixed.f_c, 1.0)]], ignore_index=True)
     for phi in (math.pi, 0.0):
         strain = strain_name(phi)
         for p_t in PT4:
-            src = rods if p_t == 0 else mixed[np.isclose(mixed.f_c, 1.0)]
+            src = rods if p_t == 0 else cables
             t = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)].threshold_p_r
             v, e = an.critical_point(t.to_numpy())
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
-    return pd.DataFrame(rows), {f"{name}_rods": ex_r, f"{name}_mixed": ex_m}
+    return pd.DataFrame(rows), excluded
 
 
 def _z(key: str, value: float, err: float) -> float:
@@ -117,7 +147,7 @@ class FiniteSizeResult:
     nu_z: float
     pc_z: float
     sizes: tuple[int, ...]
-    samples: int
+    samples: tuple[int, ...]  # per size
     excluded: dict[str, int]
     measured: tuple[Measurement, ...] = ()
 
@@ -127,7 +157,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     frames: list[pd.DataFrame] = []
     excluded: dict[str, int] = {}
     for n in scale.fss_sizes:
-        f, ex = headline(out, n, DEFAULT_DELTA, scale.samples_fss, scale.bootstrap, **kw)
+        f, ex = headline(out, n, DEFAULT_DELTA, scale.fss_samples(n), scale.bootstrap, **kw)
         frames.append(f.assign(n=n))
         excluded |= ex
     by_size = pd.concat(frames, ignore_index=True)
@@ -159,7 +189,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             row.key,
             row.y_inf,
             row.y_inf_err,
-            f"{scale.samples_fss} samples per size and point",
+            f"{_samples_text(scale)} samples per point",
             factor="finite size",
             label=label,
         )
@@ -172,10 +202,34 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         nu_z=nu_z,
         pc_z=pc_z,
         sizes=tuple(scale.fss_sizes),
-        samples=scale.samples_fss,
+        samples=tuple(scale.fss_samples(n) for n in scale.fss_sizes),
         excluded=excluded,
         measured=measured,
     )
+
+
+def _samples_text(scale: Scale) -> str:
+    """The sample counts per size: one number when they are equal, else one per size."""
+    counts = [scale.fss_samples(n) for n in scale.fss_sizes]
+    if len(set(counts)) == 1:
+        return str(counts[0])
+    return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, scale.fss_sizes))})"
+
+
+def fss_sweeps(scale: Scale) -> dict[str, dict]:
+    """Sweep name -> spec of the finite-size study (every size at the default delta)."""
+    out = {}
+    for n in scale.fss_sizes:
+        out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
+    return out
+
+
+def delta_sweeps(scale: Scale) -> dict[str, dict]:
+    """Sweep name -> spec of the node-disorder study (every delta at n_delta)."""
+    out = {}
+    for delta in scale.deltas:
+        out |= headline_sweeps(scale.n_delta, delta, scale.samples_delta)
+    return out
 
 
 # --------------------------------------------------------------------------- delta

@@ -73,10 +73,10 @@ class MethodResult:
     measured: tuple[Measurement, ...] = ()
 
 
-def study_method(out, scale: Scale, **kw) -> MethodResult:
-    """Run the grid with both verdicts and compare them sample by sample."""
-    p_r = [p for p in p_r_grid(scale.method_step, *P_R_RANGE)]
-    excluded, parts = {}, []
+def method_sweeps(scale: Scale) -> dict[str, dict]:
+    """Sweep name -> spec: per p_t the same grid with the exact and with the paper's verdict."""
+    p_r = p_r_grid(scale.method_step, *P_R_RANGE)
+    out = {}
     for p_t in PT4:
         spec = {
             "n": scale.n_method,
@@ -87,9 +87,20 @@ def study_method(out, scale: Scale, **kw) -> MethodResult:
             "samples": scale.samples_method,
             "seed": 51,
         }
+        out[f"method_exact_pt{p_t:.1f}"] = spec
+        out[f"method_paper_pt{p_t:.1f}"] = spec | {"verdict": "paper"}
+    return out
+
+
+def study_method(out, scale: Scale, **kw) -> MethodResult:
+    """Run the grid with both verdicts and compare them sample by sample."""
+    sweeps = method_sweeps(scale)
+    excluded, parts = {}, []
+    for p_t in PT4:
         name = f"method_exact_pt{p_t:.1f}"
-        exact, excluded[name] = sweep_rows(out, name, spec, **kw)
-        paper, _ = sweep_rows(out, f"method_paper_pt{p_t:.1f}", spec | {"verdict": "paper"}, **kw)
+        exact, excluded[name] = sweep_rows(out, name, sweeps[name], **kw)
+        name = f"method_paper_pt{p_t:.1f}"
+        paper, _ = sweep_rows(out, name, sweeps[name], **kw)
         merged = exact[[*KEYS, "rigid", "energy", "affine_energy"]].merge(
             paper[[*KEYS, "rigid", "energy", "iterations", "converged"]].rename(
                 columns={"rigid": "paper_rigid", "energy": "paper_energy"}

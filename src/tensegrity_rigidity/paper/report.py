@@ -222,8 +222,9 @@ def fss_section(r) -> Section:
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
     paragraphs = (
-        f"The headline claims at n = {', '.join(map(str, r.sizes))} ({r.samples} samples per "
-        "size and point; exact per-sample thresholds, node disorder delta = "
+        f"The headline claims at n = {', '.join(map(str, r.sizes))} "
+        f"({', '.join(map(str, r.samples))} samples per point at these sizes; exact per-sample "
+        "thresholds, node disorder delta = "
         f"{DEFAULT_DELTA}), each extrapolated with y(n) = y_inf + a n^(-1/nu). For the "
         f"rods-only P = 1/2 point nu is fitted: p_c = {_fmt(pc.y_inf, pc.y_inf_err)}, "
         f"nu = {_fmt(pc.nu, pc.nu_err)} (chi-square {pc.chi2:.2f} with {pc.dof} degree(s) of "

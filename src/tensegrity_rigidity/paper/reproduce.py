@@ -7,25 +7,29 @@ picks up where it stopped.
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
 
 from ..errors import InputError
+from .budget import estimate
 from .figures import all_figures
 from .registry import STUDIES
 from .report import write_report
 from .studies import SCALES
 
-#: measured wall times of each scale on 2 cores of the reference machine (see BENCHMARKS.md)
+#: wall times of each scale on 2 cores of the reference machine: measured where stated, else the
+#: estimate of :mod:`~tensegrity_rigidity.paper.budget` (``reproduce --estimate``; the tests keep
+#: the two in step) until someone times a run
 EXPECTED = {
     "tiny": "about a minute",
-    "quick": "about 8 minutes (6.9 min measured before the method study, which adds about a "
-    "minute of L-BFGS-B)",
-    "paper": "about 10-20 hours (estimated from the n = 32 solve times in BENCHMARKS.md; "
-    "spread it over a Dask cluster with --scheduler)",
-    "fss": "not yet timed: finite size at n = 8 to 64 and node disorder at n = 32, hours on 2 "
-    "cores with the current solver; meant for a Dask cluster",
+    "quick": "about 8 minutes (measured when Fig. 1C still ran p_t = 0.1 and 0.2, three times "
+    "its threshold searches today; estimated 9 minutes)",
+    "paper": "estimated 44 minutes, not yet measured",
+    "fss": "estimated 92 minutes, not yet measured (resumable: re-run to continue)",
+    "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 47 CPU hours "
+    "(--estimate --workers N gives the wall time on N workers)",
 }
 
 
@@ -76,6 +80,16 @@ def reproduce(
     unknown = [n for n in names if n not in STUDIES]
     if unknown:
         raise InputError(f"unknown study {unknown[0]!r}; choose from {', '.join(STUDIES)}")
+    local = workers is None or workers == "serial" or isinstance(workers, int)
+    if scheduler is None and local:
+        w = 1 if workers == "serial" else workers or os.cpu_count() or 1
+        est = estimate(sc, w, names)
+        print(
+            f"scale {scale}: estimated {est.wall_seconds / 60:.0f} min for all of it on {w} "
+            "worker(s) (paper.budget; stored samples are reused)",
+            file=sys.stderr,
+            flush=True,
+        )
     for i, name in enumerate(names, 1):
         print(f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True)
         start = time.perf_counter()

@@ -60,13 +60,17 @@ class Scale:
     """System sizes and sample counts of a reproduction, and which studies it runs.
 
     ``studies`` lists the studies (keys of :data:`tensegrity_rigidity.paper.registry.STUDIES`)
-    that ``reproduce`` runs at this scale.
+    that ``reproduce`` runs at this scale. The work each study does at a scale, its run time
+    and the error bar each headline claim can expect are computed by
+    :mod:`tensegrity_rigidity.paper.budget` (``tensegrity-rigidity reproduce --scale NAME
+    --estimate``); the comments at :data:`SCALES` say where the counts of the large scales come
+    from.
     """
 
     name: str
     n_threshold: int  # lattice size of threshold studies (Figs. 1, 2 p_crit)
     n_grid: int  # lattice size of grid studies (Figs. 2, 4)
-    samples_threshold: int
+    samples_threshold: int  # Fig. 1C at f_c = 0, 0.5, 1 and Fig. 2's thresholds
     samples_grid: int
     samples_fig4: int
     p_r_step: float
@@ -76,34 +80,110 @@ class Scale:
     samples_method: int = 4
     method_step: float = 0.1
     fss_sizes: tuple[int, ...] = (4, 5, 6, 8)  # finite-size study (paper.finite_size)
-    samples_fss: int = 6
+    samples_fss: int | tuple[int, ...] = 6  # one count, or one per size of fss_sizes
     deltas: tuple[float, ...] = (0.1, 0.2, 0.3)  # node-disorder study
     n_delta: int = 5
     samples_delta: int = 6
     studies: tuple[str, ...] = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
+    samples_curve: int | None = None  # Fig. 1C at f_c = 0.25, 0.75 (None: samples_threshold)
+    samples_fig1b: int | None = None  # Fig. 1B (None: samples_threshold)
+    budget_minutes: float | None = None  # the estimated wall time on 2 workers stays below
+
+    def __post_init__(self):
+        if isinstance(self.samples_fss, tuple) and len(self.samples_fss) != len(self.fss_sizes):
+            raise ValueError(
+                f"scale {self.name}: samples_fss has {len(self.samples_fss)} counts for "
+                f"{len(self.fss_sizes)} sizes"
+            )
+
+    def fss_samples(self, n: int) -> int:
+        """Samples per point of the finite-size study at size ``n``."""
+        if isinstance(self.samples_fss, int):
+            return self.samples_fss
+        return self.samples_fss[self.fss_sizes.index(n)]
+
+    @property
+    def curve_samples(self) -> int:
+        return self.samples_threshold if self.samples_curve is None else self.samples_curve
+
+    @property
+    def fig1b_samples(self) -> int:
+        return self.samples_threshold if self.samples_fig1b is None else self.samples_fig1b
 
 
 FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
+#: Sample counts of the large scales, from target error bars (paper.budget states every constant):
+#: a headline estimator's bootstrap error is sigma_1(n) / sqrt(S), sigma_1 measured (SIGMA_1).
+#: Targets: S_t/S_r +-0.013 (the paper's), p_crit and p_c +-0.005, the fraction of taut cables
+#: +-0.02, Fig. 4C +-0.1 (no printed error bar; a third of the 0.28 deviation seen at n = 12).
+#: Floor: S >= 24 wherever an error bar is compared, so that the bootstrap's own error of the
+#: error bar, 1 / sqrt(2 (S - 1)), stays below 15 %.
+#:
+#: paper (n = 32; 50 min on 2 workers, estimate 44 min; per-sample CPU costs in brackets):
+#:   Fig. 1C headline f_c = 0, 0.5, 1 x 5 strains: the target needs (0.0401 / 0.013)^2 = 10
+#:     samples; the floor gives 24: +-0.0082 per strain, +-0.0037 for the 5-strain average
+#:     (24.7 s). The rest of the curve (f_c = 0.25, 0.75): 12 samples, +-0.0116 (15.6 s).
+#:   Fig. 1B (collapse over p_t = 0 ... 0.8, 9 threshold searches): 10 needed, floor 24 (12.8 s).
+#:   Fig. 2 thresholds: p_crit needs (0.0184 / 0.005)^2 = 14, floor 24: +-0.0038 (8.3 s);
+#:     grid: the taut fraction needs (0.077 / 0.02)^2 = 15, floor 24: +-0.016 (24.2 s).
+#:   Fig. 4 (225 grid points per sample at p_t ~ 0.6, 94 s): its middle cannot be measured at
+#:     n = 32 with any count. Thresholds along p_r at p_t = 0.6 (n = 32, 6 samples, seed 41,
+#:     dilation, shear, compression) lie in 0.330 ... 0.393 for every f_c in 0.25 ... 0.75:
+#:     all 18 samples are floppy at (0.3, 0.6) and none changes between p_r = 0.275 and 0.325,
+#:     so S_r = S_t = 0 there and (S_c + S_s)/S_r is 0/0. Only at f_c <= 0.125 and >= 0.875 do
+#:     samples change in that window (2 to 5 of 6). Under dilation P(0.3, 0.6) is 0 up to
+#:     f_c = 0.875 and 1 at f_c = 1 (all 6): Fig. 4A's signs need few samples. 8 samples; the
+#:     ends of 4C then exceed the +-0.1 target (0.89 / sqrt 8 = 0.31 on the n = 12 calibration).
+#:   Method (the paper's verdict beside ours) at the claims' own n = 32, p_r step 0.025 (128
+#:     grid points, L-BFGS-B 1.04 s each: 151 s): 16 samples; the shifts' errors, scaled from
+#:     n = 12 (0.096 and 0.024 per sample) by the S_t/S_r and p_crit calibrations (x 0.39 and
+#:     x 0.58): +-0.009 on S_t/S_r, +-0.0035 on p_crit.
+#:   Fig. 3: 10,000 trials per point, binomial error <= 0.5 / 100 = 0.005 (17 s in-process).
+#:   Exceeding the paper's error bars: none of the S_t/S_r and p_crit claims; Fig. 4C (above).
+#:   Energy exponents alpha and the nonaffinity peak are not set by S (least-squares errors over
+#:   4-5 grid points; the p_r grid).
+#:
+#: fss (110 min on 2 workers, estimate 92 min): per size 12.5 threshold searches per sample (in
+#:   units of one at p_t = 0.3: 3 rods-only x 0.17, 9 at p_t = 0.3, 4 at p_t = 0.1, 0.2 x 0.75):
+#:   0.13, 2.1, 19.5, 600 s at n = 8, 16, 32, 64. n = 64 takes what is left of the budget: 12
+#:   samples (7,200 CPU s): S_t/S_r +-0.0087, p_crit +-0.0036. The cheaper sizes get errors no
+#:   larger: n = 8: 400 (p_crit +-0.0020, S_t/S_r +-0.0125), 16: 200 (+-0.0019, +-0.0038), 32:
+#:   96 (+-0.0019, +-0.0041). With these, a synthetic extrapolation p_c(n) = p_c + a n^(-1/nu)
+#:   (nu fitted) scatters by +-0.010 around the true p_c (60 draws): the extrapolated rods-only
+#:   p_c carries about +-0.01, which only n = 128 (fss-cluster) narrows. Node disorder: n = 32,
+#:   32 samples per delta (S_t/S_r +-0.0071, p_c +-0.0033); delta = 0.2 reads the first 32
+#:   samples of the fss sweeps at n = 32.
+#:
+#: fss-cluster: fss plus n = 128 (8 samples: one threshold search there is extrapolated to
+#:   25 min, 41 CPU hours for n = 128, 47 in all) and 32 samples at n = 64 (S_t/S_r +-0.0053,
+#:   p_crit +-0.0022); meant for a Dask cluster (--scheduler; --estimate --workers N gives the
+#:   wall time). Its sweeps extend those of fss in the same output directory.
 SCALES = {
     "tiny": Scale(
         "tiny", 5, 5, 6, 4, 6, 0.1, 300, 10,
         fss_sizes=(4, 5, 6, 8), samples_fss=3, n_delta=5, samples_delta=3,
-        studies=(*FIGURES, "method", "fss", "delta"),
+        studies=(*FIGURES, "method", "fss", "delta"), budget_minutes=2,
     ),
     "quick": Scale(
         "quick", 12, 12, 48, 24, 96, 0.05, 4000, 100,
         n_method=12, samples_method=16, method_step=0.05,
-        studies=(*FIGURES, "method"),
+        studies=(*FIGURES, "method"), budget_minutes=10,
     ),
     "paper": Scale(
-        "paper", 32, 32, 400, 100, 800, 0.025, 40000, 200,
-        n_method=16, samples_method=48, method_step=0.025,
-        studies=(*FIGURES, "method"),
+        "paper", 32, 32, 24, 24, 8, 0.025, 10000, 200,
+        n_method=32, samples_method=16, method_step=0.025,
+        studies=(*FIGURES, "method"), samples_curve=12, budget_minutes=50,
     ),
     "fss": Scale(
-        "fss", 32, 32, 200, 0, 0, 0.025, 0, 200,
-        fss_sizes=(8, 16, 32, 64), samples_fss=100,
-        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=100,  # n = 32 shared with fss
+        "fss", 32, 32, 0, 0, 0, 0.025, 0, 200,
+        fss_sizes=(8, 16, 32, 64), samples_fss=(400, 200, 96, 12),
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
+        studies=("fss", "delta"), budget_minutes=110,
+    ),
+    "fss-cluster": Scale(
+        "fss-cluster", 32, 32, 0, 0, 0, 0.025, 0, 200,
+        fss_sizes=(8, 16, 32, 64, 128), samples_fss=(400, 200, 96, 32, 8),
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
         studies=("fss", "delta"),
     ),
 }  # fmt: skip
@@ -239,23 +319,29 @@ class Fig1bResult:
     measured: tuple[Measurement, ...] = ()
 
 
-def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
-    """P(p_r, p_t) at f_c = 0.5 under shear, from per-sample thresholds along p_r."""
-    p_t = [round(x, 3) for x in np.arange(0.0, 0.81, 0.1)]
-    df, excluded = sweep_rows(
-        out,
-        "fig1b",
-        {
+#: p_t of Fig. 1B's threshold sweeps
+FIG1B_PT = [round(x, 3) for x in np.arange(0.0, 0.81, 0.1)]
+
+
+def fig1b_sweeps(scale: Scale) -> dict[str, dict]:
+    """Sweep name -> spec of Fig. 1B (the work :mod:`~tensegrity_rigidity.paper.budget` counts)."""
+    return {
+        "fig1b": {
             "n": scale.n_threshold,
-            "p_t": p_t,
+            "p_t": FIG1B_PT,
             "f_c": 0.5,
             "phi": "shear",
-            "samples": scale.samples_threshold,
+            "samples": scale.fig1b_samples,
             "seed": 11,
             "threshold": {"path": "p_r"},
-        },
-        **kw,
-    )
+        }
+    }
+
+
+def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
+    """P(p_r, p_t) at f_c = 0.5 under shear, from per-sample thresholds along p_r."""
+    p_t = FIG1B_PT
+    df, excluded = sweep_rows(out, "fig1b", fig1b_sweeps(scale)["fig1b"], **kw)
     p_r = np.linspace(0, 1, 101)
     P = np.full((len(p_t), p_r.size), np.nan)
     for i, pt in enumerate(p_t):
@@ -289,7 +375,7 @@ def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
         half_x=half,
         collapse=collapse,
         n=scale.n_threshold,
-        samples=scale.samples_threshold,
+        samples=scale.fig1b_samples,
         rows=df,
         excluded={"fig1b": excluded},
         straddling=interval_straddles(df, p_r),
@@ -336,47 +422,72 @@ class Fig1cResult:
         return float(row.lam), float(row.lam_err)
 
 
+#: Fig. 1C: S_t/S_r from a collapse fit over p_t = 0 (rods only) and p_t = FIG1C_PT, the ends of
+#: the paper's range 0 ... 0.3. The thresholds at p_t = 0.1 and 0.2 add nothing measurable on
+#: common random numbers: the collapse fit's bootstrap error over p_t = {0, 0.3} was 0.0067 and
+#: 0.0066 (n = 16, 64 samples, rods + cables under dilation and compression) and 0.0071 (n = 32,
+#: 32 samples, compression) against 0.0070, 0.0068 and 0.0066 over p_t = {0, 0.1, 0.2, 0.3},
+#: with the same values of S_t/S_r (0.566, 0.447, 0.454 against 0.565, 0.449, 0.454), for half
+#: the threshold searches.
+FIG1C_PT = 0.3
+#: f_c of the headline claims (samples_threshold) and of the rest of the curve (samples_curve)
+FIG1C_FC = [0.0, 0.5, 1.0]
+FIG1C_FC_CURVE = [0.25, 0.75]
+FIG1C_PHI = PHI5
+
+
+def fig1c_sweeps(scale: Scale) -> dict[str, dict]:
+    """Sweep name -> spec of Fig. 1C.
+
+    The rods-only thresholds (p_t = 0, where f_c does not matter) are one sweep shared by every
+    f_c; the one-sided sweeps at p_t = :data:`FIG1C_PT` share its samples (seed 12).
+    """
+    base = {"n": scale.n_threshold, "phi": FIG1C_PHI, "seed": 12, "threshold": {"path": "p_r"}}
+    rods = max(scale.samples_threshold, scale.curve_samples)
+    return {
+        "fig1c_rods": base | {"p_t": 0.0, "f_c": 0.5, "samples": rods},
+        "fig1c_mixed": base
+        | {"p_t": FIG1C_PT, "f_c": FIG1C_FC, "samples": scale.samples_threshold},
+        "fig1c_curve": base
+        | {"p_t": FIG1C_PT, "f_c": FIG1C_FC_CURVE, "samples": scale.curve_samples},
+    }
+
+
 def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
     """S_t/S_r versus f_c for each strain and the strain average (collapse fits)."""
-    df, excluded = sweep_rows(
-        out,
-        "fig1c",
-        {
-            "n": scale.n_threshold,
-            "p_t": PT4,
-            "f_c": FC5,
-            "phi": PHI5,
-            "samples": scale.samples_threshold,
-            "seed": 12,
-            "threshold": {"path": "p_r"},
-        },
-        **kw,
-    )
+    parts, excluded = {}, {}
+    for name, spec in fig1c_sweeps(scale).items():
+        parts[name], excluded[name] = sweep_rows(out, name, spec, **kw)
+    rods = parts["fig1c_rods"]
+    mixed = pd.concat([parts["fig1c_mixed"], parts["fig1c_curve"]], ignore_index=True)
+    # every f_c pairs the rods-only thresholds with its own samples at p_t = FIG1C_PT
+    df = pd.concat([rods.assign(f_c=f_c) for f_c in FC5] + [mixed], ignore_index=True)
+    p_t = [0.0, FIG1C_PT]
     grid = np.arange(0.3, 0.9001, 0.01)
     fits, contour = [], []
     for f_c in FC5:
         pooled, pooled_t = [], []
-        for phi in PHI5:
+        for phi in FIG1C_PHI:
             sub = df[np.isclose(df.f_c, f_c) & np.isclose(df.phi, phi)]
             y, pr, pt = an.outcomes_from_thresholds(sub, grid)
-            t = threshold_matrix(sub, PT4)
+            t = threshold_matrix(sub, p_t)
             pooled.append(y)
             pooled_t.append(t)
             if phi in (0.0, math.pi / 2, math.pi):
                 fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
                 fits.append({"f_c": f_c, "strain": strain_name(phi), "phi": phi, **fit.__dict__})
-                c = an.contour_slope(t, np.array(PT4), n_boot=scale.bootstrap)
+                c = an.contour_slope(t, np.array(p_t), n_boot=scale.bootstrap)
                 contour.append(
                     {"f_c": f_c, "strain": strain_name(phi), "lam": c.value, "lam_err": c.err}
                 )
         fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap)
         fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
-        c = an.contour_slope(np.vstack(pooled_t), np.array(PT4), n_boot=scale.bootstrap)
+        c = an.contour_slope(np.vstack(pooled_t), np.array(p_t), n_boot=scale.bootstrap)
         contour.append({"f_c": f_c, "strain": "average", "lam": c.value, "lam_err": c.err})
-    rods_only = df[np.isclose(df.p_t, 0.0)].drop_duplicates(["phi", "sample"])
+    rods_only = rods.drop_duplicates(["phi", "sample"])
     pc, pc_err = an.critical_point(rods_only.threshold_p_r.to_numpy())
     fits, contour = pd.DataFrame(fits), pd.DataFrame(contour)
-    system = f"n = {scale.n_threshold}, {scale.samples_threshold} samples x 4 p_t"
+    system = f"n = {scale.n_threshold}, {scale.samples_threshold} samples x 2 p_t"
     measured = []
     for key, f_c, strain in [
         *((f"st_sr_half_{s_}", 0.5, s_) for s_ in ("dilation", "shear", "compression", "average")),
@@ -389,7 +500,7 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
             "identical to rods + cables under compression by an exact symmetry: compression is "
             "minus dilation, and e -> -e swaps cables and struts sample by sample"
             if key == "st_sr_struts_dilation"
-            else "collapse fit P = F(p_r + lam p_t) over p_t = 0, 0.1, 0.2, 0.3"
+            else f"collapse fit P = F(p_r + lam p_t) over p_t = 0 and {FIG1C_PT}"
         )
         measured.append(Measurement.scalar(key, row.lam, row.lam_err, system, note=note))
         row = contour[np.isclose(contour.f_c, f_c) & (contour.strain == strain)].iloc[0]
@@ -421,8 +532,8 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
         n=scale.n_threshold,
         samples=scale.samples_threshold,
         rows=df,
-        excluded={"fig1c": excluded},
-        straddling=interval_straddles(df, grid),
+        excluded=excluded,
+        straddling=interval_straddles(pd.concat([rods, mixed], ignore_index=True), grid),
         measured=tuple(measured),
     )
 
@@ -513,42 +624,53 @@ class Fig2Result:
     measured: tuple[Measurement, ...] = ()
 
 
+def fig2_sweeps(scale: Scale) -> dict[str, dict]:
+    """Sweep name -> spec of Fig. 2: a grid per p_t, the thresholds on the same samples
+    (seed 21) and the two small sweeps that supply the drawn samples of Figs. 2A and 1A."""
+    p_r = p_r_grid(scale.p_r_step, 0.3, 0.95)
+    base = {"n": scale.n_grid, "f_c": 1.0, "phi": ["compression", "dilation"], "seed": 21}
+    out = {
+        f"fig2_pt{p_t:.1f}": base
+        | {
+            "p_r": [p for p in p_r if p + p_t <= 1 + 1e-12],
+            "p_t": p_t,
+            "samples": scale.samples_grid,
+        }
+        for p_t in PT4
+    }
+    out["fig2_thresholds"] = base | {
+        "p_t": PT4,
+        "samples": scale.samples_threshold,
+        "threshold": {"path": "p_r"},
+    }
+    field = {"n": max(scale.n_grid, 8), "samples": FIELD_SAMPLES, "f_c": 1.0, "seed": 1000}
+    out["fig2_field"] = field | {
+        "p_t": FIELD_P_T,
+        "phi": "compression",
+        "threshold": {"path": "p_r"},
+    }
+    out["fig1a_field"] = field | {
+        "p_r": 0.55,
+        "p_t": 0.4,
+        "f_c": 0.5,
+        "phi": "shear",
+        "seed": 2000,
+    }
+    return out
+
+
 def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     """Rods + cables (f_c = 1): nonaffinity, energies and engaged cables versus p_r."""
+    sweeps = fig2_sweeps(scale)
     p_r = p_r_grid(scale.p_r_step, 0.3, 0.95)
     grids, excluded = [], {}
     for p_t in PT4:
-        pr = [p for p in p_r if p + p_t <= 1 + 1e-12]
         name = f"fig2_pt{p_t:.1f}"
-        rows, excluded[name] = sweep_rows(
-            out,
-            name,
-            {
-                "n": scale.n_grid,
-                "p_r": pr,
-                "p_t": p_t,
-                "f_c": 1.0,
-                "phi": ["compression", "dilation"],
-                "samples": scale.samples_grid,
-                "seed": 21,
-            },
-            **kw,
-        )
+        rows, excluded[name] = sweep_rows(out, name, sweeps[name], **kw)
         grids.append(rows)
     rows, min_norm_failed = mask_min_norm(pd.concat(grids, ignore_index=True))
     th, excluded["fig2_thresholds"] = sweep_rows(
-        out,
-        "fig2_thresholds",
-        {
-            "n": scale.n_grid,
-            "p_t": PT4,
-            "f_c": 1.0,
-            "phi": ["compression", "dilation"],
-            "samples": scale.samples_threshold,
-            "seed": 21,
-            "threshold": {"path": "p_r"},
-        },
-        **kw,
+        out, "fig2_thresholds", sweeps["fig2_thresholds"], **kw
     )
     curves = (
         rows.groupby(["phi", "p_t", "p_r"])
@@ -852,9 +974,8 @@ def _displacement_field(out, scale: Scale, **kw) -> tuple[DisplacementField, int
     (0.55, 0.4, 0.5) under shear. Each is rebuilt with the sweep's own sample geometry and solved
     with the minimum-norm displacements. Returns (field, excluded 2A, excluded 1A).
     """
-    n = max(scale.n_grid, 8)
-    base = {"n": n, "samples": FIELD_SAMPLES, "f_c": 1.0, "seed": 1000}
-    spec_2a = base | {"p_t": FIELD_P_T, "phi": "compression", "threshold": {"path": "p_r"}}
+    sweeps = fig2_sweeps(scale)
+    spec_2a = sweeps["fig2_field"]
     th, ex_2a = sweep_rows(out, "fig2_field", spec_2a, **kw)
     inst = res = None
     p_r = float("nan")
@@ -864,7 +985,7 @@ def _displacement_field(out, scale: Scale, **kw) -> tuple[DisplacementField, int
         p_r = float(row.threshold_p_r) + FIELD_STEP
         inst = _rebuild(spec_2a, row, p_r)
         res = solve(inst)
-    spec_1a = base | {"p_r": 0.55, "p_t": 0.4, "f_c": 0.5, "phi": "shear", "seed": 2000}
+    spec_1a = sweeps["fig1a_field"]
     grid, ex_1a = sweep_rows(out, "fig1a_field", spec_1a, **kw)
     inst2 = res2 = None
     rigid = grid[grid.rigid]
@@ -1019,6 +1140,23 @@ def _ratio_frame(c: an.EfficacyCurves) -> pd.DataFrame:
     return pd.DataFrame(cols)
 
 
+def fig4_sweeps(scale: Scale) -> dict[str, dict]:
+    """Sweep name -> spec of Fig. 4: the centre and the steps in p_r and in p_t (seed 41)."""
+    p_r0, p_t0 = FIG4_CENTRE
+    base = {
+        "n": scale.n_grid,
+        "f_c": FIG4_FC,
+        "phi": FIG4_PHI,
+        "samples": scale.samples_fig4,
+        "seed": 41,
+    }
+    return {
+        "fig4_centre": base | {"p_r": p_r0, "p_t": p_t0},
+        "fig4_dpr": base | {"p_r": [p_r0 - H_R, p_r0 + H_R], "p_t": p_t0},
+        "fig4_dpt": base | {"p_r": p_r0, "p_t": [p_t0 - H_T, p_t0 + H_T]},
+    }
+
+
 def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
     """P versus f_c at (p_r, p_t) = (0.3, 0.6) and the efficacies S_r, S_t, S_c, S_s.
 
@@ -1029,23 +1167,10 @@ def study_fig4(out, scale: Scale, **kw) -> Fig4Result:
     each strain at once.
     """
     p_r0, p_t0 = FIG4_CENTRE
-    base = {
-        "n": scale.n_grid,
-        "f_c": FIG4_FC,
-        "phi": FIG4_PHI,
-        "samples": scale.samples_fig4,
-        "seed": 41,
-    }
-    excluded = {}
-    centre, excluded["fig4_centre"] = sweep_rows(
-        out, "fig4_centre", base | {"p_r": p_r0, "p_t": p_t0}, **kw
-    )
-    d_r, excluded["fig4_dpr"] = sweep_rows(
-        out, "fig4_dpr", base | {"p_r": [p_r0 - H_R, p_r0 + H_R], "p_t": p_t0}, **kw
-    )
-    d_t, excluded["fig4_dpt"] = sweep_rows(
-        out, "fig4_dpt", base | {"p_r": p_r0, "p_t": [p_t0 - H_T, p_t0 + H_T]}, **kw
-    )
+    frames, excluded = {}, {}
+    for name, spec in fig4_sweeps(scale).items():
+        frames[name], excluded[name] = sweep_rows(out, name, spec, **kw)
+    centre, d_r, d_t = frames["fig4_centre"], frames["fig4_dpr"], frames["fig4_dpt"]
     samples = np.arange(1, scale.samples_fig4 + 1)
 
     def outcomes(df, **sel):
@@ -1196,6 +1321,20 @@ def _fig4_differences(outcomes, centre, d_r, d_t) -> pd.DataFrame:
         rows.append({"f_c": f, "sum_rel": ratio, "sum_rel_err": abs(err)})
     return pd.DataFrame(rows)
 
+
+def fig3_sweeps(scale: Scale) -> dict[str, dict]:
+    """Fig. 3 runs no sweep: its ``scale.node_trials`` single-node trials run in-process."""
+    return {}
+
+
+#: study name -> the sweeps it runs at a scale (name -> spec)
+SWEEPS = {
+    "fig1b": fig1b_sweeps,
+    "fig1c": fig1c_sweeps,
+    "fig2": fig2_sweeps,
+    "fig3": fig3_sweeps,
+    "fig4": fig4_sweeps,
+}
 
 STUDIES = {
     "fig1b": study_fig1b,
