@@ -149,7 +149,9 @@ TARGETS |= {"st_sr_shift": 0.013, "p_crit_shift": 0.005}
 # --------------------------------------------------------------------------- interpolation
 
 
-def _power_law(table: dict[int, float], n: float, exponent: float | None = None):
+def _power_law(
+    table: dict[int, float], n: int, exponent: float | None = None
+) -> tuple[float, bool]:
     """(value at n, extrapolated?) by piecewise power laws through ``table``.
 
     Between measured sizes: the power law through the two neighbours. Outside: the power law of
@@ -289,7 +291,7 @@ class Estimate:
         rows = []
         for study in self.studies:
             mine = [s for s in self.sweeps if s.study == study]
-            sizes = sorted({s.n for s in mine}) or [None]
+            sizes: list[int | None] = [*sorted({s.n for s in mine})] or [None]
             for i, n in enumerate(sizes):
                 here = [s for s in mine if s.n == n]
                 serial = self.serial.get(study, 0.0) if i == 0 else 0.0

@@ -218,7 +218,7 @@ def _samples_text(scale: Scale) -> str:
 
 def fss_sweeps(scale: Scale) -> dict[str, dict]:
     """Sweep name -> spec of the finite-size study (every size at the default delta)."""
-    out = {}
+    out: dict[str, dict] = {}
     for n in scale.fss_sizes:
         out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
     return out
@@ -226,7 +226,7 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
 
 def delta_sweeps(scale: Scale) -> dict[str, dict]:
     """Sweep name -> spec of the node-disorder study (every delta at n_delta)."""
-    out = {}
+    out: dict[str, dict] = {}
     for delta in scale.deltas:
         out |= headline_sweeps(scale.n_delta, delta, scale.samples_delta)
     return out
