@@ -5,9 +5,9 @@ path "p_r", random strain angle), cycled over the sample count of each size. For
 threshold: wall time (also in units of one numeric factorisation of the full lattice's
 ``R^T R + mu I``, measured in the same run on the same sample), probes (certified verdicts),
 undecided probes and the width of the interval in events. At n <= ``--lp-max`` the two
-configurations that straddle each decided threshold are checked against the verdict LP
-(HiGHS, no time limit): the one below must be floppy, the one above rigid. Each threshold is
-computed twice; the two results must be identical (deterministic search).
+configurations that straddle each threshold (an interval's two ends) are checked against the
+verdict LP (HiGHS, no time limit): the one below must be floppy, the one above rigid. Each
+threshold is computed twice; the two results must be identical (deterministic search).
 
 Run: python benchmarks/bench_threshold.py [--sizes 32 64 128] [--samples 12 6 3]
 """
@@ -42,13 +42,16 @@ def refactor_seconds(net, eps) -> float:
 
 
 def straddle_check(net, u, v, eps, p_t, f_c, th) -> str:
-    """'ok', 'WRONG' or '-' (nothing to check): LP verdicts just below and at the threshold."""
-    if not np.isfinite(th.s) or th.s == 0 or not th.decided:
+    """'ok', 'WRONG' or '-' (never rigid on the path): the verdict LP on the last certified
+    floppy configuration and the first certified rigid one (the two sides of a decided
+    threshold; the two ends of an interval)."""
+    if not np.isfinite(th.s) or th.s == 0 or not np.isfinite(th.s_low):
         return "-"
     ev = EventPath(u, v, "p_r", p_t, f_c)
-    i = int(np.searchsorted(ev.positions, th.s)) + 1
-    above = lp_verdict(Instance(net.with_kinds(ev.kinds(i)), eps)).rigid
-    below = lp_verdict(Instance(net.with_kinds(ev.kinds(i - 1)), eps)).rigid
+    low = int(np.searchsorted(ev.positions, th.s_low)) + 1
+    high = int(np.searchsorted(ev.positions, th.s_high)) + 1
+    above = lp_verdict(Instance(net.with_kinds(ev.kinds(high)), eps)).rigid
+    below = lp_verdict(Instance(net.with_kinds(ev.kinds(low - 1)), eps)).rigid
     return "ok" if (above, below) == (True, False) else "WRONG"
 
 
@@ -115,7 +118,8 @@ def _write(rows, detail) -> None:
         "threshold's time over one numeric factorisation of its full lattice. 'intervals': "
         "thresholds reported as an interval because probes were undecided (within resolution "
         "of the boundary), with the widest interval in events. LP check: the configurations "
-        "just below and at each decided threshold against the HiGHS verdict LP. 'same': a "
+        "on both sides of each threshold (an interval's two ends: the last certified floppy "
+        "and the first certified rigid configuration) against the HiGHS verdict LP. 'same': a "
         "second search returned the identical result.\n\n"
         + table(
             [

@@ -147,8 +147,8 @@ def test_makespan_is_that_of_the_engine_order():
 
 
 def test_stated_run_times_are_the_estimates():
-    """EXPECTED states the estimate for the scales nobody has timed yet (the lead replaces them
-    with measurements)."""
+    """EXPECTED states the budget's estimate of each priced scale (beside the measurement where
+    a run has been timed), so that a change of the scales cannot leave a stale number."""
     assert set(EXPECTED) == set(SCALES)
     for name in ("paper", "fss"):
         minutes = round(budget.estimate(name, workers=2).wall_seconds / 60)
