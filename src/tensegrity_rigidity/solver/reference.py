@@ -84,7 +84,7 @@ def lp_verdict(
     Raises
     ------
     RuntimeError
-        When HiGHS fails for another reason.
+        When HiGHS fails for another reason (after its dual simplex, its interior point).
     """
     from scipy.optimize import linprog
 
@@ -95,15 +95,20 @@ def lp_verdict(
         return ReferenceResult(0.0, False, t_full, np.zeros((net.n_nodes, 2)), "trivial")
     lo = np.where(kinds == Element.CABLE, 0.0, -1.0)
     hi = np.where(kinds == Element.STRUT, 0.0, 1.0)
-    res = linprog(
-        -e0,
-        A_eq=sp.csr_matrix(R.T),
-        b_eq=np.zeros(n2),
-        bounds=np.c_[lo, hi],
-        method="highs",
-        options={"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
-        | ({"time_limit": float(time_limit)} if time_limit is not None else {}),
-    )
+    # HiGHS's default (dual simplex) occasionally ends with status "Not Set" on near-degenerate
+    # instances at a threshold; its interior point with crossover is then asked instead
+    for method in ("highs", "highs-ipm"):
+        res = linprog(
+            -e0,
+            A_eq=sp.csr_matrix(R.T),
+            b_eq=np.zeros(n2),
+            bounds=np.c_[lo, hi],
+            method=method,
+            options={"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+            | ({"time_limit": float(time_limit)} if time_limit is not None else {}),
+        )
+        if res.status in (0, 1):
+            break
     if res.status == 1 and time_limit is not None:  # iteration or time limit reached
         return ReferenceResult(np.nan, False, t_full, np.zeros((net.n_nodes, 2)), "time limit")
     if res.status != 0:
