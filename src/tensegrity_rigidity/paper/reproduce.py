@@ -24,8 +24,7 @@ from .studies import SCALES
 #: the two in step) until someone times a run
 EXPECTED = {
     "tiny": "about a minute",
-    "quick": "about 8 minutes (measured when Fig. 1C still ran p_t = 0.1 and 0.2, three times "
-    "its threshold searches today; estimated 9 minutes)",
+    "quick": "14 minutes measured on 2026-11-23 (estimated 9 minutes)",
     "paper": "37 minutes measured on 2026-11-23 (estimated 44 minutes)",
     "fss": "estimated 92 minutes, not yet measured (resumable: re-run to continue)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 47 CPU hours "
