@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
+from decimal import Decimal, getcontext
+from fractions import Fraction
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -9,7 +13,12 @@ from hypothesis import strategies as st
 
 from tensegrity_rigidity import Instance, SolverOptions, lattice_instance, solve, strain_tensor
 from tensegrity_rigidity.solver import decide
-from tensegrity_rigidity.solver.certificates import Resolution
+from tensegrity_rigidity.solver.certificates import (
+    EPS,
+    Resolution,
+    bond_vectors,
+    violation_roundoff,
+)
 from tensegrity_rigidity.solver.problem import Problem
 from tensegrity_rigidity.solver.reference import lp_verdict
 from tensegrity_rigidity.solver.selfstress import purify
@@ -156,3 +165,71 @@ def test_an_unstrained_sample_is_floppy_with_u_zero():
     zero = Instance(inst.network, strain_tensor("shear") * 0 + np.diag([1e-300, 0]) * 0)
     v = decide(zero)
     assert v.status == "floppy" and not np.any(v.floppy.u)
+
+
+def _exact(x) -> Fraction:
+    """A float or longdouble as an exact fraction."""
+    return Fraction(*np.longdouble(x).as_integer_ratio())
+
+
+def _dec(q: Fraction) -> Decimal:
+    """A fraction in the current decimal context (40 digits in the test below)."""
+    return Decimal(q.numerator) / Decimal(q.denominator)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), far=st.sampled_from([0.0, 1e3, 1e5]))
+def test_round_off_bounds_hold_against_40_digit_arithmetic(seed, far):
+    """The bond vectors are correctly rounded (up to EPS^2), and the computed work, force
+    residual and violations are within their stated bounds of the values in 40-digit decimal
+    arithmetic, for tensions spanning twelve orders of magnitude, displacements up to 1e7 and
+    nodes translated up to 1e5 box lengths from the origin (where a plain sum of the bond
+    vector's terms loses five digits)."""
+    rng = np.random.default_rng(seed)
+    inst = random_instance(rng)
+    net = inst.network
+    net = dataclasses.replace(net, positions=net.positions + far * net.box[0])
+    inst = Instance(net, inst.strain)
+    p = Problem(inst, unit_stiffness=True)
+    geo = p.exact
+    getcontext().prec = 40
+    D = Decimal
+    pos, box = net.positions, net.box
+    bonds, shifts = net.bonds[p.sites], net.shifts[p.sites]
+    d_exact = [
+        [_exact(pos[j, a]) - _exact(pos[i, a]) + sum(int(s[c]) * _exact(box[c, a]) for c in (0, 1))
+         for a in (0, 1)]
+        for (i, j), s in zip(bonds, shifts, strict=True)
+    ]  # fmt: skip
+    d = bond_vectors(net, p.sites)
+    for row, exact_row in zip(d, d_exact, strict=True):
+        for x, y in zip(row, exact_row, strict=True):
+            assert abs(_exact(x) - y) <= Fraction(EPS) * abs(y) * (1 + Fraction(1, 10**6))
+    dhat = []
+    for dx, dy in d_exact:
+        x, y = _dec(dx), _dec(dy)
+        norm = (x * x + y * y).sqrt()
+        dhat.append((x / norm, y / norm))
+    t = rng.choice([-1.0, 1.0], p.sites.size) * 10.0 ** rng.uniform(-12, 0, p.sites.size)
+    t[p.sigma != 0] = np.abs(t[p.sigma != 0]) * p.sigma[p.sigma != 0]
+    tl = t.astype(np.longdouble) * (1 + np.longdouble(EPS) * rng.uniform(-1, 1, t.size))
+    td = [_dec(_exact(x)) for x in tl]
+    t1 = sum(abs(x) for x in td)
+    e0 = [_dec(_exact(x)) for x in geo.e0n]
+    work = sum(a * b for a, b in zip(td, e0, strict=True)) / t1
+    forces = [[D(0), D(0)] for _ in range(net.n_nodes)]
+    for (i, j), (hx, hy), x in zip(bonds, dhat, td, strict=True):
+        forces[j][0] += x * hx
+        forces[j][1] += x * hy
+        forces[i][0] -= x * hx
+        forces[i][1] -= x * hy
+    resid = sum(abs(f) for node in forces for f in node) / t1
+    for computed, exact in ((geo.work(tl), work), (geo.residual(tl), resid)):
+        assert abs(_dec(_exact(computed)) - exact) <= D(geo.roundoff)
+    u = rng.normal(size=p.n2) * 10.0 ** rng.uniform(-2, 7)
+    v = geo.extensions(u)
+    size = float(np.abs(u).max())
+    uu = u.reshape(-1, 2)
+    for (i, j), (hx, hy), e, vb in zip(bonds, dhat, e0, v, strict=True):
+        exact_v = e + hx * (D(uu[j, 0]) - D(uu[i, 0])) + hy * (D(uu[j, 1]) - D(uu[i, 1]))
+        assert abs(_dec(_exact(vb)) - exact_v) <= D(violation_roundoff(size))

@@ -141,7 +141,12 @@ def test_displacements_are_minimisers(inst):
 
     res = solve(inst)
     e_u = energy(inst, res.displacements)
-    assert abs(e_u - res.energy) <= 1e-8 * max(res.energy, 1e-10 * res.affine_energy)
+    # The displacements satisfy the minimisers' constraints to the min-norm tolerance (1e-8 of
+    # max |e0|, above the floppy certificate's 1e-9): each engaged element can then hold an
+    # energy of 1/2 k (1e-8 max |e0|)^2 that the exact minimum does not have.
+    s0 = float(np.abs(affine_extensions(inst.network, inst.strain)).max())
+    slack = 0.5 * float(inst.network.stiffness_or_ones().sum()) * (1e-8 * s0) ** 2
+    assert abs(e_u - res.energy) <= 1e-8 * res.energy + slack
     np.testing.assert_allclose(
         res.displacements.mean(axis=0), 0, atol=1e-12 + 1e-9 * np.abs(res.displacements).max()
     )

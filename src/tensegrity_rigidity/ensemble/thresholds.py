@@ -281,16 +281,11 @@ def _violated(network: PeriodicNetwork, strain: np.ndarray, cert, res, cable: np
     """Where a floppy certificate would be violated as a rod, resp. as the site's one-sided
     kind, on every site (two (m,) bool arrays), evaluated like the certificate itself."""
     from ..model.mechanics import affine_extensions
-    from ..solver.certificates import ExactGeometry, violation_roundoff
+    from ..solver.certificates import ExactGeometry, bond_vectors, violation_roundoff
 
     e0 = affine_extensions(network, strain)
     scale = float(np.abs(e0).max()) or 1.0
-    pos = network.positions.astype(np.longdouble)
-    d = (
-        pos[network.bonds[:, 1]]
-        + network.shifts.astype(np.longdouble) @ network.box.astype(np.longdouble)
-        - pos[network.bonds[:, 0]]
-    )
+    d = bond_vectors(network, np.arange(network.n_sites))
     sigma = np.where(cable, 1.0, -1.0)
     geo = ExactGeometry(network.bonds, d, e0 / scale, sigma, network.n_nodes)
     v = geo.extensions(cert.u)

@@ -31,11 +31,27 @@ and ``t`` is not accepted. A rigid certificate therefore rules out every zero-en
 displacement smaller than ``(w - tau) / r`` (in units of ``s0``), and a floppy one every
 self-stress whose work exceeds what its residual could explain.
 
-Every quantity is evaluated in extended precision (``numpy.longdouble``, a 64-bit mantissa on
-x86-64), with the unit bond vectors recomputed from the positions in that precision, so that
-the round-off of an evaluation stays far below the tolerances: at most ``1e-18 (1 + 4 U)``
-(4e-11 at the default ``U = 1e7``) for a violation, about ``1e-18`` for the normalised work and
-residual; these bounds are added to each test (:func:`violation_roundoff`, ``ROUNDOFF``).
+Every quantity is evaluated in extended precision (``numpy.longdouble``: a 64-bit mantissa on
+x86-64, unit round-off ``eps = 2^-64``), with the unit bond vectors recomputed from the
+positions in that precision. The round-off of each evaluation is bounded in units of that
+``eps`` (``EPS``; on a platform whose ``longdouble`` is a plain double the bounds grow with it
+and stay valid), and the bound is added to each test:
+
+* a violation ``v_b = e0_b + dhat_b . (u_j - u_i)``: about ten roundings of quantities up to
+  ``1 + 4 size``, bounded with a factor 2 to spare by :func:`violation_roundoff`,
+  ``20 eps (1 + 4 size)`` (4e-11 at ``U = 1e7``);
+* the work and the residual (:meth:`ExactGeometry.rigid`): a bond vector is correctly rounded
+  (:func:`bond_vectors`), so its unit vector carries a relative error below ``6 eps``, its
+  product with ``t_b`` one more; a node's force sums at most ``D`` contributions in turn
+  (``D`` the largest node degree; ``(D - 1) eps`` of the sum of their magnitudes), so with
+  ``|dhat_bx| + |dhat_by| <= sqrt(2)`` and two ends per bond ``|R^T t|_1`` is off by less than
+  ``2 sqrt(2) (D + 6) eps |t|_1``; the work is a pairwise sum over ``m`` sites divided by
+  ``|t|_1`` (itself a pairwise sum), off by less than ``(2 ceil(log2 m) + 3) eps``. Both are
+  below ``roundoff = (3 (D + 6) + 2 ceil(log2 m) + 3) eps`` (:attr:`ExactGeometry.roundoff`;
+  3.6e-18 on the triangular lattice at n = 64; earlier releases added a fixed 1e-15, a margin
+  rather than a bound: their bond vectors were plain sums, off by ``eps |x| / |d|``, up to
+  ``1e-16`` at n = 64, and the margin would not have held where ``longdouble`` is a double).
+  ``tests/solver/test_certificates.py`` checks both bounds against 40-digit decimal arithmetic.
 
 An instance with neither certificate is *within resolution of the boundary* (or was not
 resolved by the stages tried): it is reported undecided, with both best candidates, never
@@ -48,9 +64,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: Safety margin for the round-off of the extended-precision evaluations of the normalised
-#: work and force residual (see the module docstring).
-ROUNDOFF = 1e-15
+#: Unit round-off of the extended precision the certificates are evaluated in (``2^-64`` on
+#: x86-64; ``2^-53`` where ``longdouble`` is a double).
+EPS = float(np.finfo(np.longdouble).eps) / 2
 
 
 def violation_roundoff(size: float) -> float:
@@ -58,10 +74,9 @@ def violation_roundoff(size: float) -> float:
     (units of ``max |e0|``; returns a float in the same units).
 
     ``v_b = e0_b + dhat_b . (u_j - u_i)`` takes about ten roundings of quantities up to
-    ``1 + 4 size`` (unit bond vectors and displacements); ``1e-18`` is ten units in the last
-    place of a 64-bit mantissa.
+    ``1 + 4 size`` (unit bond vectors and displacements), bounded by ``20 EPS (1 + 4 size)``.
     """
-    return 1e-18 * (1.0 + 4.0 * size)
+    return 20.0 * EPS * (1.0 + 4.0 * size)
 
 
 @dataclass(frozen=True)
@@ -116,13 +131,51 @@ class RigidCertificate:
     residual : float
         ``|R^T t|_1 / |t|_1``.
     accepted : bool
-        Whether ``work > tau + U residual`` (plus the round-off margin).
+        Whether ``work > tau + U residual`` (plus the round-off bounds).
     """
 
     t: np.ndarray
     work: float
     residual: float
     accepted: bool
+
+
+def _two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``a + b = s + e`` exactly, ``s = fl(a + b)`` (Knuth's TwoSum; round to nearest)."""
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+def bond_vectors(network, sites: np.ndarray) -> np.ndarray:
+    """Bond vectors of ``sites`` in extended precision, correctly rounded up to ``~EPS^2``.
+
+    ``d = x_j + s . box - x_i`` is summed from its terms (positions and integer multiples of the
+    box vectors, each exact in a 64-bit mantissa for shifts below 2^11) by cascaded TwoSum
+    (Ogita, Rump and Oishi's Sum2): the error is at most ``EPS |d| + 9 EPS^2`` times the
+    largest term, however far from the origin the nodes lie (a plain sum would lose
+    ``EPS |x| / |d|`` relative).
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        Positions (N, 2), bonds (B, 2), shifts (B, 2) and box (2, 2).
+    sites : (m,) int
+        Bond sites.
+
+    Returns
+    -------
+    (m, 2) longdouble
+    """
+    pos = network.positions.astype(np.longdouble)
+    box = network.box.astype(np.longdouble)
+    b, shift = network.bonds[sites], network.shifts[sites].astype(np.longdouble)
+    terms = [pos[b[:, 1]], -pos[b[:, 0]], shift[:, :1] * box[0], shift[:, 1:] * box[1]]
+    total, err = terms[0], np.zeros_like(terms[0])
+    for term in terms[1:]:
+        total, e = _two_sum(total, term)
+        err = err + e
+    return total + err
 
 
 class ExactGeometry:
@@ -133,7 +186,7 @@ class ExactGeometry:
     bonds : (m, 2) int
         Node pairs of the non-empty sites.
     d : (m, 2) longdouble
-        Bond vectors of those sites, computed in extended precision.
+        Bond vectors of those sites in extended precision (:func:`bond_vectors`).
     e0 : (m,) float
         Affine extensions in units of the instance's ``max |e0|`` (so ``|e0| <= 1``).
     sigma : (m,) float
@@ -150,6 +203,10 @@ class ExactGeometry:
         self.e0n = np.asarray(e0, dtype=np.longdouble)
         self.strained = bool(np.any(e0))
         self.n_nodes = n_nodes
+        degree = int(np.bincount(np.asarray(bonds).ravel(), minlength=n_nodes).max(initial=0))
+        sums = int(np.ceil(np.log2(max(len(bonds), 2 * n_nodes, 2))))
+        #: Bound on the round-off of the normalised work and force residual (module docstring).
+        self.roundoff = (3 * (degree + 6) + 2 * sums + 3) * EPS
 
     def extensions(self, u_n: np.ndarray) -> np.ndarray:
         """``e0 + R u`` in extended precision.
@@ -246,7 +303,17 @@ class ExactGeometry:
         signs_ok = not np.any(self.sigma * t < 0)
         if t1 == 0.0 or not np.isfinite(t1) or not signs_ok or not self.strained:
             return RigidCertificate(t, 0.0, np.inf, False)
-        work = float(np.dot(t.astype(np.longdouble), self.e0n) / t1)
-        resid = float(np.abs(self.forces(t)).sum() / t1)
-        ok = work - ROUNDOFF > res.violation + res.displacement * (resid + ROUNDOFF)
-        return RigidCertificate(t, work, resid, ok)
+        work, resid = self.work(t), self.residual(t)
+        ro = self.roundoff
+        ok = bool(work - ro > res.violation + res.displacement * (resid + ro))
+        return RigidCertificate(t, float(work), float(resid), ok)
+
+    def work(self, t: np.ndarray) -> np.longdouble:
+        """``t . e0 / |t|_1`` in extended precision (pairwise sums), for nonzero ``t`` (m,)."""
+        t = np.asarray(t, dtype=np.longdouble)
+        return (t * self.e0n).sum() / np.abs(t).sum()
+
+    def residual(self, t: np.ndarray) -> np.longdouble:
+        """``|R^T t|_1 / |t|_1`` in extended precision, for nonzero ``t`` (m,)."""
+        t = np.asarray(t, dtype=np.longdouble)
+        return np.abs(self.forces(t)).sum() / np.abs(t).sum()

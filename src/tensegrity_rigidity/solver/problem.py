@@ -14,7 +14,7 @@ import scipy.sparse as sp
 
 from ..model.mechanics import affine_extensions, rigidity_matrix
 from ..model.network import Element, Instance
-from .certificates import ExactGeometry
+from .certificates import ExactGeometry, bond_vectors
 from .linalg import PatternFactor
 
 
@@ -93,11 +93,8 @@ class Problem:
         """The extended-precision geometry of the certificates (built on first use)."""
         if self._exact is None:
             net = self.instance.network
-            pos = net.positions.astype(np.longdouble)
-            box = net.box.astype(np.longdouble)
-            b = net.bonds[self.sites]
-            d = pos[b[:, 1]] + net.shifts[self.sites].astype(np.longdouble) @ box - pos[b[:, 0]]
-            self._exact = ExactGeometry(b, d, self.e0, self.sigma, net.n_nodes)
+            d = bond_vectors(net, self.sites)
+            self._exact = ExactGeometry(net.bonds[self.sites], d, self.e0, self.sigma, net.n_nodes)
         return self._exact
 
     def _pattern(self) -> None:
