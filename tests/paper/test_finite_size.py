@@ -51,6 +51,20 @@ def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     assert np.allclose(others.nu, pc.nu, equal_nan=True)
     assert np.isfinite(fss.nu_z) or np.isnan(pc.nu)
     assert all(m.factor == "finite size" for m in fss.measured)
+    # the second reading: nu fixed at the literature's value, reported beside the free fit
+    check = fss.pc_at_check_nu
+    assert check is not None and check.nu_fixed and check.nu == fs.NU_CHECK.value
+    assert check.dof == len(TINY.fss_sizes) - 2
+    assert fss.nu_at_bound == bool(np.any(np.isclose(1 / pc.nu, fs.an.THETA)))
+
+
+def test_the_fixed_nu_reading_recovers_a_known_threshold():
+    """Synthetic sizes on p_c + a n^(-1/1.16): the fixed-nu fit returns p_c within its error."""
+    n = np.array([8.0, 16.0, 32.0, 64.0])
+    err = np.full(4, 1e-3)
+    y = 0.66027 - 0.1 * n ** (-1 / 1.16) + err * np.array([0.5, -0.8, 0.3, 0.9])
+    fit = fs.an.fit_finite_size(n, y, err, nu=fs.NU_CHECK.value, nu_err=fs.NU_CHECK.error)
+    assert abs(fit.y_inf - 0.66027) < 2 * fit.y_inf_err < 0.01
 
 
 def test_delta_study_gives_evidence_for_the_other_deltas_only(runs):
@@ -104,4 +118,6 @@ def test_a_report_of_the_finite_size_studies_alone(tiny_out, tmp_path):
     res = reproduce(tmp_path, "tiny", workers="serial", progress=False, studies=["fss", "delta"])
     md = res["report"]["md"].read_text()
     assert "## Finite size" in md and "## Node disorder delta" in md and "## Figure FS" in md
+    assert "## Comparison with the paper" not in md and "0 claims agree" not in md
+    assert "With nu fixed at the literature's" in md
     assert (tmp_path / "tables" / "fss_extrapolated.csv").exists()

@@ -140,6 +140,14 @@ class FiniteSizeResult:
         The fitted nu against :data:`NU_CHECK`, in units of both errors.
     pc_z : float
         The extrapolated rods-only threshold against :data:`PC_CHECK`, in units of its error.
+    pc_at_check_nu : FiniteSizeFit or None
+        The rods-only extrapolation with nu fixed at :data:`NU_CHECK` (a second reading, shown
+        beside the free fit; the other claims use the free fit's nu).
+    pc_at_check_nu_z : float
+        That extrapolation against :data:`PC_CHECK`.
+    nu_at_bound : bool
+        Whether the free fit's nu ended at a bound of its allowed range (the sizes do not
+        determine it).
     """
 
     by_size: pd.DataFrame
@@ -150,6 +158,9 @@ class FiniteSizeResult:
     samples: tuple[int, ...]  # per size
     excluded: dict[str, int]
     measured: tuple[Measurement, ...] = ()
+    pc_at_check_nu: an.FiniteSizeFit | None = None
+    pc_at_check_nu_z: float = float("nan")
+    nu_at_bound: bool = False
 
 
 def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
@@ -180,6 +191,10 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     ]
     nu_z = an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0)
     pc_z = an.agreement_z(pc_fit.y_inf, pc_fit.y_inf_err**2, PC_CHECK.value, 0.0)
+    y, e = series("rods_only_pc")
+    at_check = an.fit_finite_size(sizes, y, e, nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0)
+    at_check_z = an.agreement_z(at_check.y_inf, at_check.y_inf_err**2, PC_CHECK.value, 0.0)
+    at_bound = bool(np.any(np.isclose(1.0 / pc_fit.nu, an.THETA, rtol=1e-6)))
     label = (
         f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.fss_sizes))} "
         f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
@@ -205,6 +220,9 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         samples=tuple(scale.fss_samples(n) for n in scale.fss_sizes),
         excluded=excluded,
         measured=measured,
+        pc_at_check_nu=at_check,
+        pc_at_check_nu_z=at_check_z,
+        nu_at_bound=at_bound,
     )
 
 
