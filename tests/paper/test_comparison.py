@@ -10,7 +10,13 @@ import pytest
 from scipy.stats import norm
 
 from tensegrity_rigidity.paper.claims import CLAIMS, FACTORS, ROUNDING_2DP, Measurement
-from tensegrity_rigidity.paper.comparison import AGREE_BELOW, compare, comparison_frame, z_score
+from tensegrity_rigidity.paper.comparison import (
+    AGREE_BELOW,
+    compare,
+    comparison_frame,
+    verdict,
+    z_score,
+)
 
 
 @dataclass(frozen=True)
@@ -97,3 +103,33 @@ def test_alternatives_alone_make_no_row():
     key = "rods_only_pc"
     alt = Measurement.scalar(key, 0.66, 0.01, "", factor="finite size", label="n -> inf")
     assert key not in _rows(alt)
+
+
+def test_a_small_z_from_a_large_error_is_inconclusive_not_agreement():
+    c = CLAIMS["fig4c_sum_one"]  # exact 1, resolution 0.1 (the Fig. 4C target)
+    assert c.resolution == pytest.approx(0.1)
+    sharp = Measurement(c.key, np.array([1.05, 0.98]), np.diag([0.08**2, 0.08**2]), "")
+    wide = Measurement(c.key, np.array([1.05, 0.5]), np.diag([0.08**2, 0.4**2]), "")
+    assert verdict(c, sharp)[1] == "agree" and verdict(c, wide)[1] == "inconclusive"
+    row = _rows(wide)[c.key]
+    assert row.verdict == "inconclusive" and "at 1 of 2 points" in row.explanation
+    # a z of 2 or more is a disagreement however wide the errors
+    far = Measurement(c.key, np.array([5.0]), np.array([[1.0]]), "")
+    assert verdict(c, far)[1] == "disagree"
+    # the paper's own error sets the resolution where it is the larger
+    alpha = CLAIMS["alpha_compression_0.3"]  # 1.806 +- 0.130
+    assert alpha.resolution == pytest.approx(0.130)
+    assert verdict(alpha, Measurement.scalar(alpha.key, 1.7, 0.35, ""))[1] == "agree"
+    assert verdict(alpha, Measurement.scalar(alpha.key, 1.7, 0.45, ""))[1] == "inconclusive"
+    # a sign has no resolution: a wide error on the claimed side still agrees
+    rises = CLAIMS["fig4a_dilation_rises"]
+    assert verdict(rises, Measurement.scalar(rises.key, 0.3, 10.0, ""))[1] == "agree"
+
+
+def test_alternatives_with_large_errors_are_inconclusive_not_explanations():
+    key = "st_sr_cables_compression"
+    ours = Measurement.scalar(key, 0.451, 0.01, "n = 32")
+    loose = Measurement.scalar(key, 0.40, 0.06, "n = 32", factor="method", label="paper's verdict")
+    row = _rows(ours, loose)[key]
+    assert "inconclusive" in row.explanation.split("; ")[2]
+    assert "then agrees" not in row.explanation

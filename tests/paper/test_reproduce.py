@@ -64,3 +64,37 @@ def test_one_agreement_rule_stated_once_and_an_explanation_column(tiny):
     assert {"z", "verdict", "explanation", "source"} <= set(comp.columns)
     dis = comp[comp.verdict == "disagree"]
     assert dis.explanation.str.contains("finite size").all()
+
+
+def test_evidence_of_a_finished_fss_run_joins_another_scales_report(tiny, tmp_path):
+    import shutil
+
+    from tensegrity_rigidity.paper.comparison import compare
+    from tensegrity_rigidity.paper.reproduce import reproduce
+
+    out = tmp_path / "with_evidence"
+    shutil.copytree(tiny / "studies", out / "studies")  # fig1c's samples: nothing is solved
+    before = sorted(p.stat().st_mtime_ns for p in (tiny / "studies").rglob("*"))
+    res = reproduce(out, "tiny", workers="serial", progress=False, studies=["fig1c"], evidence=tiny)
+    assert after_is_before(tiny, before)
+    assert {"fig1c", "fss", "delta"} <= set(res["results"])
+    fss_claims = {m.claim for m in res["results"]["fss"].measured}
+    assert fss_claims & {m.claim for m in res["results"]["fig1c"].measured}
+    for row in compare(res["results"]):
+        if row.key in fss_claims and row.verdict == "disagree":
+            assert "finite size: extrapolated" in row.explanation, row.explanation
+    assert "## Figure FS" in (out / "report.md").read_text()
+
+
+def after_is_before(path, before) -> bool:
+    return sorted(p.stat().st_mtime_ns for p in (path / "studies").rglob("*")) == before
+
+
+def test_evidence_without_a_finished_fss_run_is_refused_before_anything_runs(tmp_path, capsys):
+    code = main(
+        ["reproduce", "--scale", "quick", "--out", str(tmp_path / "o"), "--no-progress"]
+        + ["--evidence", str(tmp_path / "nothing")]
+    )
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and "holds no finished finite-size run" in err[-1]
+    assert not (tmp_path / "o" / "studies").exists()

@@ -28,6 +28,14 @@ def add_parser(sub) -> None:
     p.add_argument("--scheduler", default=None, help="Dask scheduler address")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     p.add_argument(
+        "--evidence",
+        default=None,
+        metavar="FSS_DIR",
+        help="the output directory of a finished '--scale fss' run: its finite-size and "
+        "node-disorder results join this report (read only), so that the explanation column "
+        "gives their evidence for each disagreement",
+    )
+    p.add_argument(
         "--estimate",
         action="store_true",
         help="print the threshold searches and grid solves per study and size, the estimated "
@@ -77,6 +85,7 @@ def _run(args) -> int:
             workers=args.workers,
             scheduler=args.scheduler,
             progress=False if args.no_progress else None,
+            evidence=args.evidence,
         )
     except SweepInterrupted as exc:
         import sys

@@ -67,6 +67,13 @@ REFERENCES = {
 }
 
 
+#: the precision the reproduction aims at per family of claims (issue 15; paper.budget chooses
+#: sample counts from them): S_t/S_r +-0.013 (the paper's error on cables under compression),
+#: p_crit and p_c +-0.005, the fraction of taut cables +-0.02, Fig. 4C +-0.1 (the paper prints no
+#: number: a third of the 0.28 deviation the quick run measured at f_c = 0 and 1)
+TARGETS = {"st_sr": 0.013, "p_crit": 0.005, "taut": 0.02, "fig4c": 0.1}
+
+
 @dataclass(frozen=True)
 class Claim:
     """One claim of the paper.
@@ -94,6 +101,8 @@ class Claim:
         The study that measures it.
     relation : str
         "equal", or "positive" / "negative" for a claim about a sign (a trend).
+    target : str
+        The claim's family in :data:`TARGETS` ("" for none): the precision it is measured to.
     """
 
     key: str
@@ -105,6 +114,17 @@ class Claim:
     source: str
     study: str
     relation: str = "equal"
+    target: str = ""
+
+    @property
+    def resolution(self) -> float:
+        """The smallest deviation the comparison is meant to detect (0: not stated).
+
+        The larger of the paper's error and the family's target precision (:data:`TARGETS`).
+        A measurement whose error is much larger than this cannot tell the claim from a
+        deviation of that size (:func:`~tensegrity_rigidity.paper.comparison.verdict`).
+        """
+        return max(self.error, TARGETS.get(self.target, 0.0))
 
 
 #: the factors that can account for a disagreement, in the order the report lists them
@@ -187,6 +207,7 @@ def _claims() -> list[Claim]:
                 "main text on Fig. 1C: 'the nonlinear elements always count as half the linear "
                 "elements in all types of metric strain'; Fig. 1C caption",
                 "fig1c",
+                target="st_sr",
             )
         )
     out += [
@@ -199,6 +220,7 @@ def _claims() -> list[Claim]:
             "stated",
             "Fig. 1C caption: 'cables ... contribute about 37.2 % ± 1.3 %'",
             "fig1c",
+            target="st_sr",
         ),
         Claim(
             "st_sr_struts_dilation",
@@ -209,6 +231,7 @@ def _claims() -> list[Claim]:
             "stated",
             "Fig. 1C caption: '(struts) ... 35.9 % ± 1.5 %'",
             "fig1c",
+            target="st_sr",
         ),
         Claim(
             "st_sr_cables_dilation",
@@ -220,6 +243,7 @@ def _claims() -> list[Claim]:
             "main text on Fig. 1C: 'cables under dilation ... count as much as 67 % as much as "
             "rods'",
             "fig1c",
+            target="st_sr",
         ),
         Claim(
             "rods_only_pc",
@@ -231,6 +255,7 @@ def _claims() -> list[Claim]:
             "SM tables of the energy fits, p_t = 0 rows (p_crit 0.66, 0.65); compared with the "
             "literature value the paper cites, " + REFERENCES["pc_jacobs_thorpe"].citation,
             "fig1c",
+            target="p_crit",
         ),
         Claim(
             "collapse_shear_half",
@@ -242,6 +267,7 @@ def _claims() -> list[Claim]:
             "Fig. 1B caption: 'The contour aligns with the theory (orange line)'; main text: "
             "'the probability is a function of p_r + p_t/2 only'",
             "fig1b",
+            target="st_sr",
         ),
     ]
     for strain, table in (("compression", PCRIT_COMPRESSION), ("dilation", PCRIT_DILATION)):
@@ -260,6 +286,7 @@ def _claims() -> list[Claim]:
                     f"{label}, p_t = {p_t}: p_crit, 'the value of p_r at which E first becomes "
                     "positive'",
                     "fig2",
+                    target="p_crit",
                 )
             )
             out.append(
@@ -284,6 +311,7 @@ def _claims() -> list[Claim]:
             "rounding",
             "main text on Fig. 2B: 'about 37 % of the cables are under positive tension'",
             "fig2",
+            target="taut",
         ),
         Claim(
             "gamma_peak",
@@ -294,6 +322,7 @@ def _claims() -> list[Claim]:
             "exact",
             "Fig. 2B caption: 'Gamma, reaching peaks at the rigidity transition (dashed line)'",
             "fig2",
+            target="p_crit",
         ),
         Claim(
             "fig4a_dilation_rises",
@@ -328,6 +357,7 @@ def _claims() -> list[Claim]:
             "Fig. 4C caption and main text: 'the combined efficacies of a cable and a strut add "
             "up to that of a rod when averaged over all strain, irrespective of f_c'",
             "fig4",
+            target="fig4c",
         ),
         Claim(
             "single_node",

@@ -7,6 +7,7 @@ compute every statistic) and returns :class:`ComparisonRow` objects, which the r
 The agreement rule, the same for every claim (:data:`RULE`)::
 
     z = |ours - paper| / sqrt(err_ours^2 + err_paper^2),   agree when z < 2
+    unless err_ours > 3 x resolution somewhere: then inconclusive
 
 ``err_paper`` is the paper's error bar where it gives one, the rounding of the printed value
 where it gives none (0.01 / sqrt(12) for two decimals), and 0 for an exact statement. A claim
@@ -14,6 +15,13 @@ about several points (every f_c, every p_t) uses its largest per-point z, expres
 normal deviate of the family-wise tail probability (Sidak); a claim about a sign
 ("P rises with f_c") uses the distance of our value to the claimed side. Nothing here is tuned
 to agree.
+
+A small z means agreement only when the comparison could have disagreed. A claim's resolution
+(:attr:`~tensegrity_rigidity.paper.claims.Claim.resolution`: the larger of the paper's error and
+the precision targeted for its family) is the deviation it is meant to detect; where our error
+exceeds :data:`RESOLVES_WITHIN` times it at any point compared, a z below 2 says nothing (a
+deviation of six resolutions would pass too) and the verdict is "inconclusive". A z of 2 or more
+is a disagreement whatever the errors.
 
 Where a claim disagrees, the ``explanation`` names, for each factor that could account for it
 (finite size, node disorder delta, the paper's method, the estimator), the evidence the studies
@@ -36,6 +44,9 @@ from .claims import CLAIMS, FACTORS, Claim, Measurement
 #: z below which a measurement agrees with the paper
 AGREE_BELOW = 2.0
 
+#: our error, in units of the claim's resolution, beyond which a small z is inconclusive
+RESOLVES_WITHIN = 3.0
+
 #: the agreement rule in one sentence, as the report states it
 RULE = (
     "A claim agrees when z = |ours - paper| / sqrt(err_ours^2 + err_paper^2) < 2, with the "
@@ -43,7 +54,11 @@ RULE = (
     "(0.01/sqrt(12) for two decimals) and 0 for an exact statement (S_t/S_r = 0.5, a peak at "
     "p_crit, a sum equal to 1). A claim about k points uses its largest per-point z, converted to "
     "the normal deviate of the family-wise probability 1 - (1 - p)^k (Sidak, valid whatever the "
-    "correlation between points); a claim about a sign uses our distance to the claimed side."
+    "correlation between points); a claim about a sign uses our distance to the claimed side. "
+    "A z below 2 is inconclusive instead when our error exceeds 3 times the claim's resolution "
+    "at some point compared (the resolution is the larger of the paper's error and the precision "
+    "targeted for that kind of claim: S_t/S_r 0.013, p_crit 0.005, taut fraction 0.02, Fig. 4C "
+    "0.1): such a comparison could not have detected a deviation of six resolutions."
 )
 
 
@@ -64,9 +79,10 @@ class ComparisonRow:
     z : float
         The agreement statistic (NaN when ours is missing).
     verdict : str
-        "agree" (z < 2), "disagree" or "n/a".
+        "agree", "disagree", "inconclusive" or "n/a" (:func:`verdict`).
     explanation : str
-        For a disagreement, the evidence for each factor (empty when the claim agrees).
+        For a disagreement, the evidence for each factor; for an inconclusive comparison, why;
+        empty when the claim agrees.
     note : str
         How our value is defined, where that matters.
     source : str
@@ -114,6 +130,48 @@ def z_score(claim: Claim, m: Measurement) -> float:
     return agreement_z(m.value[ok], m.cov[np.ix_(ok, ok)], ref[ok], claim.error)
 
 
+def unresolved(claim: Claim, m: Measurement) -> int:
+    """How many of the compared points have an error above the claim's resolution allowance.
+
+    Points left out of the z (non-finite value or error) are not counted; a claim without a
+    resolution (a sign, a computed reference) has none.
+    """
+    if claim.relation != "equal" or claim.resolution <= 0:
+        return 0
+    ok = np.isfinite(m.value) & np.isfinite(m.err)
+    return int(np.sum(m.err[ok] > RESOLVES_WITHIN * claim.resolution))
+
+
+def verdict(claim: Claim, m: Measurement) -> tuple[float, str]:
+    """The agreement statistic and the verdict of one measurement (the module's rule).
+
+    Returns
+    -------
+    z : float
+        :func:`z_score` (NaN when no point has a finite value and error).
+    verdict : str
+        "disagree" when z >= 2; "inconclusive" when z < 2 but our error exceeds
+        :data:`RESOLVES_WITHIN` times the claim's resolution at some point compared; "agree"
+        otherwise; "n/a" without a value.
+    """
+    z = z_score(claim, m)
+    if not np.isfinite(z):
+        return z, "n/a"
+    if z >= AGREE_BELOW:
+        return z, "disagree"
+    return z, "inconclusive" if unresolved(claim, m) else "agree"
+
+
+def _why_inconclusive(claim: Claim, m: Measurement) -> str:
+    ok = np.isfinite(m.value) & np.isfinite(m.err)
+    where = f" at {unresolved(claim, m)} of {int(ok.sum())} points" if m.value.size > 1 else ""
+    return (
+        f"our error exceeds {RESOLVES_WITHIN:g} x the claim's resolution "
+        f"({claim.resolution:.3g}){where}: a deviation of "
+        f"{2 * RESOLVES_WITHIN * claim.resolution:.3g} would not have been detected"
+    )
+
+
 def _ours(m: Measurement, claim: Claim, digits: int = 3) -> str:
     if m.value.size == 1:
         return fmt(float(m.value[0]), float(m.err[0]), digits)
@@ -148,12 +206,12 @@ def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) 
             continue
         parts = []
         for a in alts:
-            z = z_score(claim, a)
-            judged = (
-                ("then agrees" if z < AGREE_BELOW else "still disagrees")
-                if np.isfinite(z)
-                else "no value"
-            )
+            z, v = verdict(claim, a)
+            judged = {
+                "agree": "then agrees",
+                "disagree": "still disagrees",
+                "inconclusive": "inconclusive: error above 3 x resolution",
+            }.get(v, "no value")
             parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.1f}: {judged})")
         clauses.append(f"{factor}: " + " / ".join(parts))
     return "; ".join(clauses)
@@ -176,12 +234,13 @@ def compare(results: dict) -> list[ComparisonRow]:
         if not ours:
             continue
         m = ours[0]
-        z = z_score(claim, m)
-        if not np.isfinite(z):
-            verdict = "n/a"
-        else:
-            verdict = "agree" if z < AGREE_BELOW else "disagree"
+        z, v = verdict(claim, m)
         others = [a for a in ms if a.factor != "ours"]
+        explanation = ""
+        if v == "disagree":
+            explanation = _evidence(claim, m, others)
+        elif v == "inconclusive":
+            explanation = _why_inconclusive(claim, m)
         rows.append(
             ComparisonRow(
                 key=key,
@@ -190,8 +249,8 @@ def compare(results: dict) -> list[ComparisonRow]:
                 ours=_ours(m, claim),
                 system=m.system,
                 z=z,
-                verdict=verdict,
-                explanation=_evidence(claim, m, others) if verdict == "disagree" else "",
+                verdict=v,
+                explanation=explanation,
                 note=m.note,
                 source=claim.source,
             )

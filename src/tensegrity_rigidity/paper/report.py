@@ -352,8 +352,11 @@ def write_report(
 
     n_agree = sum(r.verdict == "agree" for r in rows)
     n_dis = sum(r.verdict == "disagree" for r in rows)
+    n_inc = sum(r.verdict == "inconclusive" for r in rows)
     counts = (
-        f"{n_agree} claims agree, {n_dis} do not. "
+        f"{n_agree} claims agree, {n_dis} do not"
+        + (f", {n_inc} are inconclusive at this precision" if n_inc else "")
+        + ". "
         if rows
         else "This scale runs none of the paper's figure studies: its claims are compared in "
         "the finite-size and node-disorder tables below (z_paper), claim by claim in the report "

@@ -17,7 +17,7 @@ from .budget import estimate
 from .figures import all_figures
 from .registry import STUDIES
 from .report import write_report
-from .studies import SCALES
+from .studies import SCALES, STORED
 
 #: wall times of each scale on 2 cores of the reference machine: measured where stated, else the
 #: estimate of :mod:`~tensegrity_rigidity.paper.budget` (``reproduce --estimate``; the tests keep
@@ -33,8 +33,56 @@ EXPECTED = {
 }
 
 
+#: the studies ``evidence`` reads from a finished finite-size run
+EVIDENCE_STUDIES = ("fss", "delta")
+
+
+def read_evidence(path) -> tuple[str, dict]:
+    """The finite-size and node-disorder studies of a finished finite-size run, read only.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The output directory of ``reproduce --scale fss`` (or ``fss-cluster``, ``tiny``): every
+        sweep of its :data:`EVIDENCE_STUDIES` must be complete there. Nothing is computed.
+
+    Returns
+    -------
+    scale : str
+        The largest scale whose finite-size sweeps are all stored in ``path``.
+    results : dict
+        Study name -> its result, analysed from the stored samples.
+
+    Raises
+    ------
+    InputError
+        When no scale's finite-size sweeps are all stored in ``path`` (one line, with the
+        command that finishes the run).
+    """
+    path = Path(path)
+    candidates = [s for s in SCALES.values() if set(EVIDENCE_STUDIES) <= set(s.studies)]
+    missing = {}
+    for sc in reversed(candidates):
+        est = estimate(sc, 1, list(EVIDENCE_STUDIES), out=path)
+        missing[sc.name] = (sum(s.new_rows for s in est.sweeps), sum(s.rows for s in est.sweeps))
+        if missing[sc.name][0] == 0:
+            stored = dict(workers=STORED, scheduler=None, progress=False)
+            return sc.name, {n: STUDIES[n](path, sc, **stored) for n in EVIDENCE_STUDIES}
+    new, total = missing["fss"]
+    raise InputError(
+        f"{path} holds no finished finite-size run ({new} of the {total} rows of --scale fss "
+        f"missing); finish it with: tensegrity-rigidity reproduce --scale fss --out {path}"
+    )
+
+
 def reproduce(
-    out, scale: str = "quick", workers=None, scheduler=None, progress=None, studies=None
+    out,
+    scale: str = "quick",
+    workers=None,
+    scheduler=None,
+    progress=None,
+    studies=None,
+    evidence=None,
 ) -> dict:
     """Run the studies of a scale into ``out``, draw the figures and write the report.
 
@@ -55,6 +103,10 @@ def reproduce(
     studies : list of str, optional
         Run only these studies (names of :data:`~tensegrity_rigidity.paper.registry.STUDIES`)
         instead of the scale's.
+    evidence : str or path-like, optional
+        The output directory of a finished ``--scale fss`` run: its finite-size and
+        node-disorder studies (:func:`read_evidence`) join the report, so that its explanation
+        column gives their evidence for the claims measured here.
 
     Returns
     -------
@@ -66,7 +118,8 @@ def reproduce(
     Raises
     ------
     InputError
-        On an unknown scale or study.
+        On an unknown scale or study, or an ``evidence`` directory without a finished
+        finite-size run (checked before anything runs).
     SweepInterrupted
         On Ctrl-C; finished samples are kept and a re-run resumes.
     """
@@ -80,6 +133,11 @@ def reproduce(
     unknown = [n for n in names if n not in STUDIES]
     if unknown:
         raise InputError(f"unknown study {unknown[0]!r}; choose from {', '.join(STUDIES)}")
+    if evidence is not None and set(EVIDENCE_STUDIES) & set(names):
+        raise InputError(
+            f"scale {scale} runs the finite-size studies itself: --evidence is for the others"
+        )
+    found = read_evidence(evidence) if evidence is not None else None
     local = workers is None or workers == "serial" or isinstance(workers, int)
     if scheduler is None and local:
         w = 1 if workers == "serial" else workers or os.cpu_count() or 1
@@ -97,6 +155,13 @@ def reproduce(
             out, sc, workers=workers, scheduler=scheduler, progress=progress
         )
         timings[name] = time.perf_counter() - start
+    if found is not None:
+        print(
+            f"read the finite-size evidence of --scale {found[0]} in {evidence}",
+            file=sys.stderr,
+            flush=True,
+        )
+        results |= found[1]
     print("drawing figures and writing the report", file=sys.stderr, flush=True)
     figures = all_figures(results, out / "figures")
     paths = write_report(out, results, figures, scale, timings)

@@ -243,11 +243,22 @@ def interval_straddles(df: pd.DataFrame, grid) -> int | None:
     return int(hit.any(axis=1).sum())
 
 
+#: ``workers`` value that reads stored rows only: nothing is computed or written (the caller has
+#: checked that every row is stored, as :func:`~tensegrity_rigidity.paper.reproduce.read_evidence`)
+STORED = "stored"
+
+
 def sweep_rows(out: Path, name: str, spec: dict, workers, scheduler, progress):
-    """Run (or resume) one sweep; return its rows to analyse and the count excluded."""
+    """Run (or resume) one sweep; return its rows to analyse and the count excluded.
+
+    With ``workers=STORED`` the rows of ``spec`` are read from ``out`` without running
+    anything.
+    """
     path = out / "studies" / name
-    spec = {"delta": DEFAULT_DELTA} | spec
-    run_sweep(parse_spec(spec), path, executor=workers, scheduler=scheduler, progress=progress)
+    parsed = parse_spec({"delta": DEFAULT_DELTA} | spec)
+    if workers == STORED:
+        return keep_decided(load_results(path, parsed))
+    run_sweep(parsed, path, executor=workers, scheduler=scheduler, progress=progress)
     return keep_decided(load_results(path))
 
 
