@@ -103,3 +103,53 @@ def test_sweep_nonaffinity_is_that_of_solve(tmp_path):
                 assert row.nonaffinity == nonaffinity(inst, res, spec.gamma)
             else:
                 assert np.isnan(row.nonaffinity)
+
+
+#: (p_t, f_c, strain) of the near-threshold set of issue 13 (benchmarks/near_threshold_set.py)
+NEAR_THRESHOLD = [
+    (0.3, 1.0, "compression"),
+    (0.3, 1.0, "dilation"),
+    (0.3, 0.5, "shear"),
+    (0.1, 0.0, "compression"),
+    (0.6, 0.5, "shear"),
+    (0.2, 0.0, "dilation"),
+]
+
+
+def test_minimum_norm_displacements_are_certified_at_the_threshold():
+    """At a sample's own threshold, where the minimum-norm displacements reach 1e2 to 4e5 times
+    the strain: the two configurations each threshold search decides between (n = 10, the six
+    configurations of the near-threshold set, 3 samples each) all get certified minimum-norm
+    displacements, equal in norm to Clarabel's projection to 1e-6 relative wherever Clarabel
+    reports "Solved" (it reports "AlmostSolved", 1e-3 away, on the largest)."""
+    from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
+    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
+    from tensegrity_rigidity.model.sampling import lattice_geometry
+    from tensegrity_rigidity.model.strain import strain_tensor
+
+    n, checked, compared, largest = 10, 0, 0, 0.0
+    for c, (p_t, f_c, phi) in enumerate(NEAR_THRESHOLD):
+        for k in range(3):
+            rng = np.random.default_rng([n, c, k, 7])
+            net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
+            eps = strain_tensor(phi, float(rng.uniform(0, 2 * np.pi)))
+            th = find_threshold(net, u, v, eps, p_t, f_c)
+            assert np.isfinite(th.s_high) and th.s_high > 0
+            ev = EventPath(u, v, "p_r", p_t, f_c)
+            for i in (
+                int(np.searchsorted(ev.positions, th.s_high)) + 1,  # first certified rigid
+                int(np.searchsorted(ev.positions, th.s_low)),  # last certified floppy
+            ):
+                inst = Instance(net.with_kinds(ev.kinds(i)), eps)
+                res = solve(inst)
+                assert res.decided
+                checked += 1
+                assert res.min_norm_ok, (c, k, res.status, res.min_norm_residuals)
+                a = np.linalg.norm(res.displacements)
+                largest = max(largest, a / np.abs(affine_extensions(net, eps)).max())
+                u_ref, status = min_norm_minimizer(inst, res.tensions)
+                if status == "Solved":
+                    compared += 1
+                    b = np.linalg.norm(u_ref - u_ref.mean(axis=0))
+                    assert abs(a - b) <= 1e-6 * b, (c, k, a, b)
+    assert checked == 36 and compared >= 30 and largest > 1e4, (checked, compared, largest)

@@ -488,11 +488,13 @@ def solve(
         E_lower = min(_energy_lower(pe, t_n), E_n)
     min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
     if opts.min_norm and p.sites.size and np.any(p.e0):
-        # the targets t*/k on the engaged elements as the minimiser u_n realises them, so
-        # that the equalities of U* are consistent
-        # (stressed: where the balanced tensions t_n are not zero; purification drops the
-        # round-off tensions of elements that are only touched)
-        mn = min_norm_minimizer(pe, np.where(t_n != 0, t_relaxed, 0.0), u_n)
+        # the targets t*/k as the minimiser u_n realises them on every equality (rods, and
+        # one-sided elements where the balanced tensions t_n are not zero: purification drops
+        # the round-off tensions of elements that are only touched), so that the equalities
+        # of U* are consistent: a rod's target is its extension at u_n even where t_n is 0
+        # (zero targets there left the system inconsistent by that extension, and the
+        # projection could not reach feasibility)
+        mn = min_norm_minimizer(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
         kkt = (mn.feasibility, mn.stationarity, mn.dual)
         if mn.ok:
             u_n, min_norm_ok = mn.u, True
