@@ -25,7 +25,7 @@ from .studies import SCALES, STORED
 EXPECTED = {
     "tiny": "about a minute",
     "quick": "14 minutes measured on 2026-11-23 (estimated 9 minutes)",
-    "paper": "37 minutes measured on 2026-11-23 (estimated 44 minutes)",
+    "paper": "25 minutes measured on 2026-11-23 (estimated 44 minutes)",
     "fss": "180 CPU minutes measured on 2026-11-23: 2 h 04 min wall on 2 shared cores, about "
     "95 minutes alone (estimated 92 minutes; resumable: re-run to continue)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 47 CPU hours "
