@@ -25,7 +25,7 @@ identity block (the objective's Hessian) keeps the system well conditioned howev
 near-floppy ``R`` is, which is where the minimum-norm displacements are large (near a
 sample's own threshold, ``|u|`` reaches ``1e5`` to ``1e7`` times the strain). The iteration
 starts from the minimiser the verdict found (a point of ``U*`` up to its tolerance) and keeps
-the iterate with the smallest KKT residual.
+the iterate with the smallest KKT residual; the multipliers start on the scale of ``|u|``.
 
 Certificate (KKT of the projection): primal feasibility (largest violation of ``U*``, units of
 ``max |e0|``), stationarity ``|u + R^T lam| / |u|`` and complementarity as the relative
@@ -122,7 +122,9 @@ def min_norm_minimizer(
     h = -(p.sigma * p.e0)[In]
     mI = In.size
     u = np.zeros(p.n2) if u_start is None else np.array(u_start, float)
-    y, z = np.zeros(E.size), np.ones(mI)
+    # multipliers on the scale of the start: u = -R^T lam needs |lam| of order |u| (z = 1
+    # instead took about twice the iterations near the threshold, where |u| is 1e3 to 1e7)
+    y, z = np.zeros(E.size), np.full(mI, max(1.0, float(np.abs(u).max(initial=0.0))))
     s = np.maximum(h - G @ u, 1.0)
     best: tuple | None = None
     it = 0
