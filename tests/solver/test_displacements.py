@@ -16,7 +16,7 @@ from tests.instances import random_instance
 def test_minimum_norm_displacements_match_an_independent_projection():
     """On 200 random small instances (floppy and rigid): every certified minimum-norm
     displacement has the norm of Clarabel's projection to 1e-6 relative, minimises the
-    energy, and at least 90% of the samples are certified."""
+    energy, and at least 98% of the samples are certified (199 of 200 on 2026-11-23)."""
     rng = np.random.default_rng(11)
     certified = checked = 0
     kinds = {"rigid": 0, "floppy": 0}
@@ -44,7 +44,7 @@ def test_minimum_norm_displacements_match_an_independent_projection():
         # a minimiser: its energy is E*
         e_ref = max(res.affine_energy, 1e-300)
         assert energy(inst, res.displacements) <= res.energy + 1e-9 * e_ref, i
-    assert certified >= 0.9 * checked, (certified, checked)
+    assert certified >= 0.98 * checked, (certified, checked)
     assert min(kinds.values()) >= 10, kinds
 
 
