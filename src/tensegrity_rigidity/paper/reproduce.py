@@ -24,7 +24,7 @@ from .studies import SCALES, STORED
 #: the two in step) until someone times a run
 EXPECTED = {
     "tiny": "about a minute",
-    "quick": "14 minutes measured on 2026-11-23 (estimated 9 minutes)",
+    "quick": "6 minutes measured on 2026-11-23, install included (estimated 9 minutes)",
     "paper": "25 minutes measured on 2026-11-23 (estimated 44 minutes)",
     "fss": "180 CPU minutes measured on 2026-11-23: 2 h 04 min wall on 2 shared cores, about "
     "95 minutes alone (estimated 92 minutes; resumable: re-run to continue)",
