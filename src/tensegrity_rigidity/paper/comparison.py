@@ -39,7 +39,7 @@ import numpy as np
 import pandas as pd
 
 from ..analysis.estimators import agreement_z, sign_z
-from .claims import CLAIMS, FACTORS, Claim, Measurement
+from .claims import CLAIMS, FACTORS, TARGETS, Claim, Measurement
 
 #: z below which a measurement agrees with the paper
 AGREE_BELOW = 2.0
@@ -55,10 +55,12 @@ RULE = (
     "p_crit, a sum equal to 1). A claim about k points uses its largest per-point z, converted to "
     "the normal deviate of the family-wise probability 1 - (1 - p)^k (Sidak, valid whatever the "
     "correlation between points); a claim about a sign uses our distance to the claimed side. "
-    "A z below 2 is inconclusive instead when our error exceeds 3 times the claim's resolution "
-    "at some point compared (the resolution is the larger of the paper's error and the precision "
-    "targeted for that kind of claim: S_t/S_r 0.013, p_crit 0.005, taut fraction 0.02, Fig. 4C "
-    "0.1): such a comparison could not have detected a deviation of six resolutions."
+    f"A z below 2 is inconclusive instead when our error exceeds {RESOLVES_WITHIN:g} times the "
+    "claim's resolution at some point compared (the resolution is the larger of the paper's "
+    "error and the precision targeted for that kind of claim: "
+    f"S_t/S_r {TARGETS['st_sr']:g}, p_crit {TARGETS['p_crit']:g}, taut fraction "
+    f"{TARGETS['taut']:g}, Fig. 4C {TARGETS['fig4c']:g}): such a comparison could not have "
+    f"detected a deviation of {2 * RESOLVES_WITHIN:g} resolutions."
 )
 
 
@@ -210,7 +212,7 @@ def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) 
             judged = {
                 "agree": "then agrees",
                 "disagree": "still disagrees",
-                "inconclusive": "inconclusive: error above 3 x resolution",
+                "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
             }.get(v, "no value")
             parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.1f}: {judged})")
         clauses.append(f"{factor}: " + " / ".join(parts))

@@ -150,17 +150,14 @@ def min_norm_minimizer(
             kkt_system.factor(s / z)
         except RuntimeError:  # QDLDL: not quasi-definite to working precision; keep the best
             break
-
-        def newton(rc):
-            """(du, dy, dz, ds) for the complementarity residual ``rc``."""
-            du, dy, dz = kkt_system.solve(-rd, -re, -ri + rc / z)  # noqa: B023 (called here)
-            return du, dy, dz, -(rc + s * dz) / z  # noqa: B023
-
-        du, dy, dz, ds = newton(z * s)  # predictor (affine scaling)
+        residuals = (rd, re, ri)
+        du, dy, dz, ds = kkt_system.newton(residuals, z * s, z, s)  # predictor (affine scaling)
         a = min(_to_boundary(z, dz), _to_boundary(s, ds))
         mu_aff = float((z + a * dz) @ (s + a * ds)) / max(mI, 1)
         centring = (mu_aff / mu) ** 3 if mu > 0 else 0.0
-        du, dy, dz, ds = newton(z * s + dz * ds - centring * mu)  # corrector
+        du, dy, dz, ds = kkt_system.newton(  # corrector
+            residuals, z * s + dz * ds - centring * mu, z, s
+        )
         a = 0.99 * min(_to_boundary(z, dz), _to_boundary(s, ds))
         u += a * du
         y += a * dy
@@ -220,6 +217,13 @@ class _QuasiDefinite:
             self._solver = qdldl.Solver(self.K)
         else:
             self._solver.update(self.K)
+
+    def newton(self, residuals, rc, z, s):
+        """(du, dy, dz, ds) of the interior-point step for the residuals ``(rd, re, ri)`` and
+        the complementarity residual ``rc``, at multipliers ``z`` and slacks ``s``."""
+        rd, re, ri = residuals
+        du, dy, dz = self.solve(-rd, -re, -ri + rc / z)
+        return du, dy, dz, -(rc + s * dz) / z
 
     def solve(self, r1, r2, r3):
         """(du, dy, dz) of the unregularised system with right-hand side (r1, r2, r3)."""
