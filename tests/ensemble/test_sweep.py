@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -94,6 +95,21 @@ def _wait_for_parts(out, n, proc):
             return
         time.sleep(0.05)
     raise AssertionError(f"no {n} saved chunks before the deadline (return code {proc.poll()})")
+
+
+def _communicate_or_dump(proc, timeout: float) -> str:
+    """Standard error of ``proc`` once it exits; if it has not exited within ``timeout`` s, fail
+    with the Python stack of each of its threads (faulthandler, on SIGABRT) instead of hanging."""
+    try:
+        return proc.communicate(timeout=timeout)[1]
+    except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGABRT)
+        try:
+            err = proc.communicate(timeout=10)[1]
+        finally:
+            with contextlib.suppress(ProcessLookupError):  # workers left behind, if any
+                os.killpg(proc.pid, signal.SIGKILL)
+        raise AssertionError(f"running {timeout} s after the signal; stacks:\n{err}") from None
 
 
 def _frame(out):
@@ -283,11 +299,12 @@ def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
         start_new_session=True,
         stderr=subprocess.PIPE,
         text=True,
-        env=_held_back_env(tmp_path),
+        # a hang is diagnosed below: SIGABRT makes faulthandler print every thread's stack
+        env=_held_back_env(tmp_path) | {"PYTHONFAULTHANDLER": "1"},
     )
     _wait_for_parts(out, 1, proc)
     os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole process group
-    _, err = proc.communicate(timeout=60)
+    err = _communicate_or_dump(proc, timeout=60)
     assert proc.returncode == 130
     assert "interrupted" in err and "Traceback" not in err
     kept = list(out.glob("part-*.parquet"))
