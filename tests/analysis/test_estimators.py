@@ -6,10 +6,13 @@ import numpy as np
 import pytest
 
 from tensegrity_rigidity.analysis.estimators import (
+    contour_slope,
     critical_point,
     fit_collapse,
     fit_energy_power_law,
+    paired_bootstrap,
     paired_derivative,
+    resampler,
     wilson,
 )
 
@@ -55,3 +58,59 @@ def test_paired_derivative_and_critical_point():
     assert abs(d.value - exact) <= 4 * d.err
     pc, err = critical_point(thr)
     assert abs(pc - 0.6) <= 4 * err
+
+
+def test_resampler_without_groups_draws_the_rows_it_always_drew():
+    draw = resampler(7, rng=np.random.default_rng(5))
+    ref = np.random.default_rng(5)
+    for _ in range(3):
+        assert np.array_equal(draw(), ref.integers(0, 7, 7))
+
+
+def test_resampler_draws_whole_groups():
+    groups = np.array([3, 1, 3, 2, 1, 2])  # three units of two rows, interleaved
+    draw = resampler(6, groups, np.random.default_rng(0))
+    for _ in range(20):
+        idx = draw()
+        assert idx.size == 6
+        picked = groups[idx]
+        # every unit drawn brings both of its rows, once per draw
+        for g in np.unique(picked):
+            rows = idx[picked == g]
+            assert sorted(set(rows)) == sorted(np.flatnonzero(groups == g))
+            assert rows.size % 2 == 0
+    with pytest.raises(ValueError, match="shape"):
+        resampler(5, groups)
+
+
+def test_the_same_samples_under_three_strains_are_one_unit_each():
+    """Rods-only thresholds do not depend on the strain: pooled over three strains they are the
+    same samples three times, and their error is that of one copy, not sqrt(3) smaller."""
+    rng = np.random.default_rng(8)
+    t = rng.normal(0.66, 0.01, 300)
+    tripled, units = np.tile(t, 3), np.tile(np.arange(t.size), 3)
+    pc1, err1 = critical_point(t)
+    pc3, err3 = critical_point(tripled, groups=units)
+    _, naive = critical_point(tripled)
+    assert pc3 == pc1
+    assert 0.8 < err3 / err1 < 1.25
+    assert naive / err1 < 0.75  # what resampling rows as independent samples reports
+
+    # the collapse fit, the contour slope and a paired bootstrap the same way
+    x_star = rng.normal(0.62, 0.03, 200)
+    pr, pt = np.meshgrid(np.linspace(0.4, 0.85, 19), [0.0, 0.3])
+    pr, pt = pr.ravel(), pt.ravel()
+    y = (pr[None] + 0.5 * pt[None]) > x_star[:, None]
+    y3, g3 = np.vstack([y, y, y]), np.tile(np.arange(y.shape[0]), 3)
+    one = fit_collapse(y, pr, pt, n_boot=60)
+    three = fit_collapse(y3, pr, pt, n_boot=60, groups=g3)
+    assert three.lam == pytest.approx(one.lam, abs=1e-6) and three.n_samples == 200
+    assert 0.7 < three.lam_err / one.lam_err < 1.4
+    thr = np.column_stack([x_star, x_star - 0.5 * 0.3])
+    c1 = contour_slope(thr, np.array([0.0, 0.3]), n_boot=100)
+    c3 = contour_slope(np.vstack([thr] * 3), np.array([0.0, 0.3]), n_boot=100, groups=g3)
+    assert c3.value == pytest.approx(c1.value)
+    assert 0.7 < c3.err / c1.err < 1.4
+    est = paired_bootstrap(np.mean, tripled, tripled + 0.01, n_boot=200, groups=units)
+    est1 = paired_bootstrap(np.mean, t, t + 0.01, n_boot=200)
+    assert 0.8 < est.a_err / est1.a_err < 1.25

@@ -67,6 +67,22 @@ def test_the_fixed_nu_reading_recovers_a_known_threshold():
     assert abs(fit.y_inf - 0.66027) < 2 * fit.y_inf_err < 0.01
 
 
+def test_rods_only_threshold_error_counts_samples_not_strains(runs):
+    """The rods-only P = 1/2 point pools three strains of the same samples: its bootstrap draws
+    samples (all their strains at once), as from the thresholds of one strain per sample."""
+    fss, _, out = runs
+    n = TINY.fss_sizes[-1]
+    name = f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods"
+    rods = load_results(out / "studies" / name)
+    assert rods.phi.nunique() == 3
+    got = fss.by_size.set_index(["n", "key"]).loc[(n, "rods_only_pc")]
+    value, err = fs.an.critical_point(
+        rods.threshold_p_r.to_numpy(), groups=rods["sample"].to_numpy()
+    )
+    assert (got.value, got.err) == (value, err)
+    assert err != fs.an.critical_point(rods.threshold_p_r.to_numpy())[1]
+
+
 def test_delta_study_gives_evidence_for_the_other_deltas_only(runs):
     _, delta, _ = runs
     assert set(delta.by_delta.delta) == set(TINY.deltas) == {0.1, 0.2, 0.3}

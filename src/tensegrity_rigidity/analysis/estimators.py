@@ -90,6 +90,45 @@ def rigidity_probability(df: pd.DataFrame, by: list[str]) -> pd.DataFrame:
     return g.assign(P=p, lo=lo, hi=hi).rename(columns={"sum": "k", "count": "N"})
 
 
+def resampler(n_rows: int, groups=None, rng: np.random.Generator | None = None):
+    """A function returning the row indices of one bootstrap replica.
+
+    Parameters
+    ----------
+    n_rows : int
+        Rows of the data.
+    groups : (n_rows,) array, optional
+        Label of each row's independent unit. Rows of one unit are drawn together (a cluster
+        bootstrap): the same sample measured under several strains is one unit, not several.
+        Without it every row is a unit.
+    rng : numpy.random.Generator, optional
+        Source of the draws.
+
+    Returns
+    -------
+    callable
+        ``draw()`` -> (R,) int row indices of a replica (``R = n_rows`` without groups, and
+        with groups of equal size). Without groups a draw is ``rng.integers(0, n_rows,
+        n_rows)``, exactly the rows the estimators drew before groups existed.
+    """
+    rng = rng or np.random.default_rng(0)
+    if groups is None:
+        return lambda: rng.integers(0, n_rows, n_rows)
+    labels = np.asarray(groups)
+    if labels.shape != (n_rows,):
+        raise ValueError(f"groups has shape {labels.shape}, expected ({n_rows},)")
+    _, unit = np.unique(labels, return_inverse=True)
+    order = np.argsort(unit, kind="stable")
+    members = np.split(order, np.cumsum(np.bincount(unit))[:-1])
+    k = len(members)
+    return lambda: np.concatenate([members[i] for i in rng.integers(0, k, k)])
+
+
+def n_units(n_rows: int, groups=None) -> int:
+    """Independent units behind ``n_rows`` rows (distinct ``groups``, else the rows)."""
+    return n_rows if groups is None else int(np.unique(np.asarray(groups)).size)
+
+
 # --------------------------------------------------------------------------- efficacy ratio
 
 
@@ -146,6 +185,7 @@ def fit_collapse(
     p_t: np.ndarray,
     n_boot: int = 200,
     rng: np.random.Generator | None = None,
+    groups=None,
 ) -> CollapseFit:
     """Binomial-likelihood fit of P = F(p_r + lam p_t) to per-sample outcomes.
 
@@ -160,6 +200,9 @@ def fit_collapse(
         Bootstrap replicas for the errors.
     rng : numpy.random.Generator, optional
         Source of the bootstrap (a fixed seed by default).
+    groups : (S,) array, optional
+        Independent unit of each row (:func:`resampler`): rows of the same sample under
+        several strains are resampled together.
 
     Returns
     -------
@@ -183,10 +226,11 @@ def fit_collapse(
     start = np.array([0.5, x0, np.log(0.03)])
     best = _fit_counts(p_r, p_t, k, n, start)
     fits = []
+    draw = resampler(y.shape[0], groups, rng)
     for _ in range(n_boot):
-        idx = rng.integers(0, y.shape[0], y.shape[0])
+        idx = draw()
         kb = y[idx].sum(axis=0)
-        fits.append(_fit_counts(p_r, p_t, kb, n, best))
+        fits.append(_fit_counts(p_r, p_t, kb, np.full(y.shape[1], float(idx.size)), best))
     boots = np.array(fits) if fits else np.full((1, 3), np.nan)
     sd = boots.std(axis=0, ddof=1) if len(boots) > 1 else np.full(3, np.nan)
     w_samples = np.exp(boots[:, 2])
@@ -197,8 +241,15 @@ def fit_collapse(
         float(sd[0]),
         float(sd[1]),
         float(w_samples.std(ddof=1)) if len(boots) > 1 else np.nan,
-        int(y.shape[0]),
+        n_units(y.shape[0], groups),
     )
+
+
+def common_samples(rows: pd.DataFrame, p_t_col: str = "p_t") -> np.ndarray:
+    """(S,) sorted sample ids present at every value of ``p_t_col`` in ``rows``: the rows of
+    :func:`outcomes_from_thresholds`, in order."""
+    sets = [set(sub["sample"]) for _, sub in rows.groupby(p_t_col)]
+    return np.array(sorted(set.intersection(*sets))) if sets else np.array([], int)
 
 
 def outcomes_from_thresholds(
@@ -230,8 +281,7 @@ def outcomes_from_thresholds(
     is left out everywhere, keeping the rows paired.
     """
     cols, pr, pt = [], [], []
-    groups = [set(sub["sample"]) for _, sub in thresholds.groupby(p_t_col)]
-    samples = np.array(sorted(set.intersection(*groups))) if groups else np.array([], int)
+    samples = common_samples(thresholds, p_t_col)
     for p_t, sub in thresholds.groupby(p_t_col):
         s = sub.set_index("sample").reindex(samples)["threshold_p_r"].to_numpy()
         s = np.where(np.isnan(s), np.inf, s)
@@ -592,13 +642,18 @@ def fit_energy_power_law(
     )
 
 
-def critical_point(thresholds: np.ndarray) -> tuple[float, float]:
+def critical_point(thresholds: np.ndarray, groups=None) -> tuple[float, float]:
     """p_crit as the median per-sample threshold (where P = 1/2), with a bootstrap error.
 
     Parameters
     ----------
     thresholds : (S,) float
         Per-sample thresholds (NaN: never rigid, counted above every p_r).
+    groups : (S,) array, optional
+        Independent unit of each threshold (:func:`resampler`). Rods-only thresholds of one
+        sample are the same under every strain: pooled over strains they are one unit, and
+        resampling them as independent would shrink the error by the square root of the
+        number of strains.
 
     Returns
     -------
@@ -609,7 +664,8 @@ def critical_point(thresholds: np.ndarray) -> tuple[float, float]:
     t = np.where(np.isnan(t), np.inf, t)
     rng = np.random.default_rng(1)
     med = float(np.median(t))
-    boots = [np.median(t[rng.integers(0, t.size, t.size)]) for _ in range(200)]
+    draw = resampler(t.size, groups, rng)
+    boots = [np.median(t[draw()]) for _ in range(200)]
     return med, float(np.std(boots, ddof=1))
 
 
@@ -786,7 +842,9 @@ def first_positive(
     return Location(best, float(np.hypot(sd, h / np.sqrt(12))))
 
 
-def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rng=None) -> Location:
+def contour_slope(
+    thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rng=None, groups=None
+) -> Location:
     """S_t/S_r as minus the slope of the P = 1/2 contour, p_r*(p_t) = x0 - lam p_t.
 
     Parameters
@@ -800,6 +858,8 @@ def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rn
         Bootstrap replicas.
     rng : numpy.random.Generator, optional
         Source of the bootstrap (a fixed seed by default).
+    groups : (S,) array, optional
+        Independent unit of each row (:func:`resampler`).
 
     Returns
     -------
@@ -827,13 +887,18 @@ def contour_slope(thresholds: np.ndarray, p_t: np.ndarray, n_boot: int = 200, rn
         return -float(d @ med[ok] / (d @ d))
 
     best = lam(t)
-    lams = np.array([lam(t[rng.integers(0, t.shape[0], t.shape[0])]) for _ in range(n_boot)])
+    draw = resampler(t.shape[0], groups, rng)
+    lams = np.array([lam(t[draw()]) for _ in range(n_boot)])
     boots = lams[np.isfinite(lams)]
     return Location(best, float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan)
 
 
 def crossing_point(
-    outcomes: np.ndarray, x: np.ndarray, n_boot: int = 200, rng: np.random.Generator | None = None
+    outcomes: np.ndarray,
+    x: np.ndarray,
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+    groups=None,
 ) -> Location:
     """Where P(x) crosses 1/2, from a logistic fit to outcomes on a grid, with a bootstrap error.
 
@@ -847,6 +912,8 @@ def crossing_point(
         Bootstrap replicas.
     rng : numpy.random.Generator, optional
         Source of the bootstrap (a fixed seed by default).
+    groups : (S,) array, optional
+        Independent unit of each row (:func:`resampler`).
 
     Returns
     -------
@@ -871,8 +938,8 @@ def crossing_point(
         return float(x.mean() - b0 / b1) if b1 > 0 else np.nan
 
     best = cross(y)
-    S = y.shape[0]
-    boots = np.array([cross(y[rng.integers(0, S, S)]) for _ in range(n_boot)])
+    draw = resampler(y.shape[0], groups, rng)
+    boots = np.array([cross(y[draw()]) for _ in range(n_boot)])
     boots = boots[np.isfinite(boots)]
     return Location(best, float(np.std(boots, ddof=1)) if boots.size > 1 else np.nan)
 
@@ -900,7 +967,7 @@ class PairedEstimate:
 
 
 def paired_bootstrap(
-    statistic, a: np.ndarray, b: np.ndarray, n_boot: int = 200, rng=None
+    statistic, a: np.ndarray, b: np.ndarray, n_boot: int = 200, rng=None, groups=None
 ) -> PairedEstimate:
     """``statistic`` of two data sets of the same samples, with errors of each and of b - a.
 
@@ -914,6 +981,8 @@ def paired_bootstrap(
         Bootstrap replicas.
     rng : numpy.random.Generator, optional
         Source of the bootstrap (a fixed seed by default).
+    groups : (S,) array, optional
+        Independent unit of each row (:func:`resampler`).
 
     Returns
     -------
@@ -929,10 +998,10 @@ def paired_bootstrap(
     rng = rng or np.random.default_rng(7)
     a, b = np.asarray(a), np.asarray(b)
     va, vb = statistic(a), statistic(b)
-    S = a.shape[0]
+    draw = resampler(a.shape[0], groups, rng)
     draws = []
     for _ in range(n_boot):
-        idx = rng.integers(0, S, S)
+        idx = draw()
         draws.append((statistic(a[idx]), statistic(b[idx])))
     d = np.array(draws, float).reshape(-1, 2)
     d = d[np.all(np.isfinite(d), axis=1)]

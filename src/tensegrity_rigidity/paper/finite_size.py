@@ -91,7 +91,8 @@ def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
         frames[part], excluded[name] = sweep_rows(out, name, spec, **kw)
     rods, mixed, pcrit = frames["rods"], frames["mixed"], frames["pcrit"]
     rows = []
-    pc, pc_err = an.critical_point(rods.threshold_p_r.to_numpy())
+    # rods-only thresholds do not depend on the strain: a sample is one unit, not three
+    pc, pc_err = an.critical_point(rods.threshold_p_r.to_numpy(), groups=rods["sample"].to_numpy())
     rows.append({"key": "rods_only_pc", "value": pc, "err": pc_err})
     grid = np.arange(0.3, 0.9001, 0.01)
     for key, f_c, strain in LAMBDA_CLAIMS:

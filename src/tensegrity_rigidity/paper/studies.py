@@ -477,13 +477,15 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
     grid = np.arange(0.3, 0.9001, 0.01)
     fits, contour = [], []
     for f_c in FC5:
-        pooled, pooled_t = [], []
+        pooled, pooled_t, units = [], [], []
         for phi in FIG1C_PHI:
             sub = df[np.isclose(df.f_c, f_c) & np.isclose(df.phi, phi)]
             y, pr, pt = an.outcomes_from_thresholds(sub, grid)
             t = threshold_matrix(sub, p_t)
             pooled.append(y)
             pooled_t.append(t)
+            units.append(an.common_samples(sub))  # the rows of y and of t
+
             if phi in (0.0, math.pi / 2, math.pi):
                 fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap)
                 fits.append({"f_c": f_c, "strain": strain_name(phi), "phi": phi, **fit.__dict__})
@@ -491,12 +493,18 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
                 contour.append(
                     {"f_c": f_c, "strain": strain_name(phi), "lam": c.value, "lam_err": c.err}
                 )
-        fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap)
+        # the strain average: a sample under every strain is one unit of the bootstrap
+        groups = np.concatenate(units)
+        fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap, groups=groups)
         fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
-        c = an.contour_slope(np.vstack(pooled_t), np.array(p_t), n_boot=scale.bootstrap)
+        c = an.contour_slope(
+            np.vstack(pooled_t), np.array(p_t), n_boot=scale.bootstrap, groups=groups
+        )
         contour.append({"f_c": f_c, "strain": "average", "lam": c.value, "lam_err": c.err})
     rods_only = rods.drop_duplicates(["phi", "sample"])
-    pc, pc_err = an.critical_point(rods_only.threshold_p_r.to_numpy())
+    pc, pc_err = an.critical_point(
+        rods_only.threshold_p_r.to_numpy(), groups=rods_only["sample"].to_numpy()
+    )
     fits, contour = pd.DataFrame(fits), pd.DataFrame(contour)
     system = f"n = {scale.n_threshold}, {scale.samples_threshold} samples x 2 p_t"
     measured = []
