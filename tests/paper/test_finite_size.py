@@ -37,15 +37,20 @@ def test_every_headline_claim_at_every_size(runs):
     fss, _, _ = runs
     assert KEYS <= set(CLAIMS)
     assert set(fss.by_size.key) == KEYS
-    assert sorted(set(fss.by_size.n)) == list(TINY.fss_sizes)
-    assert len(fss.by_size) == len(KEYS) * len(TINY.fss_sizes)
+    others = fss.by_size[fss.by_size.key != "rods_only_pc"]
+    assert sorted(set(others.n)) == list(TINY.fss_sizes)
+    assert len(others) == (len(KEYS) - 1) * len(TINY.fss_sizes)
+    # the rods-only point at the sizes of its own one-strain sweeps (fss_pc)
+    pc = fss.by_size[fss.by_size.key == "rods_only_pc"]
+    assert TINY.fss_pc and list(pc.n) == list(TINY.pc_sizes) == [n for n, _ in TINY.fss_pc]
+    assert fss.pc_samples == tuple(s for _, s in TINY.fss_pc)
 
 
 def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     fss, _, _ = runs
     ex = fss.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
-    assert not pc.nu_fixed and pc.dof == len(TINY.fss_sizes) - 3
+    assert not pc.nu_fixed and pc.dof == len(TINY.pc_sizes) - 3
     others = ex.drop(index="rods_only_pc")
     assert others.nu_fixed.all()
     assert np.allclose(others.nu, pc.nu, equal_nan=True)
@@ -54,7 +59,7 @@ def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     # the second reading: nu fixed at the literature's value, reported beside the free fit
     check = fss.pc_at_check_nu
     assert check is not None and check.nu_fixed and check.nu == fs.NU_CHECK.value
-    assert check.dof == len(TINY.fss_sizes) - 2
+    assert check.dof == len(TINY.pc_sizes) - 2
     assert fss.nu_at_bound == bool(np.any(np.isclose(1 / pc.nu, fs.an.THETA)))
 
 
@@ -68,19 +73,32 @@ def test_the_fixed_nu_reading_recovers_a_known_threshold():
 
 
 def test_rods_only_threshold_error_counts_samples_not_strains(runs):
-    """The rods-only P = 1/2 point pools three strains of the same samples: its bootstrap draws
-    samples (all their strains at once), as from the thresholds of one strain per sample."""
-    fss, _, out = runs
+    """The headline rods-only P = 1/2 point pools three strains of the same samples: its
+    bootstrap draws samples (all their strains at once), not (sample, strain) rows."""
+    _, _, out = runs
     n = TINY.fss_sizes[-1]
-    name = f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods"
-    rods = load_results(out / "studies" / name)
+    frame, _ = fs.headline(out, n, fs.DEFAULT_DELTA, TINY.fss_samples(n), 20, **SERIAL)
+    rods = load_results(out / "studies" / f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods")
     assert rods.phi.nunique() == 3
-    got = fss.by_size.set_index(["n", "key"]).loc[(n, "rods_only_pc")]
+    got = frame.set_index("key").loc["rods_only_pc"]
     value, err = fs.an.critical_point(
         rods.threshold_p_r.to_numpy(), groups=rods["sample"].to_numpy()
     )
     assert (got.value, got.err) == (value, err)
-    assert err != fs.an.critical_point(rods.threshold_p_r.to_numpy())[1]
+
+
+def test_rods_only_sweeps_share_the_headline_samples(runs):
+    """Sample k of the one-strain rods-only sweep is sample k of the headline sweeps: the same
+    threshold under the same strain."""
+    _, _, out = runs
+    n = TINY.fss_sizes[-1]
+    (name,) = fs.rods_pc_sweep(n, fs.DEFAULT_DELTA, 1)
+    own = load_results(out / "studies" / name).set_index("sample")
+    rods = load_results(out / "studies" / f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods")
+    head = rods[np.isclose(rods.phi, 0.0)].set_index("sample")
+    common = own.index.intersection(head.index)
+    assert len(common) == min(len(own), len(head)) > 0
+    assert np.array_equal(own.loc[common].threshold_p_r, head.loc[common].threshold_p_r)
 
 
 def test_delta_study_gives_evidence_for_the_other_deltas_only(runs):

@@ -491,7 +491,8 @@ def expected_errors(scale: Scale | str) -> pd.DataFrame:
         # every S_t/S_r claim has the first's error, every p_crit the rods-only p_c's
         for n in scale.fss_sizes:
             add("st_sr_cables_compression", f"fss n={n}", "st_sr", n, scale.fss_samples(n))
-            add("rods_only_pc", f"fss n={n}", "p_crit", n, scale.fss_samples(n))
+        for n in scale.pc_sizes:
+            add("rods_only_pc", f"fss n={n}", "p_crit", n, scale.pc_samples(n))
     if "delta" in scale.studies:
         add("st_sr_cables_compression", "delta", "st_sr", scale.n_delta, scale.samples_delta)
         add("rods_only_pc", "delta", "p_crit", scale.n_delta, scale.samples_delta)

@@ -8,6 +8,10 @@ n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
   :func:`headline_sweeps`) under dilation, shear and compression, giving the headline claims
   at that size: the rods-only P = 1/2 point, S_t/S_r for f_c = 0.5 per strain and for the
   one-sided systems, and p_crit of rods + cables per p_t.
+  Where the scale gives ``fss_pc``, the rods-only point comes instead from one-strain sweeps
+  of its own (:func:`rods_pc_sweep`) with more samples and sizes up to 128: a rods-only
+  threshold does not depend on the strain, and it is the one extrapolation with a literature
+  value precise to 3e-4. Estimates pooled over strains bootstrap samples, not rows.
   Each is extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
   (:func:`~tensegrity_rigidity.analysis.estimators.fit_finite_size`): for the rods-only
   threshold with nu fitted (the literature's nu = 1.16 to 1.21 is a check, not an input), for
@@ -80,6 +84,19 @@ def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     }
 
 
+def rods_pc_sweep(n: int, delta: float, samples: int) -> dict[str, dict]:
+    """Sweep name -> spec of the rods-only thresholds of the p_c extrapolation at (n, delta).
+
+    One strain (dilation): a rods-only threshold does not depend on the strain (identical under
+    dilation, shear and compression for all 400 samples at n = 8 and 96 % at n = 32 of the fss
+    run), so a second strain would cost a full search for no new information. Seed 61, so
+    sample k is the disorder of sample k of :func:`headline_sweeps` (common random numbers).
+    """
+    spec = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": [0.0]}
+    spec |= {"p_t": 0.0, "f_c": 0.5, "threshold": {"path": "p_r"}}
+    return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
+
+
 def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
     """The headline claims at one (n, delta) from the sweeps of :func:`headline_sweeps`.
 
@@ -149,6 +166,9 @@ class FiniteSizeResult:
     nu_at_bound : bool
         Whether the free fit's nu ended at a bound of its allowed range (the sizes do not
         determine it).
+    pc_sizes, pc_samples : tuple of int
+        Sizes of the rods-only extrapolation and its samples at each (the headline sweeps'
+        unless the scale gives ``fss_pc``).
     """
 
     by_size: pd.DataFrame
@@ -162,6 +182,8 @@ class FiniteSizeResult:
     pc_at_check_nu: an.FiniteSizeFit | None = None
     pc_at_check_nu_z: float = float("nan")
     nu_at_bound: bool = False
+    pc_sizes: tuple[int, ...] = ()  # sizes of the rods-only extrapolation
+    pc_samples: tuple[int, ...] = ()  # its samples per size
 
 
 def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
@@ -173,32 +195,41 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         frames.append(f.assign(n=n))
         excluded |= ex
     by_size = pd.concat(frames, ignore_index=True)
-    sizes = np.array(scale.fss_sizes, float)
+    if scale.fss_pc:  # the rods-only point from its own sweeps, at its own sizes
+        pc_rows = []
+        for n in scale.pc_sizes:
+            ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
+            rows, excluded[name] = sweep_rows(out, name, spec, **kw)
+            value, err = an.critical_point(rows.threshold_p_r.to_numpy())
+            pc_rows.append({"key": "rods_only_pc", "value": value, "err": err, "n": n})
+        by_size = pd.concat(
+            [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
+        )
 
-    def series(key):
-        s = by_size[by_size.key == key].set_index("n").reindex(scale.fss_sizes)
-        return s.value.to_numpy(float), s.err.to_numpy(float)
+    def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        s = by_size[by_size.key == key].sort_values("n")
+        return s.n.to_numpy(float), s.value.to_numpy(float), s.err.to_numpy(float)
 
-    y, e = series("rods_only_pc")
-    pc_fit = an.fit_finite_size(sizes, y, e)
+    pc_fit = an.fit_finite_size(*series("rods_only_pc"))
     fits = {"rods_only_pc": pc_fit}
     for key in by_size.key.unique():
         if key != "rods_only_pc":
-            y, e = series(key)
-            fits[key] = an.fit_finite_size(sizes, y, e, nu=pc_fit.nu, nu_err=pc_fit.nu_err)
+            fits[key] = an.fit_finite_size(*series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err)
     extrapolated = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
     extrapolated["z_paper"] = [
         _z(row.key, row.y_inf, row.y_inf_err) for row in extrapolated.itertuples()
     ]
     nu_z = an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0)
     pc_z = an.agreement_z(pc_fit.y_inf, pc_fit.y_inf_err**2, PC_CHECK.value, 0.0)
-    y, e = series("rods_only_pc")
-    at_check = an.fit_finite_size(sizes, y, e, nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0)
+    at_check = an.fit_finite_size(
+        *series("rods_only_pc"), nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0
+    )
     at_check_z = an.agreement_z(at_check.y_inf, at_check.y_inf_err**2, PC_CHECK.value, 0.0)
     at_bound = bool(np.any(np.isclose(1.0 / pc_fit.nu, an.THETA, rtol=1e-6)))
     label = (
         f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.fss_sizes))} "
-        f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
+        + (f"(rods-only p_c: n = {', '.join(map(str, scale.pc_sizes))}) " if scale.fss_pc else "")
+        + f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
     )
     measured = tuple(
         Measurement.scalar(
@@ -219,6 +250,8 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_z=pc_z,
         sizes=tuple(scale.fss_sizes),
         samples=tuple(scale.fss_samples(n) for n in scale.fss_sizes),
+        pc_sizes=scale.pc_sizes,
+        pc_samples=tuple(scale.pc_samples(n) for n in scale.pc_sizes),
         excluded=excluded,
         measured=measured,
         pc_at_check_nu=at_check,
@@ -240,6 +273,8 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
     out: dict[str, dict] = {}
     for n in scale.fss_sizes:
         out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
+    for n, samples in scale.fss_pc:
+        out |= rods_pc_sweep(n, DEFAULT_DELTA, samples)
     return out
 
 

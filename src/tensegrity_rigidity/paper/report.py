@@ -225,7 +225,16 @@ def fss_section(r) -> Section:
         f"The headline claims at n = {', '.join(map(str, r.sizes))} "
         f"({', '.join(map(str, r.samples))} samples per point at these sizes; exact per-sample "
         "thresholds, node disorder delta = "
-        f"{DEFAULT_DELTA}), each extrapolated with y(n) = y_inf + a n^(-1/nu). For the "
+        f"{DEFAULT_DELTA}), each extrapolated with y(n) = y_inf + a n^(-1/nu). "
+        + (
+            "The rods-only P = 1/2 point comes from its own sweeps, one strain (a rods-only "
+            "threshold does not depend on it), at n = "
+            f"{', '.join(map(str, r.pc_sizes))} with {', '.join(map(str, r.pc_samples))} "
+            "samples. "
+            if r.pc_sizes and tuple(r.pc_sizes) != tuple(r.sizes)
+            else "Its errors resample samples, all strains of one sample together. "
+        )
+        + "For the "
         f"rods-only P = 1/2 point nu is fitted: p_c = {_fmt(pc.y_inf, pc.y_inf_err)}, "
         f"nu = {_fmt(pc.nu, pc.nu_err)} (chi-square {pc.chi2:.2f} with {pc.dof} degree(s) of "
         "freedom; errors from a parametric bootstrap). Checks, not inputs: nu against "

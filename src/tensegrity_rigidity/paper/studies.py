@@ -81,6 +81,9 @@ class Scale:
     method_step: float = 0.1
     fss_sizes: tuple[int, ...] = (4, 5, 6, 8)  # finite-size study (paper.finite_size)
     samples_fss: int | tuple[int, ...] = 6  # one count, or one per size of fss_sizes
+    # (n, samples) of the rods-only thresholds extrapolated to p_c: dedicated one-strain sweeps
+    # (the rods-only threshold does not depend on the strain); () reads the headline sweeps
+    fss_pc: tuple[tuple[int, int], ...] = ()
     deltas: tuple[float, ...] = (0.1, 0.2, 0.3)  # node-disorder study
     n_delta: int = 5
     samples_delta: int = 6
@@ -95,6 +98,15 @@ class Scale:
                 f"scale {self.name}: samples_fss has {len(self.samples_fss)} counts for "
                 f"{len(self.fss_sizes)} sizes"
             )
+
+    @property
+    def pc_sizes(self) -> tuple[int, ...]:
+        """Sizes of the rods-only p_c extrapolation (``fss_pc``'s, else ``fss_sizes``)."""
+        return tuple(n for n, _ in self.fss_pc) if self.fss_pc else tuple(self.fss_sizes)
+
+    def pc_samples(self, n: int) -> int:
+        """Samples of the rods-only threshold at size ``n`` of :attr:`pc_sizes`."""
+        return dict(self.fss_pc)[n] if self.fss_pc else self.fss_samples(n)
 
     def fss_samples(self, n: int) -> int:
         """Samples per point of the finite-size study at size ``n``."""
@@ -162,6 +174,7 @@ SCALES = {
     "tiny": Scale(
         "tiny", 5, 5, 6, 4, 6, 0.1, 300, 10,
         fss_sizes=(4, 5, 6, 8), samples_fss=3, n_delta=5, samples_delta=3,
+        fss_pc=((4, 6), (5, 6), (6, 6), (8, 4), (10, 3)),
         studies=(*FIGURES, "method", "fss", "delta"), budget_minutes=2,
     ),
     "quick": Scale(
