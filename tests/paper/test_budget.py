@@ -125,19 +125,25 @@ def test_samples_for_inverts_the_error_model():
 
 
 def test_power_laws_hit_the_measured_sizes_and_interpolate_between():
-    assert budget.row_seconds("threshold", 32, 0.3) == (1.56, False)
+    th = budget.THRESHOLD_SECONDS
+    assert budget.row_seconds("threshold", 32, 0.3) == (th[32], False)
     t16, _ = budget.row_seconds("threshold", 16, 0.3)
     t24, ext = budget.row_seconds("threshold", 24, 0.3)
-    assert t16 < t24 < 1.56 and not ext
-    assert t24 == pytest.approx(0.17 * (1.5 ** (math.log(1.56 / 0.17) / math.log(2))))
+    assert t16 < t24 < th[32] and not ext
+    assert t24 == pytest.approx(th[16] * (1.5 ** (math.log(th[32] / th[16]) / math.log(2))))
     t128, ext = budget.row_seconds("threshold", 128, 0.3)
-    assert ext and t128 == pytest.approx(48.0 * 48.0 / 1.56)
-    rods, _ = budget.row_seconds("threshold", 32, 0.0)
-    assert rods == pytest.approx(0.17 * 1.56)
+    assert ext and t128 == pytest.approx(th[64] * th[64] / th[32])
+    # rods-only searches (p_t = 0) have a table of their own, measured up to n = 128
+    rods = budget.RODS_THRESHOLD_SECONDS
+    assert budget.row_seconds("threshold", 32, 0.0) == (rods[32], False)
+    assert budget.row_seconds("threshold", 128, 0.0) == (rods[128], False)
+    p01, _ = budget.row_seconds("threshold", 32, 0.1)
+    assert p01 == pytest.approx(th[32] * budget._factor(budget.THRESHOLD_PT_FACTOR, 0.1))
+    grid = budget.GRID_SECONDS
     g32, _ = budget.row_seconds("grid", 32, 0.15)
-    assert g32 == pytest.approx(0.152, rel=0.01)
+    assert g32 == pytest.approx(grid[32], rel=0.01)
     g64, ext = budget.row_seconds("grid", 64, 0.15)
-    assert ext and g64 == pytest.approx(0.152 * 2**budget.GRID_EXPONENT, rel=0.01)
+    assert ext and g64 == pytest.approx(grid[32] * 2**budget.GRID_EXPONENT, rel=0.01)
 
 
 def test_makespan_is_that_of_the_engine_order():

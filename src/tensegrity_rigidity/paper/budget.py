@@ -70,13 +70,20 @@ THRESHOLD_SECONDS = {8: 0.01, 16: 0.17, 32: 1.56, 64: 48.0}
 #   0.029, 0.100, 0.158, 0.171 s at p_t = 0, 0.1, 0.2, 0.3. Rods only needs no active set.
 #   Above 0.3 Fig. 1B's rows (p_t up to 0.8) averaged 0.081 s: 1 errs long.
 THRESHOLD_PT_FACTOR = ((0.0, 0.17), (0.1, 0.58), (0.2, 0.92), (0.3, 1.0))
+# RODS_THRESHOLD_SECONDS: a rods-only threshold search (p_t = 0), measured directly because its
+#   cost relative to a search at p_t = 0.3 falls with n (0.27, 0.18, 0.08, 0.11 at n = 8 to 64
+#   in the fss run): means of the fss run's rods-only rows at n = 8 to 64; n = 128: one search,
+#   80 s of CPU.
+RODS_THRESHOLD_SECONDS = {8: 0.012, 16: 0.049, 32: 0.30, 64: 6.6, 128: 85.0}
 # GRID_SECONDS: one grid sample, solve() with the minimum-norm displacements (what grid sweeps
-#   record), at the benchmark's grid instances ((p_r, p_t) = (0.55, 0.2), (0.8, 0.1),
-#   (0.4, 0.2): reference p_t 0.15). n = 16: median 17 ms and at most 180 ms away from the
-#   threshold, about 130 ms at it; mean = 1.5 x median (the quick run's grid sweeps have mean /
-#   median 1.1 to 1.6): 25 ms. n = 32: x 2^(2 x 1.3) = 6.06 (the factorisation cost grows as
-#   N^1.3 with N ~ n^2 unknowns; 4 to 8 x was measured): 0.152 s. Other sizes: that power law.
-GRID_SECONDS = {16: 0.025, 32: 0.152}
+#   record), at the reference p_t = 0.15, from the rows of finished runs priced by
+#   benchmarks/calibrate_budget.py (BENCHMARKS.md, "Budget model against finished runs"): the
+#   quick run (n = 12, 24,952 grid rows: 0.0071 s) and the paper run (n = 32, 8,176 rows:
+#   0.0705 s), both with the interior-point projection of the minimum-norm displacements. The
+#   constants before it (0.025 s at n = 16, 0.152 s at n = 32) came from the benchmark's
+#   instances and the older projection and priced the paper run's grid rows 2.2 x too high.
+#   Beyond the measured sizes: N^1.3 (the factorisation) with N ~ n^2 unknowns.
+GRID_SECONDS = {12: 0.0071, 32: 0.0705}
 GRID_EXPONENT = 2.6
 # GRID_PT_FACTOR: cost relative to the reference p_t = 0.15, by p_t (linear in between, constant
 #   beyond), from the grid rows of a quick run (n = 12): means of Fig. 2 at p_t = 0, 0.1, 0.2,
@@ -84,9 +91,10 @@ GRID_EXPONENT = 2.6
 #   0.55 to 0.65: 40.2 ms over its 21,600 rows.
 GRID_PT_FACTOR = ((0.0, 0.30), (0.1, 0.89), (0.2, 1.11), (0.3, 1.53), (0.6, 2.75))
 # PAPER_VERDICT_SECONDS: one sample decided the paper's way (L-BFGS-B from u = 0, energy
-#   threshold): BENCHMARKS.md means over 27 instances per size (13.9 / 75.8 / 5299 ms medians;
-#   the means are dominated by the near-transition instances, where the method study's grid is).
-PAPER_VERDICT_SECONDS = {16: 0.272, 32: 1.041, 64: 5.21}
+#   threshold), means of the method study's rows of the same two runs: 0.0224 s at n = 12, 0.287
+#   s at n = 32 (the benchmark's 27 near-transition instances gave means 3.6 x higher at n = 32:
+#   a grid spans the transition, where most of those instances sit).
+PAPER_VERDICT_SECONDS = {12: 0.0224, 32: 0.287}
 # NODE_TRIAL_SECONDS: Fig. 3's single-node simulation, in-process: 7 s for 36 points x 4,000
 #   trials (the quick run's study time).
 NODE_TRIAL_SECONDS = 7.0 / (36 * 4000)
@@ -187,6 +195,8 @@ def row_seconds(mode: str, n: int, p_t: float) -> tuple[float, bool]:
     ``mode``: "threshold" (a threshold search), "grid" (an exact grid sample with its
     minimum-norm displacements) or "paper" (a grid sample decided the paper's way).
     """
+    if mode == "threshold" and p_t == 0.0:
+        return _power_law(RODS_THRESHOLD_SECONDS, n)
     if mode == "threshold":
         t, ext = _power_law(THRESHOLD_SECONDS, n)
         return t * _factor(THRESHOLD_PT_FACTOR, p_t), ext

@@ -170,6 +170,12 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #:   25 min, 41 CPU hours for n = 128, 47 in all) and 32 samples at n = 64 (S_t/S_r +-0.0053,
 #:   p_crit +-0.0022); meant for a Dask cluster (--scheduler; --estimate --workers N gives the
 #:   wall time). Its sweeps extend those of fss in the same output directory.
+#: (n, samples) of the rods-only thresholds of the p_c extrapolation at the fss scales: the
+#: median's error is about 1.25 x the spread of the thresholds / sqrt(S), spreads 0.037,
+#: 0.019, 0.010 and about 0.006 at n = 8 to 64 (the fss run), 0.003 expected at 128; these
+#: counts give 0.0007 to 0.0010 at n <= 64 (against 0.0012 to 0.0023 from the headline sweeps,
+#: errors counted by sample) and 0.0011 at n = 128, where one threshold search takes 80 s.
+FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 12))
 SCALES = {
     "tiny": Scale(
         "tiny", 5, 5, 6, 4, 6, 0.1, 300, 10,
@@ -190,12 +196,14 @@ SCALES = {
     "fss": Scale(
         "fss", 32, 32, 0, 0, 0, 0.025, 0, 200,
         fss_sizes=(8, 16, 32, 64), samples_fss=(400, 200, 96, 12),
+        fss_pc=FSS_PC,
         deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
         studies=("fss", "delta"), budget_minutes=110,
     ),
     "fss-cluster": Scale(
         "fss-cluster", 32, 32, 0, 0, 0, 0.025, 0, 200,
         fss_sizes=(8, 16, 32, 64, 128), samples_fss=(400, 200, 96, 32, 8),
+        fss_pc=FSS_PC,
         deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
         studies=("fss", "delta"),
     ),
