@@ -125,7 +125,20 @@ def resampler(n_rows: int, groups=None, rng: np.random.Generator | None = None):
 
 
 def n_units(n_rows: int, groups=None) -> int:
-    """Independent units behind ``n_rows`` rows (distinct ``groups``, else the rows)."""
+    """Independent units behind ``n_rows`` rows.
+
+    Parameters
+    ----------
+    n_rows : int
+        Rows of the data.
+    groups : (n_rows,) array, optional
+        Label of each row's independent unit, as in :func:`resampler`.
+
+    Returns
+    -------
+    int
+        Distinct labels in ``groups``; ``n_rows`` without groups.
+    """
     return n_rows if groups is None else int(np.unique(np.asarray(groups)).size)
 
 
@@ -246,8 +259,20 @@ def fit_collapse(
 
 
 def common_samples(rows: pd.DataFrame, p_t_col: str = "p_t") -> np.ndarray:
-    """(S,) sorted sample ids present at every value of ``p_t_col`` in ``rows``: the rows of
-    :func:`outcomes_from_thresholds`, in order."""
+    """Sample ids present at every value of ``p_t_col``.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        Threshold-sweep rows with a ``sample`` column and the ``p_t_col`` column.
+    p_t_col : str
+        Column holding p_t.
+
+    Returns
+    -------
+    (S,) int
+        Sorted sample ids: the rows of :func:`outcomes_from_thresholds`, in order.
+    """
     sets = [set(sub["sample"]) for _, sub in rows.groupby(p_t_col)]
     return np.array(sorted(set.intersection(*sets))) if sets else np.array([], int)
 

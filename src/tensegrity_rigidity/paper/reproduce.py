@@ -24,10 +24,10 @@ from .studies import SCALES, STORED
 #: the two in step) until someone times a run
 EXPECTED = {
     "tiny": "about a minute",
-    "quick": "6 minutes measured on 2026-11-23, install included (estimated 9 minutes)",
-    "paper": "25 minutes measured on 2026-11-23 (estimated 44 minutes)",
-    "fss": "180 CPU minutes measured on 2026-11-23: 2 h 04 min wall on 2 shared cores, about "
-    "95 minutes alone (estimated 92 minutes; resumable: re-run to continue)",
+    "quick": "6 minutes measured on 2026-11-23, install included (estimated 6 minutes)",
+    "paper": "25 minutes measured on 2026-11-23 (estimated 24 minutes)",
+    "fss": "estimated 108 minutes (before the rods-only p_c sweeps were added: 180 CPU minutes, "
+    "2 h 04 min wall on 2 shared cores, measured on 2026-11-23; resumable: re-run to continue)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 47 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }
