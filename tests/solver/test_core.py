@@ -106,7 +106,7 @@ def test_larger_lattices_agree_with_lp_and_qp():
 # ------------------------------------------------------------------ each stage on its own
 
 #: how many of 40 random lattice samples each stage decides on its own (at least)
-STAGE_MINIMUM = {"affine": 5, "newton": 25, "crossover": 5, "ipm": 36, "lp": 36}
+STAGE_MINIMUM = {"affine": 5, "newton": 25, "crossover": 5, "ipm": 36, "project": 18, "lp": 36}
 
 
 @pytest.mark.parametrize("name", sorted(STAGE_MINIMUM))
@@ -186,6 +186,59 @@ def test_a_floppy_verdict_reports_zero_energy_and_tension():
             assert res.violation <= SolverOptions().violation_tol
             assert res.displacement_size <= SolverOptions().displacement_bound
     assert floppy >= 3
+
+
+def test_the_projection_certifies_a_floppy_sample_at_n64_near_its_threshold():
+    """n = 64, one event below its threshold (configuration (0.3, 1, dilation) of the
+    near-threshold set, sample 0, event 12202), whose zero-energy displacements reach 1e6 times
+    the strain: the energy's interior point and its crossovers end there with violations of
+    1e-3 at |u| ~ 1.5e6, and the projection from its best candidate certifies it floppy. (If
+    the interior point comes to decide this configuration itself, pick another one that it
+    leaves undecided: the test is of the projection.)"""
+    from tensegrity_rigidity.ensemble.thresholds import EventPath
+    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
+    from tensegrity_rigidity.model.network import Instance
+    from tensegrity_rigidity.model.sampling import lattice_geometry
+    from tensegrity_rigidity.model.strain import strain_tensor
+    from tensegrity_rigidity.solver.stages import InteriorPoint, Projection
+
+    rng = np.random.default_rng([64, 1, 0])  # benchmarks/near_threshold_set.py, config 1
+    net, u, v = lattice_geometry(64, DEFAULT_DELTA, rng)
+    eps = strain_tensor("dilation", float(rng.uniform(0, 2 * np.pi)))
+    inst = Instance(net.with_kinds(EventPath(u, v, "p_r", 0.3, 1.0).kinds(12202)), eps)
+    s = Search(Problem(inst, unit_stiffness=True), Resolution())
+    InteriorPoint().run(s)
+    assert not s.decided
+    Projection().run(s)
+    assert s.decided and not s.rigid_verdict and s.stage == "project"
+    assert s.floppy is not None and s.floppy.size > 1e5
+
+
+def test_the_feasibility_simplex_proves_rigidity_by_its_dual_ray():
+    """On a rigid instance the feasibility LP for a zero-energy displacement is infeasible, and
+    HiGHS's proof (a dual ray) is an admissible self-stress with positive work: balanced to
+    round-off, cables pulling, struts pushing. Offered alone, it certifies the sample rigid."""
+    from tensegrity_rigidity.solver.stages import _feasibility_lp
+
+    rng = np.random.default_rng(3)
+    certified = 0
+    for _ in range(40):
+        inst = random_instance(rng, "lattice")
+        if not lp_verdict(inst).rigid:
+            continue
+        p = Problem(inst, unit_stiffness=True)
+        vertex, ray = _feasibility_lp(p, 50 * p.sites.size)
+        assert vertex is None
+        if ray is None:
+            continue
+        wrong_signs = np.maximum(-p.sigma * ray, 0.0)  # round-off only (the ray is floating)
+        assert wrong_signs.max() <= 1e-12 * np.abs(ray).max()
+        assert float(ray @ p.e0) > 0
+        assert np.abs(p.RT @ ray).sum() <= 1e-9 * np.abs(ray).sum()
+        s = Search(p, Resolution())
+        s.offer_t(ray, "ray")
+        certified += s.decided and s.rigid_verdict
+    assert certified >= 5
 
 
 def test_a_failing_lp_stage_leaves_the_search_as_it_was():

@@ -27,10 +27,21 @@ Stages (``STAGES``; the default order is :data:`DEFAULT_STAGES`):
 ``ipm``
     The specialised interior point of :mod:`.ipm`; at accuracies 1e-3, 1e-5 and 1e-7 and at
     its end its tensions are purified and its displacements crossed over.
+``project`` (not in the default order)
+    The projection of the best floppy candidate so far onto the zero-energy displacements
+    (the minimum-norm interior point of :mod:`.displacements` with ``t* = 0``). Near the
+    threshold the zero-energy displacements reach ``1e6`` times the strain; the energy's
+    minimisers drift along the floppy modes, and their crossovers leave violations of
+    ``1e-3`` to ``0.4`` there (n = 64), while the projection, whose Newton systems stay well
+    conditioned, reaches the zero-energy set to ``1e-10``. Opt-in: on the near-threshold set
+    it narrowed one threshold interval of six at n = 64 and made the searches 64 % slower
+    before ``lp`` (``benchmarks/bench_stages.py``).
 ``lp``
     The verdict LP over self-stresses with ``|t_b| <= 1`` (HiGHS's interior point, an iteration
     limit, no crossover); its primal is purified, its dual displacements are checked and
-    crossed over.
+    crossed over. Then the feasibility LP for a zero-energy displacement by the dual simplex:
+    a vertex is offered as a floppy candidate, a proof of infeasibility (a dual ray: an
+    admissible self-stress with positive work, by Farkas' lemma) as a rigid one.
 """
 
 from __future__ import annotations
@@ -40,6 +51,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
+from .displacements import min_norm_minimizer
 from .ipm import interior_point
 from .newton import crossover, newton
 from .problem import Problem
@@ -275,6 +287,40 @@ class InteriorPoint:
 
 
 @dataclass(frozen=True)
+class Projection:
+    """The zero-energy displacements nearest to the origin, from the best floppy candidate.
+
+    Runs the projection interior point of :func:`~.displacements.min_norm_minimizer` with
+    zero tensions (rods unstretched, one-sided elements slack or unstrained) for at most
+    ``max_iter`` iterations, started at the best floppy candidate so far (else the
+    lowest-energy point), and offers its end point. The identity block of its Newton systems
+    keeps them well conditioned however near-floppy the network is, so it reaches the
+    zero-energy set where the energy's minimisers, drifting along floppy modes, are too large
+    to be resolved. On a rigid sample the set is empty: the steps shrink, the iteration stops
+    after ``stall`` short steps in a row, and the certificate rejects the iterate.
+
+    Attributes
+    ----------
+    max_iter : int
+        Most interior-point iterations (each one sparse LDL^T factorisation).
+    stall : int
+        Consecutive steps shorter than 1e-2 after which it stops (``min_norm_minimizer``).
+    name : str
+        The stage's name in ``SolverOptions.stages``.
+    """
+
+    max_iter: int = 150
+    stall: int = 20
+    name: str = "project"
+
+    def run(self, s: Search) -> None:
+        start = s.floppy.u if s.floppy is not None else s.u
+        zero = np.zeros(s.p.sites.size)
+        mn = min_norm_minimizer(s.p, zero, start, max_iterations=self.max_iter, stall=self.stall)
+        s.offer_u(mn.u, self.name)
+
+
+@dataclass(frozen=True)
 class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
@@ -283,9 +329,11 @@ class LinearProgram:
     near the analytic centre of the optimal face; its tensions are purified and offered, its
     dual displacements offered and crossed over. Then, if nothing was accepted, the feasibility
     LP for a zero-energy displacement by the dual simplex (at most
-    ``simplex_iterations_per_site`` iterations per non-empty site): a vertex satisfies its
-    rows to HiGHS's tolerance and is checked as it is. A HiGHS failure leaves the search as it
-    was.
+    ``simplex_iterations_per_site`` iterations per non-empty site,
+    :func:`_feasibility_lp`): a vertex satisfies its rows to HiGHS's tolerance and is checked
+    as it is; when the simplex proves the LP infeasible instead, its dual ray is an admissible
+    self-stress with positive work (Farkas' lemma), purified and offered as a rigid candidate.
+    A HiGHS failure leaves the search as it was.
     """
 
     max_iter: int = 100
@@ -331,16 +379,37 @@ class LinearProgram:
             u = np.asarray(sol.row_dual, dtype=float)
             if s.offer_u(u, self.name) or s.crossovers(u, self.name):
                 return
-        vertex = _feasibility_vertex(p, int(self.simplex_iterations_per_site * p.sites.size))
+        vertex, ray = _feasibility_lp(p, int(self.simplex_iterations_per_site * p.sites.size))
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
+        if ray is not None:
+            s.offer_t(ray, self.name)
 
 
-def _feasibility_vertex(p: Problem, max_iter: int) -> np.ndarray | None:
-    """A vertex of ``{u : e0 + R u admissible}`` by HiGHS's dual simplex (None if none found).
+def _feasibility_lp(p: Problem, max_iter: int) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's dual simplex.
 
     Rows in site order: rods ``R u = -e0``, cables ``R u <= -e0``, struts ``R u >= -e0``; the
     columns are free. At most ``max_iter`` simplex iterations, one thread.
+
+    Parameters
+    ----------
+    p : Problem
+        The problem (normalised units).
+    max_iter : int
+        Most simplex iterations.
+
+    Returns
+    -------
+    vertex : (2N,) float or None
+        A vertex, when HiGHS finds the LP feasible.
+    ray : (m,) float or None
+        When HiGHS proves it infeasible: minus its dual ray ``y`` (Farkas' lemma: row
+        multipliers with ``R^T y = 0`` whose bounds cannot be met; ``y <= 0`` on rows at their
+        upper bound, ``>= 0`` at their lower one), tensions with ``R^T t = 0`` up to
+        round-off, ``t >= 0`` on cables, ``<= 0`` on struts and ``t . e0 > 0``: a rigid
+        candidate. Nothing is trusted: the caller purifies it and the certificate checks its
+        signs, work and residual.
     """
     import highspy
 
@@ -366,9 +435,14 @@ def _feasibility_vertex(p: Problem, max_iter: int) -> np.ndarray | None:
         h.setOptionValue(key, value)
     h.passModel(lp)
     h.run()
-    if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
-        return None
-    return np.asarray(h.getSolution().col_value, dtype=float)
+    status = h.getModelStatus()
+    if status == highspy.HighsModelStatus.kOptimal:
+        return np.asarray(h.getSolution().col_value, dtype=float), None
+    if status == highspy.HighsModelStatus.kInfeasible:
+        *_, has_ray, ray = h.getDualRay()  # (status, has_ray, values)
+        if has_ray:
+            return None, -np.asarray(ray, dtype=float)
+    return None, None
 
 
 #: The stages by name, for ``SolverOptions.stages``.
@@ -377,6 +451,7 @@ STAGES = {
     "newton": Newton(),
     "crossover": Crossover(),
     "ipm": InteriorPoint(),
+    "project": Projection(),
     "lp": LinearProgram(),
 }
 
