@@ -1,0 +1,148 @@
+"""Designs of the verdict search side by side on the near-threshold thresholds (issue 13).
+
+A design is an order of stages (``SolverOptions.stages``); a stage may carry parameters,
+``name:param=value[:param=value]`` (``ipm:max_iter=100``, ``lp:simplex_iterations_per_site=1``),
+registered as a stage of its own for the run. Every design searches the same thresholds of the
+near-threshold set (six configurations of issue 13, cycled; ``near_threshold_set``) in the same
+run, one after the other, and records per design: seconds per threshold (median, max, total),
+probes, undecided probes, thresholds left as an interval and the widest interval in events,
+brackets ``[s_low, s_high]`` that differ from the first design's and brackets disjoint from it
+(certified verdicts that contradict each other: must be 0), and the stages that decided the
+probes.
+
+Run: python benchmarks/bench_stages.py [--sizes 32 64] [--samples 12 6]
+     [--designs affine,newton,crossover,ipm,lp affine,newton,crossover,ipm,project,lp ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections import Counter
+from dataclasses import replace
+
+import numpy as np
+from _record import machine, record, table
+from near_threshold_set import samples
+
+from tensegrity_rigidity.ensemble import thresholds
+from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
+from tensegrity_rigidity.solver.core import SolverOptions
+from tensegrity_rigidity.solver.stages import DEFAULT_STAGES, STAGES
+
+#: the default design, and the opt-in projection stage before and after the LP stage
+DEFAULT_DESIGNS = [
+    ",".join(DEFAULT_STAGES),
+    ",".join(DEFAULT_STAGES).replace("lp", "project,lp"),
+    ",".join(DEFAULT_STAGES) + ",project",
+]
+
+HEADER = ["n", "stages", "samples", "median s", "max s", "total s", "probes", "undecided probes",
+          "intervals", "widest (events)", "differ", "disjoint", "decided by"]  # fmt: skip
+DETAIL = ["n", "stages", "config", "k", "s", "interval", "events", "probes", "undecided",
+          "wall s"]  # fmt: skip
+
+
+def stage_name(token: str) -> str:
+    """Register ``name:param=value:...`` as a stage of its own (named ``token``) and return
+    its name; parameters must be numbers."""
+    base, *settings = token.split(":")
+    if not settings:
+        return base
+    stage = STAGES[base]
+    changes: dict = {"name": token}
+    for item in settings:
+        key, value = item.split("=")
+        kind = type(getattr(stage, key))
+        if kind not in (int, float):
+            raise SystemExit(f"{base}.{key} is not a number; only numeric parameters can be set")
+        changes[key] = kind(value)
+    STAGES[token] = replace(stage, **changes)
+    return token
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--sizes", type=int, nargs="+", default=[32, 64])
+    ap.add_argument("--samples", type=int, nargs="+", default=[12, 6])
+    ap.add_argument("--designs", nargs="+", default=DEFAULT_DESIGNS)
+    args = ap.parse_args()
+    designs = [tuple(stage_name(t) for t in d.split(",")) for d in args.designs]
+    decided_by: Counter = Counter()
+    original_decide = thresholds.decide
+
+    def counting_decide(*a, **kw):
+        verdict = original_decide(*a, **kw)
+        decided_by[verdict.stage or "undecided"] += 1
+        return verdict
+
+    thresholds.decide = counting_decide  # count the deciding stage of every probe
+    try:
+        run(args, designs, decided_by)
+    finally:
+        thresholds.decide = original_decide
+
+
+def run(args, designs, decided_by: Counter) -> None:
+    """Search every threshold once per design, recording after each design."""
+    rows, detail = [], []
+    for n, count in zip(args.sizes, args.samples, strict=True):
+        insts = list(samples(n, count))
+        first: dict[tuple[int, int], tuple[float, float]] = {}
+        for design in designs:
+            opts = SolverOptions(min_norm=False, stages=design)
+            decided_by.clear()
+            secs, probes, undecided, widths, differ, disjoint = [], 0, 0, [], 0, 0
+            for c, k, (net, u, v, eps, p_t, f_c) in insts:
+                t0 = time.perf_counter()
+                th = find_threshold(net, u, v, eps, p_t, f_c, options=opts)
+                dt = time.perf_counter() - t0
+                bracket = (th.s_low, th.s_high)
+                ref = first.setdefault((c, k), bracket)
+                differ += not np.allclose(ref, bracket, equal_nan=True, rtol=0, atol=0)
+                disjoint += bracket[0] > ref[1] or ref[0] > bracket[1]
+                ev = EventPath(u, v, "p_r", p_t, f_c)
+                width = 0
+                if np.isfinite(th.s_low) and np.isfinite(th.s_high):
+                    width = int(np.searchsorted(ev.positions, th.s_high)) - int(
+                        np.searchsorted(ev.positions, th.s_low)
+                    )
+                secs.append(dt)
+                probes += th.solves
+                undecided += th.undecided
+                widths.append(width)
+                detail.append(
+                    [n, " ".join(design), c, k, f"{th.s:.6f}",
+                     f"[{th.s_low:.6f}, {th.s_high:.6f}]", width, th.solves, th.undecided,
+                     f"{dt:.2f}"]
+                )  # fmt: skip
+                print(*detail[-1], flush=True)
+            s = np.asarray(secs)
+            rows.append(
+                [n, " ".join(design), len(s), f"{np.median(s):.2f}", f"{s.max():.2f}",
+                 f"{s.sum():.1f}", probes, undecided, sum(w > 0 for w in widths), max(widths),
+                 differ, disjoint,
+                 ", ".join(f"{k} {v}" for k, v in sorted(decided_by.items()))]
+            )  # fmt: skip
+            _write(rows, detail)
+
+
+def _write(rows, detail) -> None:
+    """Record the table so far (after every design: a long run keeps what it measured)."""
+    body = (
+        f"Machine: {machine()}. Each threshold of the near-threshold set searched once per "
+        "design of the verdict search (`SolverOptions.stages`; every other option default), "
+        "in the same run, on the same samples. 'intervals': thresholds left as an interval by "
+        "undecided probes, with the widest in events; 'differ': brackets [s_low, s_high] that "
+        "differ from the first design's; 'disjoint': brackets that do not overlap it (certified "
+        "verdicts contradicting each other: must be 0); 'decided by': the stage whose "
+        "certificate decided each probe (hint: a neighbouring probe's certificate).\n\n"
+        + table(HEADER, rows)
+        + "\n\nPer threshold:\n\n"
+        + table(DETAIL, detail)
+    )
+    record("stages", "Designs of the verdict search (benchmarks/bench_stages.py)", body)
+
+
+if __name__ == "__main__":
+    main()
