@@ -439,7 +439,9 @@ def _feasibility_lp(p: Problem, max_iter: int) -> tuple[np.ndarray | None, np.nd
     if status == highspy.HighsModelStatus.kOptimal:
         return np.asarray(h.getSolution().col_value, dtype=float), None
     if status == highspy.HighsModelStatus.kInfeasible:
-        *_, has_ray, ray = h.getDualRay()  # (status, has_ray, values)
+        # (status, has_ray, values); a method of the compiled base class that highspy's type
+        # stubs leave out
+        *_, has_ray, ray = h.getDualRay()  # type: ignore[attr-defined]
         if has_ray:
             return None, -np.asarray(ray, dtype=float)
     return None, None
