@@ -23,10 +23,10 @@ from dataclasses import replace
 
 import numpy as np
 from _record import machine, record, table
-from near_threshold_set import samples
+from near_threshold_set import interval_events, samples
 
 from tensegrity_rigidity.ensemble import thresholds
-from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
+from tensegrity_rigidity.ensemble.thresholds import find_threshold
 from tensegrity_rigidity.solver.core import SolverOptions
 from tensegrity_rigidity.solver.stages import DEFAULT_STAGES, STAGES
 
@@ -47,6 +47,8 @@ def stage_name(token: str) -> str:
     """Register ``name:param=value:...`` as a stage of its own (named ``token``) and return
     its name; parameters must be numbers."""
     base, *settings = token.split(":")
+    if base not in STAGES:
+        raise SystemExit(f"unknown stage {base!r}; choose from {', '.join(STAGES)}")
     if not settings:
         return base
     stage = STAGES[base]
@@ -101,12 +103,7 @@ def run(args, designs, decided_by: Counter) -> None:
                 ref = first.setdefault((c, k), bracket)
                 differ += not np.allclose(ref, bracket, equal_nan=True, rtol=0, atol=0)
                 disjoint += bracket[0] > ref[1] or ref[0] > bracket[1]
-                ev = EventPath(u, v, "p_r", p_t, f_c)
-                width = 0
-                if np.isfinite(th.s_low) and np.isfinite(th.s_high):
-                    width = int(np.searchsorted(ev.positions, th.s_high)) - int(
-                        np.searchsorted(ev.positions, th.s_low)
-                    )
+                width = interval_events(u, v, p_t, f_c, th)
                 secs.append(dt)
                 probes += th.solves
                 undecided += th.undecided

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 from _record import machine, record, table
-from near_threshold_set import samples
+from near_threshold_set import interval_events, samples
 
 from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
 from tensegrity_rigidity.model.network import Element, Instance
@@ -72,12 +72,7 @@ def main() -> None:
             if n <= args.repeat_max:
                 same &= th == find_threshold(net, u, v, eps, p_t, f_c)
             ref = refactor_seconds(net, eps)
-            ev = EventPath(u, v, "p_r", p_t, f_c)
-            width = 0
-            if np.isfinite(th.s_low) and np.isfinite(th.s_high):
-                width = int(np.searchsorted(ev.positions, th.s_high)) - int(
-                    np.searchsorted(ev.positions, th.s_low)
-                )
+            width = interval_events(u, v, p_t, f_c, th)
             check = straddle_check(net, u, v, eps, p_t, f_c, th) if n <= args.lp_max else "-"
             secs.append(dt)
             units.append(dt / ref)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from tensegrity_rigidity.ensemble.thresholds import EventPath
 from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
 from tensegrity_rigidity.model.sampling import lattice_geometry
 from tensegrity_rigidity.model.strain import strain_tensor
@@ -31,6 +32,15 @@ def sample(n: int, c: int, k: int):
     net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
     theta = float(rng.uniform(0, 2 * np.pi))
     return net, u, v, strain_tensor(phi, theta), p_t, f_c
+
+
+def interval_events(u, v, p_t: float, f_c: float, th) -> int:
+    """Width in events of a threshold's interval [s_low, s_high] on the "p_r" path (0 when
+    the threshold is a single event or not finite)."""
+    if not (np.isfinite(th.s_low) and np.isfinite(th.s_high)):
+        return 0
+    positions = EventPath(u, v, "p_r", p_t, f_c).positions
+    return int(np.searchsorted(positions, th.s_high)) - int(np.searchsorted(positions, th.s_low))
 
 
 def samples(n: int, count: int):
