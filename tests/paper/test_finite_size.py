@@ -155,3 +155,28 @@ def test_a_report_of_the_finite_size_studies_alone(tiny_out, tmp_path):
     assert "## Comparison with the paper" not in md and "0 claims agree" not in md
     assert "With nu fixed at the literature's" in md
     assert (tmp_path / "tables" / "fss_extrapolated.csv").exists()
+
+
+def test_the_rods_only_extrapolation_alone(runs, tmp_path):
+    """The pc scale's shape (no headline sizes, only fss_pc) at tiny sizes: the study, its
+    one-panel figure and a report section that says what it measured."""
+    _, _, tiny_out = runs
+    shutil.copytree(tiny_out / "studies", tmp_path / "studies")  # resume: no new samples
+    pc_only = studies.Scale(
+        "pc-tiny", 5, 5, 0, 0, 0, 0.1, 0, 10, fss_sizes=(), samples_fss=(),
+        fss_pc=TINY.fss_pc, studies=("fss",),
+    )  # fmt: skip
+    r = fs.study_fss(tmp_path, pc_only, workers=studies.STORED, scheduler=None, progress=False)
+    assert set(r.by_size.key) == {"rods_only_pc"}
+    assert list(r.by_size.n) == [n for n, _ in TINY.fss_pc]
+    assert list(r.by_size.samples) == [s for _, s in TINY.fss_pc]
+    assert np.all(r.by_size.intervals <= r.by_size.samples)
+    assert set(r.extrapolated.key) == {"rods_only_pc"}
+    from tensegrity_rigidity.paper.figures import fig_fss
+    from tensegrity_rigidity.paper.report import fss_section
+
+    assert all(p.exists() for p in fig_fss(r, tmp_path))
+    text = " ".join(fss_section(r).paragraphs)
+    assert text.startswith("Only the rods-only P = 1/2 point")
+    assert "The other claims are extrapolated" not in text
+    assert "pc" in studies.SCALES and studies.SCALES["pc"].fss_sizes == ()

@@ -72,9 +72,12 @@ THRESHOLD_SECONDS = {8: 0.01, 16: 0.17, 32: 1.56, 64: 48.0}
 THRESHOLD_PT_FACTOR = ((0.0, 0.17), (0.1, 0.58), (0.2, 0.92), (0.3, 1.0))
 # RODS_THRESHOLD_SECONDS: a rods-only threshold search (p_t = 0), measured directly because its
 #   cost relative to a search at p_t = 0.3 falls with n (0.27, 0.18, 0.08, 0.11 at n = 8 to 64
-#   in the fss run): means of the fss run's rods-only rows at n = 8 to 64; n = 128: one search,
-#   80 s of CPU.
-RODS_THRESHOLD_SECONDS = {8: 0.012, 16: 0.049, 32: 0.30, 64: 6.6, 128: 85.0}
+#   in the fss run): means of the rows of the rods-only p_c sweeps (Scale.fss_pc, 4000, 1200,
+#   400, 100 and 12 samples at n = 8 to 128) run on 2 workers on 2026-11-25 (`--scale pc`):
+#   113.7, 90.9, 158.1, 624.3 and 1663.0 s of search in all. n = 128 costs 139 s, not the 85 s
+#   of one earlier search: its searches meet 7 undecided probes each (intervals of up to 341
+#   events), and an undecided probe runs every stage.
+RODS_THRESHOLD_SECONDS = {8: 0.028, 16: 0.076, 32: 0.40, 64: 6.2, 128: 139.0}
 # GRID_SECONDS: one grid sample, solve() with the minimum-norm displacements (what grid sweeps
 #   record), at the reference p_t = 0.15, from the rows of finished runs priced by
 #   benchmarks/calibrate_budget.py (BENCHMARKS.md, "Budget model against finished runs"): the

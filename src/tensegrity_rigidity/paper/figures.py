@@ -342,15 +342,17 @@ def fig_fss(r: FiniteSizeResult, figdir: Path):
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
     nu = pc.nu if np.isfinite(pc.nu) else 1.0
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
-    panels = (
-        (axes[0], ["rods_only_pc"], "rods-only P = 1/2 point"),
-        (
-            axes[1],
-            ["st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear"],
-            "S_t / S_r",
-        ),
-    )
+    st_sr = [
+        k
+        for k in ("st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear")
+        if k in ex.index
+    ]
+    # one panel when only the rods-only point was measured (the pc scale)
+    fig, axes = plt.subplots(1, 2 if st_sr else 1, figsize=(10 if st_sr else 5.5, 4.2))
+    axes = np.atleast_1d(axes)
+    panels = [(axes[0], ["rods_only_pc"], "rods-only P = 1/2 point")]
+    if st_sr:
+        panels.append((axes[1], st_sr, "S_t / S_r"))
     for ax, keys, ylabel in panels:
         for key in keys:
             ref = CLAIMS[key].value
@@ -368,7 +370,8 @@ def fig_fss(r: FiniteSizeResult, figdir: Path):
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7)
     axes[0].set_title(
-        f"FS  n = {', '.join(map(str, r.sizes))}; dotted: literature / paper", fontsize=9
+        f"FS  n = {', '.join(map(str, r.sizes or r.pc_sizes))}; dotted: literature / paper",
+        fontsize=9,
     )
     return _save(fig, figdir, "FS")
 

@@ -194,14 +194,24 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         f, ex = headline(out, n, DEFAULT_DELTA, scale.fss_samples(n), scale.bootstrap, **kw)
         frames.append(f.assign(n=n))
         excluded |= ex
-    by_size = pd.concat(frames, ignore_index=True)
+    by_size = (
+        pd.concat(frames, ignore_index=True)
+        if frames  # the pc scale measures only the rods-only point
+        else pd.DataFrame(columns=["key", "value", "err", "n"])
+    )
     if scale.fss_pc:  # the rods-only point from its own sweeps, at its own sizes
         pc_rows = []
         for n in scale.pc_sizes:
             ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
             rows, excluded[name] = sweep_rows(out, name, spec, **kw)
             value, err = an.critical_point(rows.threshold_p_r.to_numpy())
-            pc_rows.append({"key": "rods_only_pc", "value": value, "err": err, "n": n})
+            width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
+            pc_rows.append(
+                {"key": "rods_only_pc", "value": value, "err": err, "n": n}
+                # thresholds left as intervals by undecided probes, and their mean width
+                | {"samples": len(rows), "intervals": int(np.sum(width > 0))}
+                | {"width": float(np.nanmean(width)) if width.size else np.nan}
+            )
         by_size = pd.concat(
             [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
         )
@@ -229,8 +239,9 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     label = (
         f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.fss_sizes))} "
         + (f"(rods-only p_c: n = {', '.join(map(str, scale.pc_sizes))}) " if scale.fss_pc else "")
-        + f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
-    )
+        if scale.fss_sizes
+        else f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.pc_sizes))} "
+    ) + f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
     measured = tuple(
         Measurement.scalar(
             row.key,

@@ -63,8 +63,9 @@ FIGURE_CAPTIONS = {
     "4A": "P versus f_c for strains from dilation (phi = 0) to compression (phi = pi).",
     "4B": "Efficacies of cables and struts relative to rods, averaged over strains.",
     "4C": "Combined efficacy (S_c + S_s)/S_r versus f_c.",
-    "FS": "Not in the paper: finite size. Left, the rods-only P = 1/2 point; right, S_t/S_r of "
-    "rods + cables (compression, dilation) and of f_c = 0.5 under shear; against n^(-1/nu) "
+    "FS": "Not in the paper: finite size. Left (alone at the pc scale), the rods-only P = 1/2 "
+    "point; right, S_t/S_r of rods + cables (compression, dilation) and of f_c = 0.5 under "
+    "shear; against n^(-1/nu) "
     "with the extrapolation to n -> infinity (squares) and the paper's or the literature's "
     "value (dotted).",
 }
@@ -217,15 +218,37 @@ def _fmt(v: float, e: float) -> str:
     return f"{v:.3f} ± {e:.3f}" if np.isfinite(e) else f"{v:.3f}"
 
 
+def _pc_intervals(r) -> str:
+    """The rods-only thresholds reported as intervals (undecided probes), per size."""
+    pc = r.by_size[r.by_size.key == "rods_only_pc"].sort_values("n")
+    if "intervals" not in pc or not np.nansum(pc.intervals.to_numpy(float)):
+        return ""
+    parts = [
+        f"{int(row.intervals)} of {int(row.samples)} at n = {int(row.n)} "
+        f"(mean width {row.width:.1e})"
+        for row in pc.itertuples()
+        if row.intervals > 0
+    ]
+    return (
+        " Rods-only thresholds that are intervals (probes within resolution of the boundary; "
+        "the median uses their midpoints): " + ", ".join(parts) + "."
+    )
+
+
 def fss_section(r) -> Section:
     """Finite size: the headline claims per n and extrapolated to n -> infinity."""
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
     paragraphs = (
-        f"The headline claims at n = {', '.join(map(str, r.sizes))} "
-        f"({', '.join(map(str, r.samples))} samples per point at these sizes; exact per-sample "
-        "thresholds, node disorder delta = "
-        f"{DEFAULT_DELTA}), each extrapolated with y(n) = y_inf + a n^(-1/nu). "
+        (
+            f"The headline claims at n = {', '.join(map(str, r.sizes))} "
+            f"({', '.join(map(str, r.samples))} samples per point at these sizes; exact "
+            f"per-sample thresholds, node disorder delta = {DEFAULT_DELTA}), each extrapolated "
+            "with y(n) = y_inf + a n^(-1/nu). "
+            if r.sizes
+            else "Only the rods-only P = 1/2 point (exact per-sample thresholds, node disorder "
+            f"delta = {DEFAULT_DELTA}), extrapolated with y(n) = y_inf + a n^(-1/nu). "
+        )
         + (
             "The rods-only P = 1/2 point comes from its own sweeps, one strain (a rods-only "
             "threshold does not depend on it), at n = "
@@ -255,8 +278,13 @@ def fss_section(r) -> Section:
             if r.pc_at_check_nu is not None
             else ""
         )
-        + " The other claims are extrapolated with nu fixed at the fitted value, its error "
-        "added. z_paper is the comparison's statistic of the extrapolation against the "
+        + _pc_intervals(r)
+        + (
+            " The other claims are extrapolated with nu fixed at the fitted value, its error added."
+            if r.sizes
+            else ""
+        )
+        + " z_paper is the comparison's statistic of the extrapolation against the "
         "paper's value.",
     )
     wide = r.by_size.pivot_table(index="key", columns="n", values="value")

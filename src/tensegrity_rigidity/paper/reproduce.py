@@ -26,8 +26,10 @@ EXPECTED = {
     "tiny": "about a minute",
     "quick": "6 minutes measured on 2026-11-23, install included (estimated 6 minutes)",
     "paper": "25 minutes measured on 2026-11-23 (estimated 24 minutes)",
-    "fss": "estimated 108 minutes (before the rods-only p_c sweeps were added: 180 CPU minutes, "
+    "fss": "estimated 101 minutes (before the rods-only p_c sweeps were added: 180 CPU minutes, "
     "2 h 04 min wall on 2 shared cores, measured on 2026-11-23; resumable: re-run to continue)",
+    "pc": "the rods-only p_c extrapolation alone (n = 8 to 128): 23 minutes measured on "
+    "2026-11-25 (estimated 22 minutes)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 47 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }
