@@ -12,6 +12,8 @@ from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.paper import finite_size as fs
 from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS
+from tensegrity_rigidity.paper.figures import fig_fss
+from tensegrity_rigidity.paper.report import fss_section
 from tensegrity_rigidity.paper.reproduce import reproduce
 
 from .conftest import SERIAL, TINY
@@ -172,9 +174,6 @@ def test_the_rods_only_extrapolation_alone(runs, tmp_path):
     assert list(r.by_size.samples) == [s for _, s in TINY.fss_pc]
     assert np.all(r.by_size.intervals <= r.by_size.samples)
     assert set(r.extrapolated.key) == {"rods_only_pc"}
-    from tensegrity_rigidity.paper.figures import fig_fss
-    from tensegrity_rigidity.paper.report import fss_section
-
     assert all(p.exists() for p in fig_fss(r, tmp_path))
     text = " ".join(fss_section(r).paragraphs)
     assert text.startswith("Only the rods-only P = 1/2 point")

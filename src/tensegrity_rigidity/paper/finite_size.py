@@ -207,10 +207,16 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             value, err = an.critical_point(rows.threshold_p_r.to_numpy())
             width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
             pc_rows.append(
-                {"key": "rods_only_pc", "value": value, "err": err, "n": n}
-                # thresholds left as intervals by undecided probes, and their mean width
-                | {"samples": len(rows), "intervals": int(np.sum(width > 0))}
-                | {"width": float(np.nanmean(width)) if width.size else np.nan}
+                {
+                    "key": "rods_only_pc",
+                    "value": value,
+                    "err": err,
+                    "n": n,
+                    "samples": len(rows),
+                    # thresholds left as intervals by undecided probes, and their mean width
+                    "intervals": int(np.sum(width > 0)),
+                    "width": float(np.nanmean(width)) if width.size else np.nan,
+                }
             )
         by_size = pd.concat(
             [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
