@@ -23,7 +23,7 @@ from dataclasses import replace
 
 import numpy as np
 from _record import machine, record, table
-from near_threshold_set import interval_events, samples
+from near_threshold_set import CONFIGS, RODS_ONLY, interval_events, samples
 
 from tensegrity_rigidity.ensemble import thresholds
 from tensegrity_rigidity.ensemble.thresholds import find_threshold
@@ -68,6 +68,11 @@ def main() -> None:
     ap.add_argument("--sizes", type=int, nargs="+", default=[32, 64])
     ap.add_argument("--samples", type=int, nargs="+", default=[12, 6])
     ap.add_argument("--designs", nargs="+", default=DEFAULT_DESIGNS)
+    ap.add_argument(
+        "--rods-only",
+        action="store_true",
+        help="the rods-only thresholds of the p_c extrapolation instead of the issue-13 set",
+    )
     args = ap.parse_args()
     designs = [tuple(stage_name(t) for t in d.split(",")) for d in args.designs]
     decided_by: Counter = Counter()
@@ -89,7 +94,7 @@ def run(args, designs, decided_by: Counter) -> None:
     """Search every threshold once per design, recording after each design."""
     rows, detail = [], []
     for n, count in zip(args.sizes, args.samples, strict=True):
-        insts = list(samples(n, count))
+        insts = list(samples(n, count, RODS_ONLY if args.rods_only else CONFIGS))
         first: dict[tuple[int, int], tuple[float, float]] = {}
         for design in designs:
             opts = SolverOptions(min_norm=False, stages=design)
@@ -121,13 +126,14 @@ def run(args, designs, decided_by: Counter) -> None:
                  differ, disjoint,
                  ", ".join(f"{k} {v}" for k, v in sorted(decided_by.items()))]
             )  # fmt: skip
-            _write(rows, detail)
+            _write(rows, detail, args.rods_only)
 
 
-def _write(rows, detail) -> None:
+def _write(rows, detail, rods_only: bool) -> None:
     """Record the table so far (after every design: a long run keeps what it measured)."""
+    which = "rods-only thresholds (p_t = 0)" if rods_only else "near-threshold set"
     body = (
-        f"Machine: {machine()}. Each threshold of the near-threshold set searched once per "
+        f"Machine: {machine()}. Each threshold of the {which} searched once per "
         "design of the verdict search (`SolverOptions.stages`; every other option default), "
         "in the same run, on the same samples. 'intervals': thresholds left as an interval by "
         "undecided probes, with the widest in events; 'differ': brackets [s_low, s_high] that "
@@ -138,7 +144,14 @@ def _write(rows, detail) -> None:
         + "\n\nPer threshold:\n\n"
         + table(DETAIL, detail)
     )
-    record("stages", "Designs of the verdict search (benchmarks/bench_stages.py)", body)
+    if rods_only:
+        record(
+            "stages-rods",
+            "Designs of the verdict search, rods only (bench_stages.py --rods-only)",
+            body,
+        )
+    else:
+        record("stages", "Designs of the verdict search (benchmarks/bench_stages.py)", body)
 
 
 if __name__ == "__main__":

@@ -24,11 +24,16 @@ CONFIGS = [
     (0.2, 0.0, "dilation"),
 ]
 
+#: the rods-only threshold (p_t = 0) of the p_c extrapolation (one strain: a rods-only
+#: threshold does not depend on it); not part of the issue-13 set
+RODS_ONLY = [(0.0, 0.5, "dilation")]
 
-def sample(n: int, c: int, k: int):
-    """(network, U, V, strain, p_t, f_c) of sample k of configuration c at size n."""
-    rng = np.random.default_rng([n, c, k])
-    p_t, f_c, phi = CONFIGS[c]
+
+def sample(n: int, c: int, k: int, configs=CONFIGS):
+    """(network, U, V, strain, p_t, f_c) of sample k of configuration c (of ``configs``) at
+    size n."""
+    rng = np.random.default_rng([n, c, k] if configs is CONFIGS else [n, 100 + c, k])
+    p_t, f_c, phi = configs[c]
     net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
     theta = float(rng.uniform(0, 2 * np.pi))
     return net, u, v, strain_tensor(phi, theta), p_t, f_c
@@ -43,8 +48,8 @@ def interval_events(u, v, p_t: float, f_c: float, th) -> int:
     return int(np.searchsorted(positions, th.s_high)) - int(np.searchsorted(positions, th.s_low))
 
 
-def samples(n: int, count: int):
-    """``count`` samples cycling through the configurations: yields (c, k, sample(n, c, k))."""
+def samples(n: int, count: int, configs=CONFIGS):
+    """``count`` samples cycling through ``configs``: yields (c, k, sample(n, c, k))."""
     for i in range(count):
-        c, k = i % len(CONFIGS), i // len(CONFIGS)
-        yield c, k, sample(n, c, k)
+        c, k = i % len(configs), i // len(configs)
+        yield c, k, sample(n, c, k, configs)
