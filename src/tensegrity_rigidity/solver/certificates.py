@@ -101,8 +101,10 @@ class FloppyCertificate:
 
     Attributes
     ----------
-    u : (2N,) float
-        Displacements in units of ``max |e0|``.
+    u : (2N,) float or longdouble
+        Displacements in units of ``max |e0|``, in extended precision when they were computed
+        in it (beyond ``1e6`` times the strain, rounding ``u`` to double precision alone
+        leaves violations of ``1e-10`` or more).
     violation : float
         Largest violation of ``e0 + R u``, in units of ``max |e0|``.
     size : float
@@ -263,8 +265,8 @@ class ExactGeometry:
 
         Parameters
         ----------
-        u : (2N,) float
-            Displacements in units of ``max |e0|``.
+        u : (2N,) float or longdouble
+            Displacements in units of ``max |e0|`` (extended precision is kept).
         res : Resolution
             The tolerances.
 
@@ -272,7 +274,9 @@ class ExactGeometry:
         -------
         FloppyCertificate
         """
-        u_n = np.asarray(u, dtype=float).ravel()
+        u_n = np.asarray(u).ravel()
+        if u_n.dtype != np.longdouble:
+            u_n = u_n.astype(float)
         if not self.strained:  # nothing is strained: u = 0 is exact
             return FloppyCertificate(np.zeros_like(u_n), 0.0, 0.0, True)
         size = float(np.abs(u_n).max(initial=0.0))

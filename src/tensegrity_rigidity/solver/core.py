@@ -474,7 +474,7 @@ def solve(
     pe = p if uniform else Problem(instance, opts.regularization, opts.factorization)
     k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
     if verdict.status == "floppy":
-        u_n = s.floppy.u
+        u_n = np.asarray(s.floppy.u, dtype=float)
         t_relaxed = np.zeros(p.sites.size)
         E_n = 0.0
         t_n = np.zeros(p.sites.size)

@@ -124,8 +124,8 @@ class Search:
 
         Parameters
         ----------
-        u : (2N,) float
-            Displacements (units of ``max |e0|``).
+        u : (2N,) float or longdouble
+            Displacements (units of ``max |e0|``); the certificate keeps extended precision.
         stage : str
             The stage offering them.
         E : float, optional
@@ -138,13 +138,14 @@ class Search:
         """
         if self.decided:
             return True
-        u = np.asarray(u, dtype=float)
+        exact = np.asarray(u)
+        u = exact.astype(float)
         if not np.all(np.isfinite(u)):
             return False
         E = self.p.energy(u) if E is None else E
         if E < self.E:
             self.u, self.E = u, E
-        cert = self.p.exact.floppy(u, self.resolution)
+        cert = self.p.exact.floppy(exact, self.resolution)
         if self.floppy is None or _floppy_key(cert) < _floppy_key(self.floppy):
             self.floppy = cert
         if cert.accepted:
@@ -322,7 +323,7 @@ class Projection:
     name: str = "project"
 
     def run(self, s: Search) -> None:
-        start = s.floppy.u if s.floppy is not None else s.u
+        start = np.asarray(s.floppy.u, dtype=float) if s.floppy is not None else s.u
         zero = np.zeros(s.p.sites.size)
         mn = min_norm_minimizer(s.p, zero, start, max_iterations=self.max_iter, stall=self.stall)
         s.offer_u(mn.u, self.name)
@@ -351,8 +352,9 @@ class Refine:
     residuals and forces are evaluated in extended precision on the certificates' geometry and
     ``u`` is accumulated in it, so the violation falls to ``~1e-13`` where double precision
     stalls at ``1e-9``. One factorisation per round; a round ends when the violation on ``A``
-    is below ``tau / 10``, when an extrapolation fails to halve it (a rigid sample: the
-    residual converges to the least-squares self-stress), or after ``max_iter`` steps.
+    is below ``tau / 10``, when ``patience`` extrapolations in a row fail to halve it (a rigid
+    sample: the residual converges to the least-squares self-stress), or after ``max_iter``
+    steps.
 
     The end point is offered as a floppy candidate (checked on every element); if the round
     did not converge its residual, a self-stress up to round-off, is offered as a rigid one.
@@ -372,6 +374,9 @@ class Refine:
         (the matrix is singular on floppy networks; smaller converges faster).
     window : int
         Steps between extrapolations.
+    patience : int
+        Extrapolations in a row that may fail to halve the least violation so far before the
+        round stops (the violation often falls in alternating large and small steps).
     max_iter : int
         Most steps per round (each one back-substitution).
     rounds : int
@@ -382,6 +387,7 @@ class Refine:
 
     shifts: tuple[float, ...] = (1e-13, 1e-11, 1e-9)
     window: int = 8
+    patience: int = 2
     max_iter: int = 200
     rounds: int = 3
     name: str = "refine"
@@ -395,7 +401,7 @@ class Refine:
             if solver is None:
                 return
             u, r, converged = self._round(s, active, solver)
-            if s.offer_u(np.asarray(u, dtype=float), self.name):
+            if s.offer_u(u, self.name):
                 return
             if not converged:
                 if not np.any(p.sigma * r < 0):  # admissible signs: a self-stress candidate
@@ -418,7 +424,7 @@ class Refine:
 
         u = np.zeros(s.p.n2, dtype=np.longdouble)
         r, viol = residual(u)
-        us, rs, before = [u], [r], viol
+        us, rs, best, misses = [u], [r], viol, 0
         for _ in range(self.max_iter):
             if viol <= goal:
                 return u, r, True
@@ -428,9 +434,13 @@ class Refine:
             rs.append(r)
             if len(us) > self.window:
                 u, r, viol = _extrapolate(us, rs, residual)
-                if not viol < 0.5 * before:
-                    return u, r, viol <= goal
-                us, rs, before = [u], [r], viol
+                us, rs = [u], [r]
+                if viol < 0.5 * best:
+                    best, misses = viol, 0
+                else:
+                    misses += 1
+                    if misses >= self.patience:
+                        break
         return u, r, viol <= goal
 
 
