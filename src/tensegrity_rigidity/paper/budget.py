@@ -71,13 +71,13 @@ THRESHOLD_SECONDS = {8: 0.01, 16: 0.17, 32: 1.56, 64: 48.0}
 #   Above 0.3 Fig. 1B's rows (p_t up to 0.8) averaged 0.081 s: 1 errs long.
 THRESHOLD_PT_FACTOR = ((0.0, 0.17), (0.1, 0.58), (0.2, 0.92), (0.3, 1.0))
 # RODS_THRESHOLD_SECONDS: a rods-only threshold search (p_t = 0), measured directly because its
-#   cost relative to a search at p_t = 0.3 falls with n (0.27, 0.18, 0.08, 0.11 at n = 8 to 64
-#   in the fss run): means of the rows of the rods-only p_c sweeps (Scale.fss_pc, 4000, 1200,
-#   400, 100 and 12 samples at n = 8 to 128) run on 2 workers on 2026-11-25 (`--scale pc`):
-#   113.7, 90.9, 158.1, 624.3 and 1663.0 s of search in all. n = 128 costs 139 s, not the 85 s
-#   of one earlier search: its searches meet 7 undecided probes each (intervals of up to 341
-#   events), and an undecided probe runs every stage.
-RODS_THRESHOLD_SECONDS = {8: 0.028, 16: 0.076, 32: 0.40, 64: 6.2, 128: 139.0}
+#   cost relative to a search at p_t = 0.3 falls with n: means of the rows of the rods-only p_c
+#   sweeps (Scale.fss_pc, 4000, 1200, 400, 100 and 64 samples at n = 8 to 128) run on 2 workers
+#   on 2026-11-25 with the refine stage (`--scale pc`, 34 min 11 s): 113.0, 73.4, 117.9, 282.9
+#   and 3395.7 s of search in all. The medians are lower (11.8 s at n = 128, max 219 s): a few
+#   searches meet undecided probes (153 in 64 searches at n = 128), and an undecided probe runs
+#   every stage. Before the refine stage (same day): 0.076, 0.40, 6.2 and 139 s at n = 16 to 128.
+RODS_THRESHOLD_SECONDS = {8: 0.028, 16: 0.061, 32: 0.295, 64: 2.83, 128: 53.1}
 # GRID_SECONDS: one grid sample, solve() with the minimum-norm displacements (what grid sweeps
 #   record), at the reference p_t = 0.15, from the rows of finished runs priced by
 #   benchmarks/calibrate_budget.py (BENCHMARKS.md, "Budget model against finished runs"): the

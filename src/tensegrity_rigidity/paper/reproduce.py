@@ -27,10 +27,10 @@ EXPECTED = {
     "quick": "11 minutes measured on 2026-11-25 from a clean clone, install included; the "
     "budget model prices it low: its Fig. 4 rows cost 31 ms, priced at 20 (estimated 6 minutes)",
     "paper": "25 minutes measured on 2026-11-23 (estimated 24 minutes)",
-    "fss": "estimated 101 minutes (before the rods-only p_c sweeps were added: 180 CPU minutes, "
+    "fss": "estimated 96 minutes (before the rods-only p_c sweeps were added: 180 CPU minutes, "
     "2 h 04 min wall on 2 shared cores, measured on 2026-11-23; resumable: re-run to continue)",
-    "pc": "the rods-only p_c extrapolation alone (n = 8 to 128): 23 minutes measured on "
-    "2026-11-25 (estimated 22 minutes)",
+    "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
+    "minutes measured on 2026-11-25 (estimated 33 minutes)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 47 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }
