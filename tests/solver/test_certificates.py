@@ -57,19 +57,23 @@ def test_no_instance_is_certified_both_ways(seed):
             assert not p.exact.rigid(cand, RES).accepted
 
 
+def _floppy_samples(seed: int = 5, count: int = 20):
+    """(problem, verdict) of the floppy ones among ``count`` random lattice samples."""
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        inst = random_instance(rng, "lattice")
+        v = decide(inst)
+        if v.status == "floppy":
+            yield Problem(inst, unit_stiffness=True), v
+
+
 def test_a_floppy_certificate_keeps_extended_precision():
     """Displacements offered in extended precision are checked and kept in it: a zero-energy
     displacement moved by a rigid translation of 1e6 strain units plus 2^-40 (below a double's
     resolution at that size) keeps its fraction in the certificate, and its violation is that of
     the extended-precision displacement, at most the double-rounded one's."""
-    rng = np.random.default_rng(5)
     checked = 0
-    for _ in range(20):
-        inst = random_instance(rng, "lattice")
-        v = decide(inst)
-        if v.status != "floppy":
-            continue
-        p = Problem(inst, unit_stiffness=True)
+    for p, v in _floppy_samples():
         far = np.asarray(v.floppy.u, dtype=np.longdouble) + np.longdouble(1e6)
         far += np.longdouble(2.0) ** -40
         cert = p.exact.floppy(far, RES)
@@ -84,14 +88,8 @@ def test_a_floppy_displacement_beyond_the_bound_is_rejected():
     """A zero-energy displacement moved by a rigid translation of 1e9 strain units still has
     zero violation in exact arithmetic, but it is no certificate: at that size the rounding of
     e0 + R u alone exceeds the tolerance (the issue's n = 64 failure)."""
-    rng = np.random.default_rng(5)
     checked = 0
-    for _ in range(20):
-        inst = random_instance(rng, "lattice")
-        v = decide(inst)
-        if v.status != "floppy":
-            continue
-        p = Problem(inst, unit_stiffness=True)
+    for p, v in _floppy_samples():
         u = v.floppy.u
         assert p.exact.floppy(u, RES).accepted
         far = u + 1e9
