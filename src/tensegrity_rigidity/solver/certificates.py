@@ -63,6 +63,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 #: Unit round-off of the extended precision the certificates are evaluated in (``2^-64`` on
 #: x86-64; ``2^-53`` where ``longdouble`` is a double).
@@ -209,6 +210,24 @@ class ExactGeometry:
         sums = int(np.ceil(np.log2(max(len(bonds), 2 * n_nodes, 2))))
         #: Bound on the round-off of the normalised work and force residual (module docstring).
         self.roundoff = (3 * (degree + 6) + 2 * sums + 3) * EPS
+        self._R: sp.csr_matrix | None = None
+
+    @property
+    def matrix(self) -> sp.csr_matrix:
+        """The rigidity matrix ``R`` (m, 2N) in extended precision (built on first use); a row
+        holds ``-dhat`` at its first node and ``+dhat`` at its second, so a node's force in
+        ``R^T t`` sums at most ``D`` products in turn, as the bound assumes."""
+        if self._R is None:
+            m = len(self.bonds)
+            i, j = self.bonds[:, 0], self.bonds[:, 1]
+            cols = np.concatenate([2 * j, 2 * j + 1, 2 * i, 2 * i + 1])
+            vals = np.concatenate(
+                [self.dhat[:, 0], self.dhat[:, 1], -self.dhat[:, 0], -self.dhat[:, 1]]
+            )
+            rows = np.tile(np.arange(m), 4)
+            shape = (m, 2 * self.n_nodes)
+            self._R = sp.csr_matrix((vals, (rows, cols)), shape=shape, dtype=np.longdouble)
+        return self._R
 
     def extensions(self, u_n: np.ndarray) -> np.ndarray:
         """``e0 + R u`` in extended precision.
@@ -238,12 +257,7 @@ class ExactGeometry:
         -------
         (2N,) longdouble
         """
-        t = np.asarray(t, dtype=np.longdouble)
-        f = np.zeros((self.n_nodes, 2), dtype=np.longdouble)
-        contrib = self.dhat * t[:, None]
-        np.add.at(f, self.bonds[:, 1], contrib)
-        np.add.at(f, self.bonds[:, 0], -contrib)
-        return f.ravel()
+        return self.matrix.T @ np.asarray(t, dtype=np.longdouble)
 
     def violations(self, v: np.ndarray) -> np.ndarray:
         """Per-site violation of extensions.
