@@ -139,7 +139,7 @@ class Search:
         if self.decided:
             return True
         exact = np.asarray(u)
-        u = exact.astype(float)
+        u = np.asarray(exact, dtype=float)  # no copy when it is already a double array
         if not np.all(np.isfinite(u)):
             return False
         E = self.p.energy(u) if E is None else E
@@ -417,7 +417,6 @@ class Refine:
         """Proximal steps with extrapolation on the engaged set ``active`` (m,) bool; returns
         (u (2N,) longdouble, residual on ``active`` (m,) longdouble, converged)."""
         ex, goal = s.p.exact, 0.1 * s.resolution.violation
-
         R = ex.matrix
 
         def residual(u):  # e0 + R u on the engaged set (the certificate re-checks the end point)
