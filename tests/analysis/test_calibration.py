@@ -347,3 +347,31 @@ def test_finite_size_extrapolation_is_calibrated():
     # replicas its 2-sigma coverage is 0.89 and spread / error 1.05
     assert_calibrated(free, free_err, 0.66, coverage=0.8, ratio=(0.6, 1.6))
     assert_calibrated(nu, nu_err, 1.2, coverage=0.75, ratio=(0.6, 1.6))
+
+
+def test_width_scaling_is_calibrated():
+    """Thresholds drawn as p_c + n^(-1/nu) (a + b N(0, 1)) with p_c = 0.66, nu = 1.2 at the pc
+    scale's sizes (fewer samples): the widths give nu and the centre against the width gives
+    p_c, both within their bootstrap errors, and a wrong exponent (4/3, connectivity
+    percolation) is excluded."""
+    n = np.array([8.0, 16.0, 32.0, 64.0, 128.0])
+    counts = [800, 400, 200, 100, 64]
+    p_c, nu = [], []
+    for rep in range(20):
+        rng = np.random.default_rng(100 + rep)
+        draws = [0.66 + k ** (-1 / 1.2) * (-0.06 + 0.1 * rng.normal(size=c)) for k, c in
+                 zip(n, counts, strict=True)]  # fmt: skip
+        w = an.width_scaling(n, draws, n_boot=100, rng=rng)
+        p_c.append((w.p_c, w.p_c_err))
+        nu.append((w.nu, w.nu_err))
+    p_c, nu = np.array(p_c), np.array(nu)
+    assert_calibrated(p_c[:, 0], p_c[:, 1], 0.66)
+    assert_calibrated(nu[:, 0], nu[:, 1], 1.2)
+    assert np.mean(np.abs(nu[:, 0] - 4 / 3) > 2 * nu[:, 1]) > 0.8
+
+
+def test_width_scaling_refuses_never_rigid_samples():
+    """A non-finite threshold has no standard deviation: NaN, not a number."""
+    t = [np.array([0.6, 0.62, 0.65]), np.array([0.64, np.nan, 0.66]), np.array([0.65, 0.66, 0.67])]
+    w = an.width_scaling(np.array([8.0, 16.0, 32.0]), t)
+    assert np.isnan(w.nu) and np.isnan(w.p_c)

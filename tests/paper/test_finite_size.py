@@ -63,6 +63,11 @@ def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     assert check is not None and check.nu_fixed and check.nu == fs.NU_CHECK.value
     assert check.dof == len(TINY.pc_sizes) - 2
     assert fss.nu_at_bound == bool(np.any(np.isclose(1 / pc.nu, fs.an.THETA)))
+    # the third: the threshold distributions' widths, no exponent fitted
+    w = fss.pc_widths
+    assert w is not None and list(w.n) == list(TINY.pc_sizes)
+    assert np.all(w.width > 0) and np.all(w.width_err > 0)
+    assert np.isfinite(fss.pc_widths_z) and np.isfinite(fss.pc_widths_nu_z)
 
 
 def test_the_fixed_nu_reading_recovers_a_known_threshold():
@@ -155,7 +160,7 @@ def test_a_report_of_the_finite_size_studies_alone(tiny_out, tmp_path):
     md = res["report"]["md"].read_text()
     assert "## Finite size" in md and "## Node disorder delta" in md and "## Figure FS" in md
     assert "## Comparison with the paper" not in md and "0 claims agree" not in md
-    assert "With nu fixed at the literature's" in md
+    assert "With nu fixed at the literature's" in md and "Without a fitted exponent" in md
     assert (tmp_path / "tables" / "fss_extrapolated.csv").exists()
 
 

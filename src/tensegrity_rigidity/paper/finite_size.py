@@ -15,7 +15,9 @@ n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
   Each is extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
   (:func:`~tensegrity_rigidity.analysis.estimators.fit_finite_size`): for the rods-only
   threshold with nu fitted (the literature's nu = 1.16 to 1.21 is a check, not an input), for
-  the other claims with nu fixed at that fitted value (its error widens theirs).
+  the other claims with nu fixed at that fitted value (its error widens theirs). The widths of
+  the rods-only threshold distributions give a second reading with no fitted exponent
+  (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
 * :func:`study_delta`: the same claims at one size for each delta.
 
 Both hand their values to the comparison as evidence for the factors "finite size" (the
@@ -169,6 +171,13 @@ class FiniteSizeResult:
     pc_sizes, pc_samples : tuple of int
         Sizes of the rods-only extrapolation and its samples at each (the headline sweeps'
         unless the scale gives ``fss_pc``).
+    pc_widths : WidthScaling or None
+        The rods-only threshold distributions' widths and centres against size (where the
+        scale gives ``fss_pc``): nu from the widths alone and p_c from the centre against the
+        width, a second reading with no fitted exponent
+        (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
+    pc_widths_z, pc_widths_nu_z : float
+        Its p_c against :data:`PC_CHECK` and its nu against :data:`NU_CHECK`.
     """
 
     by_size: pd.DataFrame
@@ -184,6 +193,9 @@ class FiniteSizeResult:
     nu_at_bound: bool = False
     pc_sizes: tuple[int, ...] = ()  # sizes of the rods-only extrapolation
     pc_samples: tuple[int, ...] = ()  # its samples per size
+    pc_widths: an.WidthScaling | None = None
+    pc_widths_z: float = float("nan")
+    pc_widths_nu_z: float = float("nan")
 
 
 def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
@@ -199,11 +211,13 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         if frames  # the pc scale measures only the rods-only point
         else pd.DataFrame(columns=["key", "value", "err", "n"])
     )
+    widths = None
     if scale.fss_pc:  # the rods-only point from its own sweeps, at its own sizes
-        pc_rows = []
+        pc_rows, per_size = [], []
         for n in scale.pc_sizes:
             ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
             rows, excluded[name] = sweep_rows(out, name, spec, **kw)
+            per_size.append(rows.threshold_p_r.to_numpy(float))
             value, err = an.critical_point(rows.threshold_p_r.to_numpy())
             width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
             pc_rows.append(
@@ -221,6 +235,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         by_size = pd.concat(
             [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
         )
+        widths = an.width_scaling(np.asarray(scale.pc_sizes, float), per_size)
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
@@ -274,6 +289,17 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_at_check_nu=at_check,
         pc_at_check_nu_z=at_check_z,
         nu_at_bound=at_bound,
+        pc_widths=widths,
+        pc_widths_z=(
+            an.agreement_z(widths.p_c, widths.p_c_err**2, PC_CHECK.value, 0.0)
+            if widths is not None
+            else float("nan")
+        ),
+        pc_widths_nu_z=(
+            an.agreement_z(widths.nu, widths.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0)
+            if widths is not None
+            else float("nan")
+        ),
     )
 
 

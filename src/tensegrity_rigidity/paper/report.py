@@ -213,9 +213,34 @@ def method_section(r) -> Section:
 
 
 def _fmt(v: float, e: float) -> str:
+    """``v ± e`` with 3 decimals, more when the error needs them to show two digits."""
     if not np.isfinite(v):
         return "n/a"
-    return f"{v:.3f} ± {e:.3f}" if np.isfinite(e) else f"{v:.3f}"
+    if not np.isfinite(e):
+        return f"{v:.3f}"
+    digits = 3 if e <= 0 else int(np.clip(1 - np.floor(np.log10(e)), 3, 6))
+    return f"{v:.{digits}f} ± {e:.{digits}f}"
+
+
+def _pc_widths(r) -> str:
+    """The second reading of the rods-only extrapolation: the threshold distributions' widths."""
+    w = getattr(r, "pc_widths", None)
+    if w is None or not np.isfinite(w.nu):
+        return ""
+    dof = w.n.size - 2
+    return (
+        " Without a fitted exponent (the widths of the threshold distributions, standard "
+        "deviations "
+        + ", ".join(f"{x:.4f}" for x in w.width)
+        + " at n = "
+        + ", ".join(str(int(n)) for n in w.n)
+        + ", scale as n^(-1/nu); the P = 1/2 point is a "
+        f"straight line in the width whose intercept is p_c): nu = {_fmt(w.nu, w.nu_err)} "
+        f"(chi-square {w.nu_chi2:.2f} with {dof} degrees of freedom), z = "
+        f"{r.pc_widths_nu_z:.2f} against "
+        f"{NU_CHECK.value}; p_c = {_fmt(w.p_c, w.p_c_err)} (chi-square {w.p_c_chi2:.2f} with "
+        f"{dof}), z = {r.pc_widths_z:.2f} against {PC_CHECK.value}."
+    )
 
 
 def _pc_intervals(r) -> str:
@@ -278,6 +303,7 @@ def fss_section(r) -> Section:
             if r.pc_at_check_nu is not None
             else ""
         )
+        + _pc_widths(r)
         + _pc_intervals(r)
         + (
             " The other claims are extrapolated with nu fixed at the fitted value, its error added."
@@ -404,7 +430,8 @@ def write_report(
         f"**{scale_name}**. Every verdict is exact (certified by an admissible self-stress or a "
         f"zero-energy displacement), so differences from the paper are statistical, finite-size "
         f"or definitional, not solver noise. {counts}"
-        f"{RULE} Study wall times: "
+        f"{RULE} Study wall times of this invocation (samples stored by an earlier one are "
+        "reused, not timed): "
         + ", ".join(f"{k} {v:.0f} s" for k, v in timings.items())
         + ". "
         + (
