@@ -338,7 +338,8 @@ def fig4c(r: Fig4Result, figdir: Path):
 
 def fig_fss(r: FiniteSizeResult, figdir: Path):
     """Finite size: the rods-only P = 1/2 point and S_t/S_r of the one-sided systems versus
-    n^(-1/nu), with the extrapolations to n -> infinity and the paper's values."""
+    n^(-1/nu), with the extrapolations to n -> infinity and the paper's values, and the widths
+    of the rods-only threshold distributions against n (log-log) where they were measured."""
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
     nu = pc.nu if np.isfinite(pc.nu) else 1.0
@@ -347,12 +348,18 @@ def fig_fss(r: FiniteSizeResult, figdir: Path):
         for k in ("st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear")
         if k in ex.index
     ]
-    # one panel when only the rods-only point was measured (the pc scale)
-    fig, axes = plt.subplots(1, 2 if st_sr else 1, figsize=(10 if st_sr else 5.5, 4.2))
+    w = r.pc_widths
+    widths = w is not None and np.isfinite(w.nu)
+    # the rods-only point, then S_t/S_r where measured, then the threshold distributions' widths
+    count = 1 + bool(st_sr) + widths
+    fig, axes = plt.subplots(1, count, figsize=(5 * count, 4.2))
     axes = np.atleast_1d(axes)
     panels = [(axes[0], ["rods_only_pc"], "rods-only P = 1/2 point")]
     if st_sr:
         panels.append((axes[1], st_sr, "S_t / S_r"))
+    if widths:
+        _width_panel(axes[-1], w)
+    fig.subplots_adjust(wspace=0.3)
     for ax, keys, ylabel in panels:
         for key in keys:
             ref = CLAIMS[key].value
@@ -374,6 +381,24 @@ def fig_fss(r: FiniteSizeResult, figdir: Path):
         fontsize=9,
     )
     return _save(fig, figdir, "FS")
+
+
+def _width_panel(ax, w) -> None:
+    """The rods-only threshold distributions' standard deviations against n, log-log, with
+    the line of slope -1/nu fitted to them."""
+    ax.errorbar(w.n, w.width, yerr=w.width_err, marker="o", capsize=3, ls="none")
+    # the line's height: its weighted mean offset in log-log (display only)
+    weight = (w.width / w.width_err) ** 2
+    offset = np.sum(weight * (np.log(w.width) + np.log(w.n) / w.nu)) / np.sum(weight)
+    ns = np.geomspace(w.n.min(), w.n.max(), 20)
+    ax.plot(ns, np.exp(offset) * ns ** (-1 / w.nu), "--", lw=1,
+            label=f"n^(-1/nu), nu = {w.nu:.2f} ± {w.nu_err:.2f}")  # fmt: skip
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("n")
+    ax.set_ylabel("std of the rods-only thresholds")
+    ax.set_title(f"p_c from centre vs width: {w.p_c:.4f} ± {w.p_c_err:.4f}", fontsize=9)
+    ax.legend(fontsize=7)
 
 
 def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
