@@ -218,7 +218,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
             rows, excluded[name] = sweep_rows(out, name, spec, **kw)
             per_size.append(rows.threshold_p_r.to_numpy(float))
-            value, err = an.critical_point(rows.threshold_p_r.to_numpy())
+            value, err = an.critical_point(per_size[-1])
             width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
             pc_rows.append(
                 {
@@ -257,6 +257,12 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     )
     at_check_z = an.agreement_z(at_check.y_inf, at_check.y_inf_err**2, PC_CHECK.value, 0.0)
     at_bound = bool(np.any(np.isclose(1.0 / pc_fit.nu, an.THETA, rtol=1e-6)))
+    widths_z = widths_nu_z = float("nan")
+    if widths is not None:
+        widths_z = an.agreement_z(widths.p_c, widths.p_c_err**2, PC_CHECK.value, 0.0)
+        widths_nu_z = an.agreement_z(
+            widths.nu, widths.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0
+        )
     label = (
         f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.fss_sizes))} "
         + (f"(rods-only p_c: n = {', '.join(map(str, scale.pc_sizes))}) " if scale.fss_pc else "")
@@ -290,16 +296,8 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_at_check_nu_z=at_check_z,
         nu_at_bound=at_bound,
         pc_widths=widths,
-        pc_widths_z=(
-            an.agreement_z(widths.p_c, widths.p_c_err**2, PC_CHECK.value, 0.0)
-            if widths is not None
-            else float("nan")
-        ),
-        pc_widths_nu_z=(
-            an.agreement_z(widths.nu, widths.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0)
-            if widths is not None
-            else float("nan")
-        ),
+        pc_widths_z=widths_z,
+        pc_widths_nu_z=widths_nu_z,
     )
 
 

@@ -225,7 +225,7 @@ def _fmt(v: float, e: float) -> str:
 
 def _pc_widths(r) -> str:
     """The second reading of the rods-only extrapolation: the threshold distributions' widths."""
-    w = getattr(r, "pc_widths", None)
+    w = r.pc_widths
     if w is None or not np.isfinite(w.nu):
         return ""
     dof = w.n.size - 2
