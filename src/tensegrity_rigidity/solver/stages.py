@@ -152,15 +152,19 @@ class Search:
             self.stage = stage
         return self.decided
 
-    def offer_t(self, t: np.ndarray, stage: str) -> bool:
+    def offer_t(self, t: np.ndarray, stage: str, as_is: bool = False) -> bool:
         """Offer approximate tensions as a rigid candidate, purified first.
 
         Parameters
         ----------
-        t : (m,) float
+        t : (m,) float or longdouble
             Approximate tensions on the non-empty sites.
         stage : str
             The stage offering them.
+        as_is : bool
+            Check ``t`` itself first (in its own precision; wrong signs are rejected), and
+            purify only when that fails: for tensions already balanced to extended
+            round-off, which purification could only coarsen.
 
         Returns
         -------
@@ -168,6 +172,8 @@ class Search:
             True once the search is decided.
         """
         if self.decided:
+            return True
+        if as_is and self._offer_rigid(self.p.exact.rigid(t, self.resolution), stage):
             return True
         t = np.asarray(t, dtype=float)
         if not np.all(np.isfinite(t)) or not np.any(t):
@@ -177,15 +183,19 @@ class Search:
                 tp = purify(self.p, t, support_tol=support_tol)
             except ArithmeticError:
                 continue
-            cert = self.p.exact.rigid(tp, self.resolution)
-            if self.rigid is None or _rigid_key(cert, self.resolution) > _rigid_key(
-                self.rigid, self.resolution
-            ):
-                self.rigid = cert
-            if cert.accepted:
-                self.stage = stage
+            if self._offer_rigid(self.p.exact.rigid(tp, self.resolution), stage):
                 break
         return self.decided
+
+    def _offer_rigid(self, cert: RigidCertificate, stage: str) -> bool:
+        """Keep ``cert`` if it is the best rigid candidate so far; True if it is accepted."""
+        if self.rigid is None or _rigid_key(cert, self.resolution) > _rigid_key(
+            self.rigid, self.resolution
+        ):
+            self.rigid = cert
+        if cert.accepted:
+            self.stage = stage
+        return cert.accepted
 
     def offer_point(self, u: np.ndarray, stage: str) -> bool:
         """Offer displacements ``u`` (2N,) and the tensions of the energy at them; True
@@ -472,50 +482,68 @@ class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
     First the verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1``: HiGHS's
-    interior point (no crossover, one thread, at most ``max_iter`` iterations) gives a point
-    near the analytic centre of the optimal face; its tensions are purified and offered, its
-    dual displacements offered and crossed over. Then, if nothing was accepted, the feasibility
-    LP for a zero-energy displacement by the dual simplex (at most
-    ``simplex_iterations_per_site`` iterations per non-empty site,
+    interior point (one thread, at most ``max_iter`` iterations), followed by its crossover to
+    a vertex when ``refine`` is set. Its tensions are purified and offered, its dual
+    displacements offered and crossed over.
+
+    Near the threshold the vertex is not yet a certificate: HiGHS accepts a basis whose
+    variables miss their bounds by up to its feasibility tolerance (``1e-7``), and at n = 64
+    about 200 cable tensions of such a vertex sit at ``-6e-8``. They cannot simply be zeroed:
+    the forces they carry are balanced only by other elements of the basis. So the vertex is
+    refined as in LP iterative refinement (Gleixner, Steffy & Wolter, INFORMS J. Comput. 28,
+    449 (2016)): with ``d`` the largest force residual (in extended precision) or bound
+    violation of the tensions ``t``, the correction LP
+
+        max e0 . x   s.t.   R^T x = -R^T t / d,   (lo - t) / d <= x <= (hi - t) / d
+
+    (the same LP, shifted to ``t`` and magnified by ``1 / d``) is solved by the primal simplex
+    warm-started from the vertex's basis, and ``t + d x`` (accumulated in extended precision)
+    misses its bounds and balances the nodes to about ``1e-7 d``. Each of the ``refine``
+    rounds gains that factor; its tensions, with the wrong-signed ones (``~1e-15`` after one
+    round) set to zero, are offered as they are, its duals as displacements.
+
+    Then, if nothing was accepted, the feasibility LP for a zero-energy displacement by the
+    dual simplex (at most ``simplex_iterations_per_site`` iterations per non-empty site,
     :func:`_feasibility_lp`): a vertex satisfies its rows to HiGHS's tolerance and is checked
     as it is; when the simplex proves the LP infeasible instead, its dual ray is an admissible
     self-stress with positive work (Farkas' lemma), purified and offered as a rigid candidate.
-    A HiGHS failure leaves the search as it was.
+    A HiGHS failure leaves the search as it was. The refinement's simplex has the same budget.
+
+    Attributes
+    ----------
+    max_iter : int
+        Interior-point iterations of the verdict LP.
+    simplex_iterations_per_site : float
+        Simplex iterations per non-empty site, of each refinement and of the feasibility LP.
+    refine : int
+        Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
+    name : str
+        The stage's name in ``SolverOptions.stages``.
     """
 
     max_iter: int = 100
     simplex_iterations_per_site: float = 2.0
+    refine: int = 1
     name: str = "lp"
 
     def run(self, s: Search) -> None:
-        import highspy
 
         p = s.p
         A = p.RT.tocsc()
         lo = np.where(p.sigma > 0, 0.0, -1.0)
         hi = np.where(p.sigma < 0, 0.0, 1.0)
-        lp = highspy.HighsLp()
-        lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
-        lp.col_cost_ = -p.e0
-        lp.col_lower_, lp.col_upper_ = lo, hi
-        lp.row_lower_ = lp.row_upper_ = np.zeros(A.shape[0])
-        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = (
-            A.indptr,
-            A.indices,
-            A.data,
+        budget = int(self.simplex_iterations_per_site * p.sites.size)
+        h = _highs(
+            A,
+            -p.e0,
+            lo,
+            hi,
+            np.zeros(A.shape[0]),
+            np.zeros(A.shape[0]),
+            solver="ipm",
+            run_crossover="on" if self.refine else "off",
+            ipm_iteration_limit=self.max_iter,
         )
-        h = highspy.Highs()
-        for key, value in (
-            ("output_flag", False),
-            ("solver", "ipm"),
-            ("run_crossover", "off"),
-            ("threads", 1),
-            ("ipm_iteration_limit", self.max_iter),
-        ):
-            h.setOptionValue(key, value)
-        h.passModel(lp)
-        h.run()
         sol = h.getSolution()
         if sol.value_valid and sol.dual_valid:
             t = np.asarray(sol.col_value, dtype=float)
@@ -526,11 +554,82 @@ class LinearProgram:
             u = np.asarray(sol.row_dual, dtype=float)
             if s.offer_u(u, self.name) or s.crossovers(u, self.name):
                 return
-        vertex, ray = _feasibility_lp(p, int(self.simplex_iterations_per_site * p.sites.size))
+            basis = h.getBasis()
+            t_ext = np.asarray(sol.col_value, dtype=np.longdouble)
+            for _ in range(self.refine if basis.valid else 0):
+                step = _refinement(p, A, lo, hi, t_ext, basis, budget)
+                if step is None:
+                    break
+                t_ext, u, basis = step
+                admissible = np.where(p.sigma * t_ext < 0, 0, t_ext)
+                if s.offer_t(admissible, self.name, as_is=True) or s.offer_u(u, self.name):
+                    return
+        vertex, ray = _feasibility_lp(p, budget)
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
             s.offer_t(ray, self.name)
+
+
+def _highs(A, cost, col_lower, col_upper, row_lower, row_upper, basis=None, **options):
+    """HiGHS on ``min cost . x`` s.t. ``row_lower <= A x <= row_upper``, ``col_lower <= x <=
+    col_upper`` (``A`` CSC), one thread, silent, with ``options`` and an optional starting
+    basis; returns the solved ``highspy.Highs``."""
+    import highspy
+
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
+    lp.col_cost_ = cost
+    lp.col_lower_, lp.col_upper_ = col_lower, col_upper
+    lp.row_lower_, lp.row_upper_ = row_lower, row_upper
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
+    h = highspy.Highs()
+    for key, value in {"output_flag": False, "threads": 1, **options}.items():
+        h.setOptionValue(key, value)
+    h.passModel(lp)
+    if basis is not None:
+        h.setBasis(basis)
+    h.run()
+    return h
+
+
+def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
+    """One round of LP iterative refinement of the verdict LP at tensions ``t`` ((m,)
+    longdouble), warm-started from ``basis`` (:class:`LinearProgram`).
+
+    Returns (refined tensions (m,) longdouble, the correction LP's row duals (2N,) float as
+    displacements, its basis), or None when ``t`` is already exact or the primal simplex did
+    not reach an optimum within ``max_iter`` iterations.
+    """
+    import highspy
+
+    f = p.exact.forces(t)
+    d = max(
+        float(np.abs(f).max(initial=0.0)),
+        float(np.max(lo - t, initial=0.0)),
+        float(np.max(t - hi, initial=0.0)),
+    )
+    if not (np.isfinite(d) and d > 0):
+        return None
+    rows = np.asarray(-f / d, dtype=float)
+    h = _highs(
+        A,
+        -p.e0,
+        np.asarray((lo - t) / d, dtype=float),
+        np.asarray((hi - t) / d, dtype=float),
+        rows,
+        rows,
+        basis=basis,
+        solver="simplex",
+        simplex_strategy=4,  # primal: the basis stays dual feasible, its values do not
+        simplex_iteration_limit=max_iter,
+    )
+    if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+        return None
+    sol = h.getSolution()
+    x = np.asarray(sol.col_value, dtype=np.longdouble)
+    return t + d * x, np.asarray(sol.row_dual, dtype=float), h.getBasis()
 
 
 def _feasibility_lp(p: Problem, max_iter: int) -> tuple[np.ndarray | None, np.ndarray | None]:
@@ -562,26 +661,17 @@ def _feasibility_lp(p: Problem, max_iter: int) -> tuple[np.ndarray | None, np.nd
 
     A = p.R.tocsc()
     inf = highspy.kHighsInf
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
-    lp.col_cost_ = np.zeros(A.shape[1])
-    lp.col_lower_ = np.full(A.shape[1], -inf)
-    lp.col_upper_ = np.full(A.shape[1], inf)
-    lp.row_lower_ = np.where(p.sigma > 0, -inf, -p.e0)
-    lp.row_upper_ = np.where(p.sigma < 0, inf, -p.e0)
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
-    h = highspy.Highs()
-    for key, value in (
-        ("output_flag", False),
-        ("solver", "simplex"),
-        ("threads", 1),
-        ("simplex_iteration_limit", max_iter),
-        ("primal_feasibility_tolerance", 1e-9),
-    ):
-        h.setOptionValue(key, value)
-    h.passModel(lp)
-    h.run()
+    h = _highs(
+        A,
+        np.zeros(A.shape[1]),
+        np.full(A.shape[1], -inf),
+        np.full(A.shape[1], inf),
+        np.where(p.sigma > 0, -inf, -p.e0),
+        np.where(p.sigma < 0, inf, -p.e0),
+        solver="simplex",
+        simplex_iteration_limit=max_iter,
+        primal_feasibility_tolerance=1e-9,
+    )
     status = h.getModelStatus()
     if status == highspy.HighsModelStatus.kOptimal:
         return np.asarray(h.getSolution().col_value, dtype=float), None
