@@ -507,16 +507,18 @@ class LinearProgram:
     :func:`_feasibility_lp`): a vertex satisfies its rows to HiGHS's tolerance and is checked
     as it is; when the simplex proves the LP infeasible instead, its dual ray is an admissible
     self-stress with positive work (Farkas' lemma), purified and offered as a rigid candidate.
-    A HiGHS failure leaves the search as it was. The refinement's simplex has the same budget.
+    A HiGHS failure leaves the search as it was.
 
     Attributes
     ----------
     max_iter : int
         Interior-point iterations of the verdict LP.
     simplex_iterations_per_site : float
-        Simplex iterations per non-empty site, of each refinement and of the feasibility LP.
+        Simplex iterations per non-empty site of the feasibility LP.
     refine : int
         Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
+    refine_iterations_per_site : float
+        Simplex iterations per non-empty site of each refinement round.
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -524,22 +526,24 @@ class LinearProgram:
     max_iter: int = 100
     simplex_iterations_per_site: float = 2.0
     refine: int = 1
+    refine_iterations_per_site: float = 0.25
     name: str = "lp"
 
     def run(self, s: Search) -> None:
-
         p = s.p
         A = p.RT.tocsc()
         lo = np.where(p.sigma > 0, 0.0, -1.0)
         hi = np.where(p.sigma < 0, 0.0, 1.0)
         budget = int(self.simplex_iterations_per_site * p.sites.size)
+
+        zeros = np.zeros(A.shape[0])
         h = _highs(
             A,
             -p.e0,
             lo,
             hi,
-            np.zeros(A.shape[0]),
-            np.zeros(A.shape[0]),
+            zeros,
+            zeros,
             solver="ipm",
             run_crossover="on" if self.refine else "off",
             ipm_iteration_limit=self.max_iter,
@@ -554,21 +558,31 @@ class LinearProgram:
             u = np.asarray(sol.row_dual, dtype=float)
             if s.offer_u(u, self.name) or s.crossovers(u, self.name):
                 return
-            basis = h.getBasis()
-            t_ext = np.asarray(sol.col_value, dtype=np.longdouble)
-            for _ in range(self.refine if basis.valid else 0):
-                step = _refinement(p, A, lo, hi, t_ext, basis, budget)
-                if step is None:
-                    break
-                t_ext, u, basis = step
-                admissible = np.where(p.sigma * t_ext < 0, 0, t_ext)
-                if s.offer_t(admissible, self.name, as_is=True) or s.offer_u(u, self.name):
-                    return
+        if self.refine and self._refine(s, h, A, lo, hi):
+            return
         vertex, ray = _feasibility_lp(p, budget)
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
             s.offer_t(ray, self.name)
+
+    def _refine(self, s: Search, h, A, lo, hi) -> bool:
+        """``refine`` rounds of LP iterative refinement from the vertex of the solved verdict
+        LP ``h``, each result offered; True once the search is decided."""
+        sol, basis = h.getSolution(), h.getBasis()
+        if not (sol.value_valid and basis.valid):
+            return False
+        t = np.asarray(sol.col_value, dtype=np.longdouble)
+        budget = int(self.refine_iterations_per_site * s.p.sites.size)
+        for _ in range(self.refine):
+            step = _refinement(s.p, A, lo, hi, t, basis, budget)
+            if step is None:
+                return False
+            t, u, basis = step
+            admissible = np.where(s.p.sigma * t < 0, 0, t)
+            if s.offer_t(admissible, self.name, as_is=True) or s.offer_u(u, self.name):
+                return True
+        return False
 
 
 def _highs(A, cost, col_lower, col_upper, row_lower, row_upper, basis=None, **options):
