@@ -61,18 +61,22 @@ def test_undecided_probes_give_an_interval_that_contains_the_threshold():
     assert widened >= 3
 
 
-def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_event():
+def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_event(monkeypatch):
     """n = 32, rods only (the rods-only set of benchmarks/near_threshold_set.py, sample 10):
-    without the refinement stage two probes below the threshold stay undecided (zero-energy
-    displacements of 1.4e6 times the strain, violations stalled at 1.5e-9) and the threshold is
-    an interval; with it the threshold is one event, inside that interval, and the same on a
-    second search."""
+    without the refinement stage, and with the LP stage unrefined (``LinearProgram(refine=0)``),
+    two probes below the threshold stay undecided (zero-energy displacements of 1.4e6 times the
+    strain, violations stalled at 1.5e-9) and the threshold is an interval; with the refinement
+    stage, or with the LP stage's own refinement, the threshold is the same one event, inside
+    that interval, and the same on a second search."""
     from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
+    from tensegrity_rigidity.solver.stages import STAGES, LinearProgram
 
+    monkeypatch.setitem(STAGES, "lp-unrefined", LinearProgram(refine=0, name="lp-unrefined"))
     rng = np.random.default_rng([32, 100, 10])
     net, u, v = lattice_geometry(32, DEFAULT_DELTA, rng)
     eps = strain_tensor("dilation", float(rng.uniform(0, 2 * np.pi)))
-    energy_only = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp"))
+    energy_only = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp-unrefined"))
+    lp_refined = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp"))
     with_refine = SolverOptions(stages=("affine", "newton", "refine", "crossover", "ipm", "lp"))
     wide = find_threshold(net, u, v, eps, 0.0, 0.5, options=energy_only)
     th = find_threshold(net, u, v, eps, 0.0, 0.5, options=with_refine)
@@ -80,6 +84,8 @@ def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_e
     assert th.decided and th.undecided == 0
     assert wide.s_low <= th.s <= wide.s_high
     assert th == find_threshold(net, u, v, eps, 0.0, 0.5, options=with_refine)
+    by_lp = find_threshold(net, u, v, eps, 0.0, 0.5, options=lp_refined)
+    assert by_lp.decided and by_lp.s == th.s
 
 
 def test_a_rigid_certificate_holds_from_the_first_configuration_that_admits_it():
