@@ -534,8 +534,6 @@ class LinearProgram:
         A = p.RT.tocsc()
         lo = np.where(p.sigma > 0, 0.0, -1.0)
         hi = np.where(p.sigma < 0, 0.0, 1.0)
-        budget = int(self.simplex_iterations_per_site * p.sites.size)
-
         zeros = np.zeros(A.shape[0])
         h = _highs(
             A,
@@ -560,7 +558,7 @@ class LinearProgram:
                 return
         if self.refine and self._refine(s, h, A, lo, hi):
             return
-        vertex, ray = _feasibility_lp(p, budget)
+        vertex, ray = _feasibility_lp(p, int(self.simplex_iterations_per_site * p.sites.size))
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
