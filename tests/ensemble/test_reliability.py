@@ -258,6 +258,30 @@ def test_one_failing_chunk_keeps_every_other_chunk(tmp_path, capsys, monkeypatch
     pd.testing.assert_frame_equal(_frame(out), _fresh(load_spec(spec), tmp_path / "fresh"))
 
 
+def test_sigterm_swallowed_inside_a_chunk_still_ends_the_sweep(tmp_path, capsys, monkeypatch):
+    """A C extension calling back into Python can swallow the handler's exception (1 of 41
+    SIGTERMs of a serial sweep ran on to the end); the recorded request ends it after the chunk."""
+    spec = _write(tmp_path, SMALL)
+    out = tmp_path / "t"
+    real = sweep_mod.run_chunk
+    calls = []
+
+    def swallowing(spec, point, samples):
+        calls.append(samples[0])
+        if len(calls) == 2:
+            try:  # the handler the command line installed, run where its exception is lost
+                signal.getsignal(signal.SIGTERM)(signal.SIGTERM, None)
+            except KeyboardInterrupt:
+                pass
+        return real(spec, point, samples)
+
+    monkeypatch.setattr(sweep_mod, "run_chunk", swallowing)
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 143
+    assert len(calls) == 2 and len(load_results(out)) == 2 * 4  # both chunks saved, no more run
+    assert "terminated" in capsys.readouterr().err
+    assert main(["info", str(out)]) == 0  # a later command in the same process is not ended
+
+
 def test_full_disk_saves_what_it_can_and_ends_in_one_line(tmp_path, capsys, monkeypatch):
     spec = _write(tmp_path, SMALL)
     out = tmp_path / "full"

@@ -3,15 +3,9 @@
 from __future__ import annotations
 
 from ..errors import InputError
+from ..interrupts import Terminated, on_sigterm
 
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, raised in the main thread and handled like Ctrl-C: finished work is kept."""
-
-
-def on_sigterm(signum, frame):
-    """Signal handler: turn SIGTERM into :class:`Terminated`."""
-    raise Terminated
+__all__ = ["Terminated", "check_out", "interrupt_status", "on_sigterm"]
 
 
 def interrupt_status(exc: BaseException | None) -> int:

@@ -31,6 +31,7 @@ import threading
 import warnings
 from collections.abc import Sequence
 
+from .. import interrupts
 from ..errors import TensegrityError
 from . import info as info_cli
 from . import reproduce as reproduce_cli
@@ -169,6 +170,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     handler = getattr(args, "handler", None) or COMMANDS[args.command]
     in_main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, on_sigterm) if in_main_thread else None
+    interrupts.reset()
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _one_line_warning
@@ -198,6 +200,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+        interrupts.reset()
 
 
 if __name__ == "__main__":

@@ -26,6 +26,7 @@ from typing import Any
 import pandas as pd
 from tqdm.auto import tqdm
 
+from .. import interrupts
 from ..errors import InputError, SpecError, TensegrityError
 from ..model.limits import (
     BUILD_BYTES_PER_NODE,
@@ -386,6 +387,7 @@ def run_sweep(
                     frame = fut.result()
                 except Exception as exc:  # noqa: BLE001 (reported below, the rest is saved)
                     failed.append((chunk, exc))
+                    interrupts.check()
                     continue
                 try:
                     store.write(frame)
@@ -403,6 +405,7 @@ def run_sweep(
                 done_chunks += 1
                 done_samples += len(chunk[1])
                 bar.update(len(chunk[1]))
+                interrupts.check()  # a SIGTERM whose exception was swallowed in a C extension
         except KeyboardInterrupt as exc:
             pool.cancel(futures)
             bar.close()
