@@ -518,7 +518,9 @@ class LinearProgram:
     refine : int
         Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
     refine_iterations_per_site : float
-        Simplex iterations per non-empty site of each refinement round.
+        Simplex iterations per non-empty site of each refinement round, and of the simplex
+        by which HiGHS cleans up the crossover's basis (without a limit that clean-up ran for
+        minutes on near-threshold probes at n = 64).
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -545,6 +547,9 @@ class LinearProgram:
             solver="ipm",
             run_crossover="on" if self.refine else "off",
             ipm_iteration_limit=self.max_iter,
+            # (after the crossover HiGHS cleans the basis up by the simplex; unbounded, that
+            # ran for minutes on near-threshold probes at n = 64)
+            simplex_iteration_limit=self._refine_budget(p),
         )
         sol = h.getSolution()
         if sol.value_valid and sol.dual_valid:
@@ -564,6 +569,10 @@ class LinearProgram:
         if ray is not None:
             s.offer_t(ray, self.name)
 
+    def _refine_budget(self, p: Problem) -> int:
+        """Simplex iterations of the crossover's clean-up and of each refinement round."""
+        return int(self.refine_iterations_per_site * p.sites.size)
+
     def _refine(self, s: Search, h, A, lo, hi) -> bool:
         """``refine`` rounds of LP iterative refinement from the vertex of the solved verdict
         LP ``h``, each result offered; True once the search is decided."""
@@ -571,7 +580,7 @@ class LinearProgram:
         if not (sol.value_valid and basis.valid):
             return False
         t = np.asarray(sol.col_value, dtype=np.longdouble)
-        budget = int(self.refine_iterations_per_site * s.p.sites.size)
+        budget = self._refine_budget(s.p)
         for _ in range(self.refine):
             step = _refinement(s.p, A, lo, hi, t, basis, budget)
             if step is None:
