@@ -96,18 +96,15 @@ def _outputs(nb) -> str:
     return "\n".join(text)
 
 
-def test_tutorial_runs_in_under_a_minute():
+def test_the_tutorial_ran_in_the_build_with_every_result(built):
+    """The notebook the docs build executed (myst-nb writes it beside the site): no error, its
+    three figures and its results; the committed notebook carries no outputs."""
     nbformat = pytest.importorskip("nbformat", reason=REASON)
-    nbclient = pytest.importorskip("nbclient", reason=REASON)
-    pytest.importorskip("ipykernel", reason=REASON)
-    nb = nbformat.read(TUTORIAL, as_version=4)
-    assert not any(c.get("outputs") for c in nb.cells if c.cell_type == "code"), (
-        "commit the tutorial without outputs: the docs build and this test execute it"
+    committed = nbformat.read(TUTORIAL, as_version=4)
+    assert not any(c.get("outputs") for c in committed.cells if c.cell_type == "code"), (
+        "commit the tutorial without outputs: the docs build executes it"
     )
-    start = time.perf_counter()
-    nbclient.NotebookClient(nb, timeout=300, kernel_name="python3").execute()
-    seconds = time.perf_counter() - start
-    print(f"tutorial ran in {seconds:.1f} s")
+    nb = nbformat.read(built.parent / "jupyter_execute" / TUTORIAL.name, as_version=4)
     text = _outputs(nb)
     assert "ERROR" not in text
     images = sum(
@@ -116,5 +113,3 @@ def test_tutorial_runs_in_under_a_minute():
     assert images == 3
     for expected in ("verdict         rigid", "P [95% Wilson]", "interval [", "S_t / S_r ="):
         assert expected in text, expected
-    # under a minute on an idle core (about 8 s measured); the bound leaves room for a loaded CI
-    assert seconds < 90
