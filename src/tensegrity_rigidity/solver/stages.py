@@ -519,8 +519,9 @@ class LinearProgram:
         Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
     refine_iterations_per_site : float
         Simplex iterations per non-empty site of each refinement round, and of the simplex
-        by which HiGHS cleans up the crossover's basis (without a limit that clean-up ran for
-        minutes on near-threshold probes at n = 64).
+        HiGHS runs after the verdict LP's interior point to clean up an imprecise solution or a
+        non-optimal crossover basis (without a limit that ran for minutes on near-threshold
+        probes at n = 64).
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -547,8 +548,6 @@ class LinearProgram:
             solver="ipm",
             run_crossover="on" if self.refine else "off",
             ipm_iteration_limit=self.max_iter,
-            # (after the crossover HiGHS cleans the basis up by the simplex; unbounded, that
-            # ran for minutes on near-threshold probes at n = 64)
             simplex_iteration_limit=self._refine_budget(p),
         )
         sol = h.getSolution()
@@ -570,7 +569,8 @@ class LinearProgram:
             s.offer_t(ray, self.name)
 
     def _refine_budget(self, p: Problem) -> int:
-        """Simplex iterations of the crossover's clean-up and of each refinement round."""
+        """Simplex iterations of the clean-up after the interior point and of each
+        refinement round."""
         return int(self.refine_iterations_per_site * p.sites.size)
 
     def _refine(self, s: Search, h, A, lo, hi) -> bool:
