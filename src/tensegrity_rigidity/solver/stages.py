@@ -514,7 +514,8 @@ class LinearProgram:
     max_iter : int
         Interior-point iterations of the verdict LP.
     simplex_iterations_per_site : float
-        Simplex iterations per non-empty site of the feasibility LP.
+        Simplex iterations per non-empty site of the feasibility LP (0: the feasibility LP
+        is not run).
     refine : int
         Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
     refine_iterations_per_site : float
@@ -562,7 +563,10 @@ class LinearProgram:
                 return
         if self.refine and self._refine(s, h, A, lo, hi):
             return
-        vertex, ray = _feasibility_lp(p, int(self.simplex_iterations_per_site * p.sites.size))
+        max_iter = int(self.simplex_iterations_per_site * p.sites.size)
+        if max_iter <= 0:
+            return
+        vertex, ray = _feasibility_lp(p, max_iter)
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
