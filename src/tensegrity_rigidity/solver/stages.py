@@ -45,11 +45,12 @@ Stages (``STAGES``; the default order is :data:`DEFAULT_STAGES`):
     is resolved to ``1e-10``. On a rigid sample the residual converges to the least-squares
     self-stress, a rigid candidate.
 ``lp``
-    The verdict LP over self-stresses with ``|t_b| <= 1`` (HiGHS's interior point, an iteration
-    limit, no crossover); its primal is purified, its dual displacements are checked and
-    crossed over. Then the feasibility LP for a zero-energy displacement by the dual simplex:
-    a vertex is offered as a floppy candidate, a proof of infeasibility (a dual ray: an
-    admissible self-stress with positive work, by Farkas' lemma) as a rigid one.
+    The verdict LP over self-stresses with ``|t_b| <= 1`` (HiGHS's interior point with an
+    iteration limit, its crossover and one round of LP iterative refinement); its primal is
+    purified, its dual displacements are checked and crossed over. Then the feasibility LP for
+    a zero-energy displacement by the dual simplex: a vertex is offered as a floppy candidate,
+    a proof of infeasibility (a dual ray: an admissible self-stress with positive work, by
+    Farkas' lemma) as a rigid one.
 """
 
 from __future__ import annotations
