@@ -344,3 +344,22 @@ def test_lp_refinement_certifies_a_vertex_that_misses_its_bounds():
     assert s.decided and s.rigid_verdict and s.stage == "lp"
     assert s.rigid is not None and s.rigid.t.dtype == np.longdouble
     assert s.rigid.work > Resolution().displacement * s.rigid.residual
+
+
+def test_the_feasibility_lp_budget_is_per_site_up_to_n_64_and_capped_above():
+    """The feasibility LP's simplex budget is 2 iterations per non-empty site, at most 25,000:
+    unchanged on every triangular lattice up to n = 64 (3 n^2 sites), capped at n = 128, where
+    2 per site (98,304 on a full lattice) cost 130 to 155 s per run and decided nothing."""
+    from types import SimpleNamespace
+
+    from tensegrity_rigidity.solver.stages import LinearProgram
+
+    def budget(n_sites: int) -> int:
+        return LinearProgram()._feasibility_budget(SimpleNamespace(sites=np.arange(n_sites)))
+
+    for n in (8, 16, 32, 64):
+        assert budget(3 * n * n) == 2 * 3 * n * n
+    assert budget(3 * 128 * 128) == 25_000
+    assert LinearProgram(simplex_iterations_max=10**9)._feasibility_budget(
+        SimpleNamespace(sites=np.arange(3 * 128 * 128))
+    ) == 2 * 3 * 128 * 128

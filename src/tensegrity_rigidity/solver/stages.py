@@ -504,8 +504,8 @@ class LinearProgram:
     round) set to zero, are offered as they are, its duals as displacements.
 
     Then, if nothing was accepted, the feasibility LP for a zero-energy displacement by the
-    dual simplex (at most ``simplex_iterations_per_site`` iterations per non-empty site,
-    :func:`_feasibility_lp`): a vertex satisfies its rows to HiGHS's tolerance and is checked
+    dual simplex (at most ``simplex_iterations_per_site`` iterations per non-empty site and
+    at most ``simplex_iterations_max`` in all, :func:`_feasibility_lp`): a vertex satisfies its rows to HiGHS's tolerance and is checked
     as it is; when the simplex proves the LP infeasible instead, its dual ray is an admissible
     self-stress with positive work (Farkas' lemma), purified and offered as a rigid candidate.
     A HiGHS failure leaves the search as it was.
@@ -517,6 +517,15 @@ class LinearProgram:
     simplex_iterations_per_site : float
         Simplex iterations per non-empty site of the feasibility LP (0: the feasibility LP
         is not run).
+    simplex_iterations_max : int
+        Most simplex iterations of the feasibility LP, whatever the size. A simplex
+        iteration costs about ``n^2`` (0.17 ms at n = 32, 0.45 ms at n = 64, 2 ms at
+        n = 128), so a budget per site alone grows as ``n^4``. Measured on the near-threshold
+        set (BENCHMARKS.md), every run that decided took at most 1.07 iterations per site
+        (at most about 8,000 iterations: 5 of 8 runs at n = 32, 6 of 36 at n = 64), and at
+        n = 128 none of 4 runs decided within its 78,000 to 80,000 (130 to 155 s each). The
+        default, 25,000, is above ``2 * 3 n^2`` for every n <= 64, so it changes nothing
+        there.
     refine : int
         Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
     refine_iterations_per_site : float
@@ -530,6 +539,7 @@ class LinearProgram:
 
     max_iter: int = 100
     simplex_iterations_per_site: float = 2.0
+    simplex_iterations_max: int = 25_000
     refine: int = 1
     refine_iterations_per_site: float = 0.25
     name: str = "lp"
@@ -564,7 +574,7 @@ class LinearProgram:
                 return
         if self.refine and self._refine(s, h, A, lo, hi):
             return
-        max_iter = int(self.simplex_iterations_per_site * p.sites.size)
+        max_iter = self._feasibility_budget(p)
         if max_iter <= 0:
             return
         vertex, ray = _feasibility_lp(p, max_iter)
@@ -572,6 +582,11 @@ class LinearProgram:
             s.crossovers(vertex, self.name)
         if ray is not None:
             s.offer_t(ray, self.name)
+
+    def _feasibility_budget(self, p: Problem) -> int:
+        """Simplex iterations of the feasibility LP."""
+        per_site = int(self.simplex_iterations_per_site * p.sites.size)
+        return min(per_site, self.simplex_iterations_max)
 
     def _refine_budget(self, p: Problem) -> int:
         """Simplex iterations of the clean-up after the interior point and of each
