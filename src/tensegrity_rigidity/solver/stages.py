@@ -503,12 +503,12 @@ class LinearProgram:
     rounds gains that factor; its tensions, with the wrong-signed ones (``~1e-15`` after one
     round) set to zero, are offered as they are, its duals as displacements.
 
-    Then, if nothing was accepted, the feasibility LP for a zero-energy displacement by the
-    dual simplex (at most ``simplex_iterations_per_site`` iterations per non-empty site and
-    at most ``simplex_iterations_max`` in all, :func:`_feasibility_lp`): a vertex satisfies its rows to HiGHS's tolerance and is checked
-    as it is; when the simplex proves the LP infeasible instead, its dual ray is an admissible
-    self-stress with positive work (Farkas' lemma), purified and offered as a rigid candidate.
-    A HiGHS failure leaves the search as it was.
+    Then, if nothing was accepted, the feasibility LP for a zero-energy displacement by the dual
+    simplex (at most ``simplex_iterations_per_site`` iterations per non-empty site and at most
+    ``simplex_iterations_max`` in all, :func:`_feasibility_lp`): a vertex satisfies its rows to
+    HiGHS's tolerance and is checked as it is; when the simplex proves the LP infeasible
+    instead, its dual ray is an admissible self-stress with positive work (Farkas' lemma),
+    purified and offered as a rigid candidate. A HiGHS failure leaves the search as it was.
 
     Attributes
     ----------
