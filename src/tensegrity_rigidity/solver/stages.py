@@ -522,7 +522,7 @@ class LinearProgram:
         iteration costs about ``n^2`` (0.17 ms at n = 32, 0.45 ms at n = 64, 2 ms at
         n = 128), so a budget per site alone grows as ``n^4``. Measured on the near-threshold
         set (BENCHMARKS.md), every run that decided took at most 1.07 iterations per site
-        (at most about 8,000 iterations: 5 of 8 runs at n = 32, 6 of 36 at n = 64), and at
+        (at most about 10,000 iterations: 5 of 8 runs at n = 32, 6 of 36 at n = 64), and at
         n = 128 none of 4 runs decided within its 78,000 to 80,000 (130 to 155 s each). The
         default, 25,000, is above ``2 * 3 n^2`` for every n <= 64, so it changes nothing
         there.
