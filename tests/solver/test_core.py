@@ -354,15 +354,12 @@ def test_the_feasibility_lp_budget_is_per_site_up_to_n_64_and_capped_above():
 
     from tensegrity_rigidity.solver.stages import LinearProgram
 
-    def budget(n_sites: int) -> int:
-        return LinearProgram()._feasibility_budget(SimpleNamespace(sites=np.arange(n_sites)))
+    def budget(n_sites: int, **options) -> int:
+        return LinearProgram(**options)._feasibility_budget(
+            SimpleNamespace(sites=np.arange(n_sites))
+        )
 
     for n in (8, 16, 32, 64):
         assert budget(3 * n * n) == 2 * 3 * n * n
     assert budget(3 * 128 * 128) == 25_000
-    assert (
-        LinearProgram(simplex_iterations_max=10**9)._feasibility_budget(
-            SimpleNamespace(sites=np.arange(3 * 128 * 128))
-        )
-        == 2 * 3 * 128 * 128
-    )
+    assert budget(3 * 128 * 128, simplex_iterations_max=10**9) == 2 * 3 * 128 * 128
