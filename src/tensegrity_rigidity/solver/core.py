@@ -39,6 +39,7 @@ from ..model.network import Instance
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
 from .displacements import min_norm_minimizer
 from .ipm import interior_point
+from .linalg import one_blas_thread
 from .newton import crossover, newton
 from .problem import Problem
 from .selfstress import purify
@@ -361,7 +362,8 @@ def decide(
     decided verdict (the certificates exclude each other).
     """
     opts = options or SolverOptions()
-    p, s = _search(instance, opts, initial_displacements, initial_tensions)
+    with one_blas_thread():  # the same last bits whatever the thread settings
+        p, s = _search(instance, opts, initial_displacements, initial_tensions)
     return _verdict(p, s)
 
 
@@ -465,52 +467,53 @@ def solve(
     """
     opts = options or SolverOptions()
     start = time.perf_counter()
-    p, s = _search(instance, opts, initial_displacements)
-    verdict = _verdict(p, s)
-    net = instance.network
-    k_sites = net.stiffness_or_ones()[p.sites]
-    uniform = k_sites.size == 0 or bool(np.all(k_sites == k_sites[0]))
-    # with one stiffness the verdict's unit-stiffness problem is the energy's too
-    pe = p if uniform else Problem(instance, opts.regularization, opts.factorization)
-    k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
-    if verdict.status == "floppy":
-        u_n = np.asarray(s.floppy.u, dtype=float)
-        t_relaxed = np.zeros(p.sites.size)
-        E_n = 0.0
-        t_n = np.zeros(p.sites.size)
-        E_lower = 0.0
-        iterations = s.iterations
-    else:
-        u_n, E_n, more = _relax(pe, s.u, opts)
-        iterations = s.iterations + more
-        _, _, t_relaxed = pe.state(u_n)
-        t_n = _balanced_tensions(pe, t_relaxed)
-        E_lower = min(_energy_lower(pe, t_n), E_n)
-    min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
-    if opts.min_norm and p.sites.size and np.any(p.e0):
-        # the targets t*/k as the minimiser u_n realises them on every equality (rods, and
-        # one-sided elements where the balanced tensions t_n are not zero: purification drops
-        # the round-off tensions of elements that are only touched), so that the equalities
-        # of U* are consistent: a rod's target is its extension at u_n even where t_n is 0
-        # (zero targets there left the system inconsistent by that extension, and the
-        # projection could not reach feasibility)
-        mn = min_norm_minimizer(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
-        kkt = (mn.feasibility, mn.stationarity, mn.dual)
-        if mn.ok:
-            u_n, min_norm_ok = mn.u, True
+    with one_blas_thread():  # the same last bits whatever the thread settings
+        p, s = _search(instance, opts, initial_displacements)
+        verdict = _verdict(p, s)
+        net = instance.network
+        k_sites = net.stiffness_or_ones()[p.sites]
+        uniform = k_sites.size == 0 or bool(np.all(k_sites == k_sites[0]))
+        # with one stiffness the verdict's unit-stiffness problem is the energy's too
+        pe = p if uniform else Problem(instance, opts.regularization, opts.factorization)
+        k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
+        if verdict.status == "floppy":
+            u_n = np.asarray(s.floppy.u, dtype=float)
+            t_relaxed = np.zeros(p.sites.size)
+            E_n = 0.0
+            t_n = np.zeros(p.sites.size)
+            E_lower = 0.0
+            iterations = s.iterations
         else:
-            message = "; ".join(
-                x
-                for x in (
-                    message,
-                    "minimum-norm displacements not certified (KKT residuals: feasibility "
-                    f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual "
-                    f"{mn.dual:.1e}); the displacements are a minimiser",
+            u_n, E_n, more = _relax(pe, s.u, opts)
+            iterations = s.iterations + more
+            _, _, t_relaxed = pe.state(u_n)
+            t_n = _balanced_tensions(pe, t_relaxed)
+            E_lower = min(_energy_lower(pe, t_n), E_n)
+        min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
+        if opts.min_norm and p.sites.size and np.any(p.e0):
+            # the targets t*/k as the minimiser u_n realises them on every equality (rods, and
+            # one-sided elements where the balanced tensions t_n are not zero: purification drops
+            # the round-off tensions of elements that are only touched), so that the equalities
+            # of U* are consistent: a rod's target is its extension at u_n even where t_n is 0
+            # (zero targets there left the system inconsistent by that extension, and the
+            # projection could not reach feasibility)
+            mn = min_norm_minimizer(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
+            kkt = (mn.feasibility, mn.stationarity, mn.dual)
+            if mn.ok:
+                u_n, min_norm_ok = mn.u, True
+            else:
+                message = "; ".join(
+                    x
+                    for x in (
+                        message,
+                        "minimum-norm displacements not certified (KKT residuals: feasibility "
+                        f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual "
+                        f"{mn.dual:.1e}); the displacements are a minimiser",
+                    )
+                    if x
                 )
-                if x
-            )
-    elif opts.min_norm:  # nothing strained or no element: u = 0 is the minimum-norm minimiser
-        u_n, min_norm_ok, kkt = np.zeros(p.n2), True, (0.0, 0.0, 0.0)
+        elif opts.min_norm:  # nothing strained or no element: u = 0 is the minimum-norm minimiser
+            u_n, min_norm_ok, kkt = np.zeros(p.n2), True, (0.0, 0.0, 0.0)
     if not verdict.decided:
         warnings.warn(f"undecided sample: {verdict.message}", UndecidedWarning, stacklevel=2)
     # back to physical units

@@ -31,6 +31,7 @@ from scipy.optimize import minimize
 
 from ..model.mechanics import affine_extensions, rigidity_matrix
 from ..model.network import Element, Instance
+from .linalg import one_blas_thread
 
 #: rigid when the minimiser's energy exceeds this fraction of the affine energy (see above)
 PAPER_THRESHOLD = 1e-8
@@ -129,7 +130,8 @@ def paper_verdict(instance: Instance, threshold: float = PAPER_THRESHOLD) -> Ine
         return 0.5 * float(t @ e), R.T @ t
 
     affine = energy_and_gradient(np.zeros(R.shape[1]))[0]
-    res = minimize(energy_and_gradient, np.zeros(R.shape[1]), jac=True, method="L-BFGS-B")
+    with one_blas_thread():  # the same iterates whatever the thread settings
+        res = minimize(energy_and_gradient, np.zeros(R.shape[1]), jac=True, method="L-BFGS-B")
     u = res.x.reshape(-1, 2)
     u = u - u.mean(axis=0)
     energy = float(res.fun)

@@ -16,9 +16,13 @@ Backends, fastest first (measured in ``BENCHMARKS.md``):
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
+
 import numpy as np
 import qdldl
 import scipy.sparse as sp
+from threadpoolctl import ThreadpoolController
 
 try:  # CVXOPT ships SuiteSparse's CHOLMOD in its wheels
     from cvxopt import cholmod as _cholmod
@@ -26,6 +30,31 @@ try:  # CVXOPT ships SuiteSparse's CHOLMOD in its wheels
     from cvxopt import spmatrix as _cvx_spmatrix
 except ImportError:  # pragma: no cover - cvxopt is a declared dependency
     _cholmod = None
+
+
+_threadpools: ThreadpoolController | None = None
+
+
+@contextlib.contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """Run the enclosed code with every loaded BLAS on one thread, then restore the counts.
+
+    A verdict must be a function of the instance and the options, not of the machine's
+    thread settings. A multithreaded BLAS splits long reductions (the dot products of
+    NumPy vectors longer than about 10,000 entries, n >= 128 here) between its threads and
+    adds the parts in another order, so the last bits of every iterate depend on the thread
+    count; near a threshold, that decides which probes within resolution of the boundary are
+    certified. Measured on the first n = 128 near-threshold sample (BENCHMARKS.md): NumPy's
+    OpenBLAS on 2 threads gave the threshold [0.498093, 0.515024] (8 undecided probes), on 1
+    thread [0.502426, 0.515024] (10), the paths parting at the ninth probe. The solver's
+    dense algebra is vectors, so one thread costs nothing measurable (the same probes took
+    the same time either way). The thread pools are found once, when first needed.
+    """
+    global _threadpools
+    if _threadpools is None:
+        _threadpools = ThreadpoolController()
+    with _threadpools.limit(limits=1, user_api="blas"):
+        yield
 
 
 class PatternFactor:
