@@ -114,3 +114,21 @@ def test_one_blas_thread_limits_every_blas_and_restores_it():
         with one_blas_thread():
             assert _blas_threads() == 1
         assert _blas_threads() == 2
+
+
+def test_one_blas_thread_also_limits_a_blas_loaded_after_the_first_solve():
+    # SciPy's own BLAS (L-BFGS-B of the paper's method) is loaded by scipy.optimize, which a
+    # process may import only after its first verdict
+    script = (
+        "from threadpoolctl import threadpool_info, threadpool_limits\n"
+        "from tensegrity_rigidity import lattice_instance\n"
+        "from tensegrity_rigidity.solver.core import decide\n"
+        "from tensegrity_rigidity.solver.linalg import one_blas_thread\n"
+        "decide(lattice_instance(6, 0.7, 0.1, 0.5, seed=1))\n"
+        "import scipy.optimize\n"
+        "with threadpool_limits(limits=2, user_api='blas'), one_blas_thread():\n"
+        "    print(max(d['num_threads'] for d in threadpool_info() if d['user_api'] == 'blas'))\n"
+    )
+    res = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.split() == ["1"]

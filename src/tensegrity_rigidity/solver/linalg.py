@@ -21,6 +21,7 @@ from collections.abc import Iterator
 
 import numpy as np
 import qdldl
+import scipy.linalg  # noqa: F401 (loads SciPy's own BLAS, so that one_blas_thread finds it)
 import scipy.sparse as sp
 from threadpoolctl import ThreadpoolController
 
@@ -48,7 +49,8 @@ def one_blas_thread() -> Iterator[None]:
     OpenBLAS on 2 threads gave the threshold [0.498093, 0.515024] (8 undecided probes), on 1
     thread [0.502426, 0.515024] (10), the paths parting at the ninth probe. The solver's
     dense algebra is vectors, so one thread costs nothing measurable (the same probes took
-    the same time either way). The thread pools are found once, when first needed.
+    the same time either way). The thread pools are found once, when first needed (NumPy's,
+    SciPy's and CVXOPT's BLAS are loaded by then).
     """
     global _threadpools
     if _threadpools is None:
