@@ -32,7 +32,10 @@ Certificate (KKT of the projection): primal feasibility (largest violation of ``
 duality gap ``sum |lam_b v_b| / |u|^2`` (the larger of the two is reported), dual
 feasibility (largest wrong-signed multiplier of an inequality, relative to ``|lam|_inf``).
 The displacements are reported as minimum-norm (``min_norm_ok``) only when all three are
-below their tolerances; then ``|u|^2`` is within that fraction of its minimum.
+below their tolerances; then ``|u|^2`` is within that fraction of its minimum. The
+certificate is relative to the polyhedron built from the tensions it is given:
+:func:`~tensegrity_rigidity.solver.core.solve` calls it only when those are certified to be
+``t*`` (the relaxed energy within ``ENERGY_GAP`` of its lower bound).
 """
 
 from __future__ import annotations
