@@ -182,6 +182,29 @@ def test_prepare_checks_the_spec_before_deleting_anything(tmp_path):
     assert live.exists() and not dead.exists()
 
 
+def test_rows_of_another_revision_are_not_resumed(tmp_path):
+    """A directory whose rows were written under another ROWS_REVISION (here: by a version
+    before the record existed, revision 1) is refused, not resumed into a mix of both rules;
+    a directory of the current revision resumes."""
+    import json
+
+    from tensegrity_rigidity.ensemble.store import ROWS_REVISION
+
+    spec = _write(tmp_path, SMALL)
+    out = tmp_path / "o"
+    run_sweep(spec, out, executor="serial", progress=False)
+    meta = out / "_spec.json"
+    record = json.loads(meta.read_text())
+    assert record["rows_revision"] == ROWS_REVISION
+    run_sweep(spec, out, executor="serial", progress=False)  # same revision: resumes
+    del record["rows_revision"]
+    meta.write_text(json.dumps(record))
+    parts = sorted(p.name for p in out.glob("part-*"))
+    with pytest.raises(SpecError, match="rows of revision 1"):
+        run_sweep(spec, out, executor="serial", progress=False)
+    assert sorted(p.name for p in out.glob("part-*")) == parts  # nothing deleted or added
+
+
 def test_store_refuses_to_write_without_the_lock(tmp_path):
     from tensegrity_rigidity.ensemble.spec import load_spec
 

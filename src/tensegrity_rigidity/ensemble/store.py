@@ -52,6 +52,13 @@ from ..errors import InputError, SpecError
 from .spec import Spec, parse_spec
 
 FORMAT = 2
+#: What the rows of a given spec contain. Bumped whenever a change of the package changes the
+#: rows the same spec produces, so that a resumed or grown sweep never mixes rows of two
+#: versions silently (a directory records the revision its rows were written under; one without
+#: a record is revision 1). History: 2 -- ``min_norm_ok`` and the nonaffinity need a certified
+#: relaxed energy (rows of revision 1 can carry ``min_norm_ok`` True and a nonaffinity read off
+#: an unconverged relaxation near a sample's own threshold).
+ROWS_REVISION = 2
 KEY_COLUMNS = ["point_key", "sample", "theta"]
 
 
@@ -220,12 +227,21 @@ class ResultStore:
                     f"{self.root} holds results of a different sweep ({diff}); choose another "
                     "--out or delete that directory"
                 )
-        elif any(p.name.startswith("part-") or p.name == "_manifest.jsonl" for p in self._ls()):
+            revision = old.get("rows_revision", 1)
+            if revision != ROWS_REVISION and self._has_rows():
+                raise SpecError(
+                    f"{self.root} holds rows of revision {revision}, written by another "
+                    f"version of tensegrity-rigidity; this version writes revision "
+                    f"{ROWS_REVISION} (see ROWS_REVISION), and resuming would mix the two: "
+                    "choose another --out or delete that directory"
+                )
+        elif self._has_rows():
             raise SpecError(f"{self.root} holds results without a spec; choose another --out")
         self._remove_stale_temporaries()
         self._verify()
         record = {
             "format": FORMAT,
+            "rows_revision": ROWS_REVISION,
             "settings": settings,
             "settings_digest": spec.settings_digest(),
             "spec": spec.canonical(),
@@ -235,6 +251,9 @@ class ResultStore:
         )
         if source_text is not None:
             self._atomic_write(self.root / "_spec.toml", source_text.encode())
+
+    def _has_rows(self) -> bool:
+        return any(p.name.startswith("part-") or p.name == "_manifest.jsonl" for p in self._ls())
 
     def _ls(self) -> list[Path]:
         try:
