@@ -160,9 +160,9 @@ def test_minimum_norm_displacements_are_certified_at_the_threshold():
 def test_minimum_norm_is_not_claimed_when_the_relaxed_energy_is_not_certified():
     """The projection's polyhedron is built from the relaxed tensions. At the rigid side of this
     n = 32 threshold (configuration 4 of the near-threshold set, sample 0) the relaxation does
-    not converge (force residual 4e-2, no lower bound on E*): its polyhedron need not be the
-    set of minimisers, so the displacements must not be reported minimum-norm (they were,
-    with passing KKT residuals, before the energy's certificate was required)."""
+    not converge (force residual 4e-2, no bound on E* from its tensions): its polyhedron need
+    not be the set of minimisers, so the displacements must not be reported minimum-norm (they
+    were, with passing KKT residuals, before the energy's certificate was required)."""
     from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
     from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
     from tensegrity_rigidity.model.sampling import lattice_geometry
