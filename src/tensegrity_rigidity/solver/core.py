@@ -470,6 +470,11 @@ def _energy_lower(p: Problem, t: np.ndarray, certificate: RigidCertificate | Non
     return max(bound, _self_stress_bound(p, tp, resid))
 
 
+def _joined(message: str, more: str) -> str:
+    """``message`` and ``more`` joined by "; " (``more`` alone when ``message`` is empty)."""
+    return f"{message}; {more}" if message else more
+
+
 def solve(
     instance: Instance,
     options: SolverOptions | None = None,
@@ -526,39 +531,32 @@ def solve(
         # the polyhedron of minimisers is built from the relaxed tensions: it is U* only when
         # they are t*, which the energy's lower bound certifies (see ENERGY_GAP)
         energy_certified = verdict.status == "floppy" or E_lower >= (1.0 - ENERGY_GAP) * E_n
-        if opts.min_norm and p.sites.size and np.any(p.e0) and not energy_certified:
-            message = "; ".join(
-                x
-                for x in (
+        if opts.min_norm and p.sites.size and np.any(p.e0):
+            if not energy_certified:
+                message = _joined(
                     message,
                     "minimum-norm displacements not computed: the relaxed energy is not "
                     f"certified (its lower bound is {E_lower / E_n:.1e} of it), so its tensions "
                     "need not be t*; the displacements are the relaxation's lowest point",
                 )
-                if x
-            )
-        elif opts.min_norm and p.sites.size and np.any(p.e0):
-            # the targets t*/k as the minimiser u_n realises them on every equality (rods, and
-            # one-sided elements where the balanced tensions t_n are not zero: purification drops
-            # the round-off tensions of elements that are only touched), so that the equalities
-            # of U* are consistent: a rod's target is its extension at u_n even where t_n is 0
-            # (zero targets there left the system inconsistent by that extension, and the
-            # projection could not reach feasibility)
-            mn = min_norm_minimizer(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
-            kkt = (mn.feasibility, mn.stationarity, mn.dual)
-            if mn.ok:
-                u_n, min_norm_ok = mn.u, True
             else:
-                message = "; ".join(
-                    x
-                    for x in (
+                # the targets t*/k as the minimiser u_n realises them on every equality (rods,
+                # and one-sided elements where the balanced tensions t_n are not zero:
+                # purification drops the round-off tensions of elements that are only touched),
+                # so that the equalities of U* are consistent: a rod's target is its extension
+                # at u_n even where t_n is 0 (zero targets there left the system inconsistent
+                # by that extension, and the projection could not reach feasibility)
+                mn = min_norm_minimizer(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
+                kkt = (mn.feasibility, mn.stationarity, mn.dual)
+                if mn.ok:
+                    u_n, min_norm_ok = mn.u, True
+                else:
+                    message = _joined(
                         message,
                         "minimum-norm displacements not certified (KKT residuals: feasibility "
                         f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual "
                         f"{mn.dual:.1e}); the displacements are a minimiser",
                     )
-                    if x
-                )
         elif opts.min_norm:  # nothing strained or no element: u = 0 is the minimum-norm minimiser
             u_n, min_norm_ok, kkt = np.zeros(p.n2), True, (0.0, 0.0, 0.0)
     if not verdict.decided:
@@ -569,9 +567,9 @@ def solve(
     disp = disp - disp.mean(axis=0)
     t_full = np.zeros(net.n_sites)
     t_full[p.sites] = t_n * k_unit * p.scale
-    e_full = affine_extensions(net, instance.strain) + rigidity_matrix(net) @ disp.ravel()
-    k = net.stiffness_or_ones()
     affine = affine_extensions(net, instance.strain)
+    e_full = affine + rigidity_matrix(net) @ disp.ravel()
+    k = net.stiffness_or_ones()
     rc, fc = verdict.rigid, verdict.floppy
     return SolveResult(
         energy=float(E_n * e_unit),
