@@ -68,17 +68,8 @@ from .selfstress import purify
 
 #: Relative sizes below which approximate tensions are dropped before purification, tried in
 #: turn: an interior point resolves its tensions to about its accuracy, and elements it
-#: leaves at that level usually belong to no self-stress. The next one is tried only when the
-#: last purification left a force residual above ``BALANCED``: a support that already carries
-#: a self-stress near the tensions gains nothing from more elements of relative size 1e-9 to
-#: 1e-6. (Replayed on the 623 offers of the twelve n = 32 near-threshold searches: the retry
-#: gave 7 of the 75 acceptances, each after a first purification left unbalanced at 5e-9 to
-#: 4e-8; after a balanced one it gave none and cost 29 % of all purification factorisations.)
+#: leaves at that level usually belong to no self-stress.
 SUPPORT_TOLS = (1e-6, 1e-9)
-
-#: Relative force residual ``|R^T t|_1 / |t|_1`` (double precision) below which purified
-#: tensions count as balanced on their support.
-BALANCED = 1e-12
 
 
 @dataclass
@@ -195,8 +186,6 @@ class Search:
                 continue
             if self._offer_rigid(self.p.exact.rigid(tp, self.resolution), stage):
                 break
-            if _balanced(self.p, tp):
-                break  # a smaller support tolerance would find the same self-stress
         return self.decided
 
     def _offer_rigid(self, cert: RigidCertificate, stage: str) -> bool:
@@ -224,13 +213,6 @@ class Search:
             if x is not None and self.offer_point(x, stage):
                 return True
         return False
-
-
-def _balanced(p: Problem, t: np.ndarray) -> bool:
-    """Whether tensions ``t`` (m,) balance the nodes to ``BALANCED`` (relative, double)."""
-    t = np.asarray(t, dtype=float)
-    size = float(np.abs(t).sum())
-    return size > 0 and float(np.abs(p.RT @ t).sum()) <= BALANCED * size
 
 
 def _floppy_key(c: FloppyCertificate, bound: float = np.inf) -> tuple:
