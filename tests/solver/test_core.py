@@ -363,3 +363,47 @@ def test_the_feasibility_lp_budget_is_per_site_up_to_n_64_and_capped_above():
         assert budget(3 * n * n) == 2 * 3 * n * n
     assert budget(3 * 128 * 128) == 25_000
     assert budget(3 * 128 * 128, simplex_iterations_max=10**9) == 2 * 3 * 128 * 128
+
+
+def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purification():
+    """n = 64, p_t = 0.6, f_c = 0.5, shear (benchmarks/near_threshold_set.py, configuration 4,
+    sample 0, event 8648: rigid by the LP stage on its threshold search). Purified at support
+    1e-6, HiGHS's tensions balance the nodes to round-off on 5266 elements but do no work; at
+    support 1e-9 (5911 elements) they do work 7.7e-6 and certify the sample. So a balanced but
+    rejected purification is no reason to skip the smaller tolerance (a rule that did so cost
+    this probe its verdict; see CHANGELOG)."""
+    from tensegrity_rigidity.ensemble.thresholds import EventPath
+    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
+    from tensegrity_rigidity.model.network import Instance
+    from tensegrity_rigidity.model.sampling import lattice_geometry
+    from tensegrity_rigidity.model.strain import strain_tensor
+    from tensegrity_rigidity.solver.selfstress import purify
+    from tensegrity_rigidity.solver.stages import SUPPORT_TOLS, LinearProgram, _highs
+
+    rng = np.random.default_rng([64, 4, 0])  # benchmarks/near_threshold_set.py, CONFIGS[4]
+    net, u, v = lattice_geometry(64, DEFAULT_DELTA, rng)
+    eps = strain_tensor("shear", float(rng.uniform(0, 2 * np.pi)))
+    inst = Instance(net.with_kinds(EventPath(u, v, "p_r", 0.6, 0.5).kinds(8648)), eps)
+    p = Problem(inst, unit_stiffness=True)
+    lo, hi = np.where(p.sigma > 0, 0.0, -1.0), np.where(p.sigma < 0, 0.0, 1.0)
+    zeros = np.zeros(p.n2)
+    stage = LinearProgram()
+    h = _highs(
+        p.RT.tocsc(),
+        -p.e0,
+        lo,
+        hi,
+        zeros,
+        zeros,
+        solver="ipm",
+        run_crossover="on",
+        ipm_iteration_limit=stage.max_iter,
+        simplex_iteration_limit=stage._refine_budget(p),
+    )
+    t = np.clip(np.asarray(h.getSolution().col_value, dtype=float), lo, hi)
+    res = Resolution()
+    coarse, fine = (p.exact.rigid(purify(p, t, support_tol=tol), res) for tol in SUPPORT_TOLS)
+    assert coarse.residual < 1e-14 and coarse.work <= res.violation and not coarse.accepted
+    assert fine.accepted and fine.work > 1e3 * res.violation
+    s = Search(p, res)
+    assert s.offer_t(t, "lp") and s.rigid_verdict
