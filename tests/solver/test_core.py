@@ -378,28 +378,14 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
     from tensegrity_rigidity.model.sampling import lattice_geometry
     from tensegrity_rigidity.model.strain import strain_tensor
     from tensegrity_rigidity.solver.selfstress import purify
-    from tensegrity_rigidity.solver.stages import SUPPORT_TOLS, LinearProgram, _highs
+    from tensegrity_rigidity.solver.stages import SUPPORT_TOLS, LinearProgram
 
     rng = np.random.default_rng([64, 4, 0])  # benchmarks/near_threshold_set.py, CONFIGS[4]
     net, u, v = lattice_geometry(64, DEFAULT_DELTA, rng)
     eps = strain_tensor("shear", float(rng.uniform(0, 2 * np.pi)))
     inst = Instance(net.with_kinds(EventPath(u, v, "p_r", 0.6, 0.5).kinds(8648)), eps)
     p = Problem(inst, unit_stiffness=True)
-    lo, hi = np.where(p.sigma > 0, 0.0, -1.0), np.where(p.sigma < 0, 0.0, 1.0)
-    zeros = np.zeros(p.n2)
-    stage = LinearProgram()
-    h = _highs(
-        p.RT.tocsc(),
-        -p.e0,
-        lo,
-        hi,
-        zeros,
-        zeros,
-        solver="ipm",
-        run_crossover="on",
-        ipm_iteration_limit=stage.max_iter,
-        simplex_iteration_limit=stage._refine_budget(p),
-    )
+    h, _, lo, hi = LinearProgram().verdict_lp(p)
     t = np.clip(np.asarray(h.getSolution().col_value, dtype=float), lo, hi)
     res = Resolution()
     coarse, fine = (p.exact.rigid(purify(p, t, support_tol=tol), res) for tol in SUPPORT_TOLS)

@@ -544,8 +544,24 @@ class LinearProgram:
     refine_iterations_per_site: float = 0.25
     name: str = "lp"
 
-    def run(self, s: Search) -> None:
-        p = s.p
+    def verdict_lp(self, p: Problem):
+        """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``,
+        solved as the stage solves it.
+
+        Parameters
+        ----------
+        p : Problem
+            The problem (normalised units).
+
+        Returns
+        -------
+        h : highspy.Highs
+            The solved model (columns: the tensions (m,); rows: the nodes' forces (2N,)).
+        A : sparse (2N, m), CSC
+            ``R^T``, its constraint matrix.
+        lo, hi : (m,) float
+            The tensions' bounds.
+        """
         A = p.RT.tocsc()
         lo = np.where(p.sigma > 0, 0.0, -1.0)
         hi = np.where(p.sigma < 0, 0.0, 1.0)
@@ -562,6 +578,11 @@ class LinearProgram:
             ipm_iteration_limit=self.max_iter,
             simplex_iteration_limit=self._refine_budget(p),
         )
+        return h, A, lo, hi
+
+    def run(self, s: Search) -> None:
+        p = s.p
+        h, A, lo, hi = self.verdict_lp(p)
         sol = h.getSolution()
         if sol.value_valid and sol.dual_valid:
             t = np.asarray(sol.col_value, dtype=float)
