@@ -5,7 +5,35 @@ from __future__ import annotations
 import numpy as np
 
 from tensegrity_rigidity import Instance, lattice_instance, random_periodic_network, strain_tensor
+from tensegrity_rigidity.ensemble.thresholds import EventPath
 from tensegrity_rigidity.model.elements import place_elements, site_uniforms
+from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
+from tensegrity_rigidity.model.sampling import lattice_geometry
+
+#: (p_t, f_c, strain) of the near-threshold set of issue 13 (benchmarks/near_threshold_set.py,
+#: ``CONFIGS``; its sample k of configuration c at size n has the seed [n, c, k])
+NEAR_THRESHOLD = [
+    (0.3, 1.0, "compression"),
+    (0.3, 1.0, "dilation"),
+    (0.3, 0.5, "shear"),
+    (0.1, 0.0, "compression"),
+    (0.6, 0.5, "shear"),
+    (0.2, 0.0, "dilation"),
+]
+
+
+def near_threshold_sample(n: int, seed, phi: str):
+    """(network, u, v, strain) drawn as benchmarks/near_threshold_set.py draws a sample: the
+    disordered lattice and site uniforms, then the strain angle, from ``default_rng(seed)``."""
+    rng = np.random.default_rng(seed)
+    net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
+    return net, u, v, strain_tensor(phi, float(rng.uniform(0, 2 * np.pi)))
+
+
+def near_threshold_instance(n: int, seed, phi: str, p_t: float, f_c: float, event: int):
+    """Configuration ``event`` of that sample on the "p_r" path at (p_t, f_c)."""
+    net, u, v, eps = near_threshold_sample(n, seed, phi)
+    return Instance(net.with_kinds(EventPath(u, v, "p_r", p_t, f_c).kinds(event)), eps)
 
 
 def random_instance(rng: np.random.Generator, kind: str | None = None) -> Instance:

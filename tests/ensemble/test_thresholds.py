@@ -12,6 +12,7 @@ from tensegrity_rigidity.model.network import Element
 from tensegrity_rigidity.model.sampling import lattice_geometry
 from tensegrity_rigidity.model.strain import strain_tensor
 from tensegrity_rigidity.solver import decide
+from tests.instances import near_threshold_sample
 
 
 def _samples(count, n=8, seed=12):
@@ -68,13 +69,10 @@ def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_e
     strain, violations stalled at 1.5e-9) and the threshold is an interval; with the refinement
     stage, or with the LP stage's own refinement, the threshold is the same one event, inside
     that interval, and the same on a second search."""
-    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
     from tensegrity_rigidity.solver.stages import STAGES, LinearProgram
 
     monkeypatch.setitem(STAGES, "lp-unrefined", LinearProgram(refine=0, name="lp-unrefined"))
-    rng = np.random.default_rng([32, 100, 10])
-    net, u, v = lattice_geometry(32, DEFAULT_DELTA, rng)
-    eps = strain_tensor("dilation", float(rng.uniform(0, 2 * np.pi)))
+    net, u, v, eps = near_threshold_sample(32, [32, 100, 10], "dilation")
     energy_only = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp-unrefined"))
     lp_refined = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp"))
     with_refine = SolverOptions(stages=("affine", "newton", "refine", "crossover", "ipm", "lp"))

@@ -13,7 +13,7 @@ from tensegrity_rigidity.solver.certificates import Resolution
 from tensegrity_rigidity.solver.problem import Problem
 from tensegrity_rigidity.solver.reference import lp_verdict, qp_solve
 from tensegrity_rigidity.solver.stages import STAGES, Search
-from tests.instances import random_instance
+from tests.instances import near_threshold_instance, random_instance
 
 N_INSTANCES = 300
 
@@ -196,17 +196,9 @@ def test_the_projection_certifies_a_floppy_sample_at_n64_near_its_threshold():
     1e-3 at |u| ~ 1.5e6, and the projection from its best candidate certifies it floppy. (If
     the interior point comes to decide this configuration itself, pick another one that it
     leaves undecided: the test is of the projection.)"""
-    from tensegrity_rigidity.ensemble.thresholds import EventPath
-    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
-    from tensegrity_rigidity.model.network import Instance
-    from tensegrity_rigidity.model.sampling import lattice_geometry
-    from tensegrity_rigidity.model.strain import strain_tensor
     from tensegrity_rigidity.solver.stages import InteriorPoint, Projection
 
-    rng = np.random.default_rng([64, 1, 0])  # benchmarks/near_threshold_set.py, config 1
-    net, u, v = lattice_geometry(64, DEFAULT_DELTA, rng)
-    eps = strain_tensor("dilation", float(rng.uniform(0, 2 * np.pi)))
-    inst = Instance(net.with_kinds(EventPath(u, v, "p_r", 0.3, 1.0).kinds(12202)), eps)
+    inst = near_threshold_instance(64, [64, 1, 0], "dilation", 0.3, 1.0, 12202)  # config 1
     s = Search(Problem(inst, unit_stiffness=True), Resolution())
     InteriorPoint().run(s)
     assert not s.decided
@@ -250,17 +242,9 @@ def test_refine_certifies_a_rods_only_sample_the_energy_stages_leave_undecided()
     violation of 1.5e-9 there (the size times double-precision round-off). The refinement, in
     extended precision, certifies it floppy. (If the other stages come to decide it, pick
     another configuration that they leave undecided: the test is of the refinement.)"""
-    from tensegrity_rigidity.ensemble.thresholds import EventPath
-    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
-    from tensegrity_rigidity.model.network import Instance
-    from tensegrity_rigidity.model.sampling import lattice_geometry
-    from tensegrity_rigidity.model.strain import strain_tensor
     from tensegrity_rigidity.solver.stages import LinearProgram
 
-    rng = np.random.default_rng([32, 100, 10])  # benchmarks/near_threshold_set.py, RODS_ONLY
-    net, u, v = lattice_geometry(32, DEFAULT_DELTA, rng)
-    eps = strain_tensor("dilation", float(rng.uniform(0, 2 * np.pi)))
-    inst = Instance(net.with_kinds(EventPath(u, v, "p_r", 0.0, 0.5).kinds(4081)), eps)
+    inst = near_threshold_instance(32, [32, 100, 10], "dilation", 0.0, 0.5, 4081)  # RODS_ONLY
     p = Problem(inst, unit_stiffness=True)
     s = Search(p, Resolution())
     for name in ("affine", "newton", "crossover", "ipm"):
@@ -324,17 +308,9 @@ def test_lp_refinement_certifies_a_vertex_that_misses_its_bounds():
     refinement the search stays undecided. One round of LP iterative refinement (a correction
     LP magnified by 1 / 5.7e-8, warm-started from the vertex's basis) certifies it rigid. The
     reference LP (``lp_verdict``, 7 s, not re-run here) agrees: rigid, optimal work 6.1e-5."""
-    from tensegrity_rigidity.ensemble.thresholds import EventPath
-    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
-    from tensegrity_rigidity.model.network import Instance
-    from tensegrity_rigidity.model.sampling import lattice_geometry
-    from tensegrity_rigidity.model.strain import strain_tensor
     from tensegrity_rigidity.solver.stages import LinearProgram
 
-    rng = np.random.default_rng([64, 5, 0])  # benchmarks/near_threshold_set.py, CONFIGS[5]
-    net, u, v = lattice_geometry(64, DEFAULT_DELTA, rng)
-    eps = strain_tensor("dilation", float(rng.uniform(0, 2 * np.pi)))
-    inst = Instance(net.with_kinds(EventPath(u, v, "p_r", 0.2, 0.0).kinds(13790)), eps)
+    inst = near_threshold_instance(64, [64, 5, 0], "dilation", 0.2, 0.0, 13790)  # CONFIGS[5]
     p = Problem(inst, unit_stiffness=True)
     s = Search(p, Resolution())
     LinearProgram(refine=0).run(s)
@@ -372,18 +348,10 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
     support 1e-9 (5911 elements) they do work 7.7e-6 and certify the sample. So a balanced but
     rejected purification is no reason to skip the smaller tolerance (a rule that did so cost
     this probe its verdict; see CHANGELOG)."""
-    from tensegrity_rigidity.ensemble.thresholds import EventPath
-    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
-    from tensegrity_rigidity.model.network import Instance
-    from tensegrity_rigidity.model.sampling import lattice_geometry
-    from tensegrity_rigidity.model.strain import strain_tensor
     from tensegrity_rigidity.solver.selfstress import purify
     from tensegrity_rigidity.solver.stages import SUPPORT_TOLS, LinearProgram
 
-    rng = np.random.default_rng([64, 4, 0])  # benchmarks/near_threshold_set.py, CONFIGS[4]
-    net, u, v = lattice_geometry(64, DEFAULT_DELTA, rng)
-    eps = strain_tensor("shear", float(rng.uniform(0, 2 * np.pi)))
-    inst = Instance(net.with_kinds(EventPath(u, v, "p_r", 0.6, 0.5).kinds(8648)), eps)
+    inst = near_threshold_instance(64, [64, 4, 0], "shear", 0.6, 0.5, 8648)  # CONFIGS[4]
     p = Problem(inst, unit_stiffness=True)
     h, _, lo, hi = LinearProgram().verdict_lp(p)
     t = np.clip(np.asarray(h.getSolution().col_value, dtype=float), lo, hi)

@@ -10,7 +10,7 @@ from tensegrity_rigidity import Element, Instance, PeriodicNetwork, SolverOption
 from tensegrity_rigidity.analysis.observables import nonaffinity
 from tensegrity_rigidity.model.mechanics import affine_extensions, energy
 from tensegrity_rigidity.solver.reference import min_norm_minimizer
-from tests.instances import random_instance
+from tests.instances import NEAR_THRESHOLD, near_threshold_sample, random_instance
 
 
 def test_minimum_norm_displacements_match_an_independent_projection():
@@ -107,17 +107,6 @@ def test_sweep_nonaffinity_is_that_of_solve(tmp_path):
                 assert np.isnan(row.nonaffinity)
 
 
-#: (p_t, f_c, strain) of the near-threshold set of issue 13 (benchmarks/near_threshold_set.py)
-NEAR_THRESHOLD = [
-    (0.3, 1.0, "compression"),
-    (0.3, 1.0, "dilation"),
-    (0.3, 0.5, "shear"),
-    (0.1, 0.0, "compression"),
-    (0.6, 0.5, "shear"),
-    (0.2, 0.0, "dilation"),
-]
-
-
 def test_minimum_norm_displacements_are_certified_at_the_threshold():
     """At a sample's own threshold, where the minimum-norm displacements reach 1e2 to 4e5 times
     the strain: the two configurations each threshold search decides between (n = 10, the six
@@ -125,16 +114,11 @@ def test_minimum_norm_displacements_are_certified_at_the_threshold():
     displacements, equal in norm to Clarabel's projection to 1e-6 relative wherever Clarabel
     reports "Solved" (it reports "AlmostSolved", 1e-3 away, on the largest)."""
     from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
-    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
-    from tensegrity_rigidity.model.sampling import lattice_geometry
-    from tensegrity_rigidity.model.strain import strain_tensor
 
     n, checked, compared, largest = 10, 0, 0, 0.0
     for c, (p_t, f_c, phi) in enumerate(NEAR_THRESHOLD):
         for k in range(3):
-            rng = np.random.default_rng([n, c, k, 7])
-            net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
-            eps = strain_tensor(phi, float(rng.uniform(0, 2 * np.pi)))
+            net, u, v, eps = near_threshold_sample(n, [n, c, k, 7], phi)
             th = find_threshold(net, u, v, eps, p_t, f_c)
             assert np.isfinite(th.s_high) and th.s_high > 0
             ev = EventPath(u, v, "p_r", p_t, f_c)
@@ -164,16 +148,11 @@ def test_minimum_norm_is_not_claimed_when_the_relaxed_energy_is_not_certified():
     not be the set of minimisers, so the displacements must not be reported minimum-norm (they
     were, with passing KKT residuals, before the energy's certificate was required)."""
     from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
-    from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
-    from tensegrity_rigidity.model.sampling import lattice_geometry
-    from tensegrity_rigidity.model.strain import strain_tensor
     from tensegrity_rigidity.solver.core import ENERGY_GAP
 
     n, c = 32, 4
     p_t, f_c, phi = NEAR_THRESHOLD[c]
-    rng = np.random.default_rng([n, c, 0])  # sample(32, 4, 0) of benchmarks/near_threshold_set
-    net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
-    eps = strain_tensor(phi, float(rng.uniform(0, 2 * np.pi)))
+    net, u, v, eps = near_threshold_sample(n, [n, c, 0], phi)  # sample(32, 4, 0) there
     th = find_threshold(net, u, v, eps, p_t, f_c)
     ev = EventPath(u, v, "p_r", p_t, f_c)
     first_rigid = int(np.searchsorted(ev.positions, th.s_high)) + 1
