@@ -2,13 +2,14 @@
 
 A design is an order of stages (``SolverOptions.stages``); a stage may carry parameters,
 ``name:param=value[:param=value]`` (``ipm:max_iter=100``, ``lp:simplex_iterations_per_site=1``),
-registered as a stage of its own for the run. Every design searches the same thresholds of the
-near-threshold set (six configurations of issue 13, cycled; ``near_threshold_set``) in the same
-run, one after the other, and records per design: seconds per threshold (median, max, total),
-probes, undecided probes, thresholds left as an interval and the widest interval in events,
-brackets ``[s_low, s_high]`` that differ from the first design's and brackets disjoint from it
-(certified verdicts that contradict each other: must be 0), and the stages that decided the
-probes.
+registered as a stage of its own for the run, and a token ``option=value`` sets a numeric or
+boolean field of ``SolverOptions`` for the design (``polish=0``, ``displacement_bound=1e8``).
+Every design searches the same thresholds of the near-threshold set (six configurations of
+issue 13, cycled; ``near_threshold_set``) in the same run, one after the other, and records per
+design: seconds per threshold (median, max, total), probes, undecided probes, thresholds left
+as an interval and the widest interval in events, brackets ``[s_low, s_high]`` that differ from
+the first design's and brackets disjoint from it (certified verdicts that contradict each
+other: must be 0), and the stages that decided the probes.
 
 Run: python benchmarks/bench_stages.py [--sizes 32 64] [--samples 12 6]
      [--designs affine,newton,crossover,ipm,lp affine,newton,crossover,ipm,project,lp ...]
@@ -63,6 +64,23 @@ def stage_name(token: str) -> str:
     return token
 
 
+def design(text: str) -> tuple[tuple[str, ...], dict]:
+    """(stage names, SolverOptions fields) of a design ``text`` (tokens separated by commas)."""
+    stages, options = [], {}
+    for token in text.split(","):
+        if "=" in token and ":" not in token:
+            key, value = token.split("=")
+            default = getattr(SolverOptions(), key, None)
+            if not isinstance(default, (bool, int, float)):
+                raise SystemExit(f"SolverOptions.{key} is not a numeric or boolean option")
+            options[key] = (
+                bool(float(value)) if isinstance(default, bool) else type(default)(float(value))
+            )
+        else:
+            stages.append(stage_name(token))
+    return tuple(stages), options
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--sizes", type=int, nargs="+", default=[32, 64])
@@ -74,7 +92,7 @@ def main() -> None:
         help="the rods-only thresholds of the p_c extrapolation instead of the issue-13 set",
     )
     args = ap.parse_args()
-    designs = [tuple(stage_name(t) for t in d.split(",")) for d in args.designs]
+    designs = [design(d) for d in args.designs]
     decided_by: Counter = Counter()
     original_decide = thresholds.decide
 
@@ -96,8 +114,9 @@ def run(args, designs, decided_by: Counter) -> None:
     for n, count in zip(args.sizes, args.samples, strict=True):
         insts = list(samples(n, count, RODS_ONLY if args.rods_only else CONFIGS))
         first: dict[tuple[int, int], tuple[float, float]] = {}
-        for design in designs:
-            opts = SolverOptions(min_norm=False, stages=design)
+        for stages, options in designs:
+            opts = SolverOptions(min_norm=False, stages=stages, **options)
+            label = " ".join(stages) + "".join(f" {k}={v:g}" for k, v in options.items())
             decided_by.clear()
             secs, probes, undecided, widths, differ, disjoint = [], 0, 0, [], 0, 0
             for c, k, (net, u, v, eps, p_t, f_c) in insts:
@@ -114,14 +133,14 @@ def run(args, designs, decided_by: Counter) -> None:
                 undecided += th.undecided
                 widths.append(width)
                 detail.append(
-                    [n, " ".join(design), c, k, f"{th.s:.6f}",
+                    [n, label, c, k, f"{th.s:.6f}",
                      f"[{th.s_low:.6f}, {th.s_high:.6f}]", width, th.solves, th.undecided,
                      f"{dt:.2f}"]
                 )  # fmt: skip
                 print(*detail[-1], flush=True)
             s = np.asarray(secs)
             rows.append(
-                [n, " ".join(design), len(s), f"{np.median(s):.2f}", f"{s.max():.2f}",
+                [n, label, len(s), f"{np.median(s):.2f}", f"{s.max():.2f}",
                  f"{s.sum():.1f}", probes, undecided, sum(w > 0 for w in widths), max(widths),
                  differ, disjoint,
                  ", ".join(f"{k} {v}" for k, v in sorted(decided_by.items()))]
@@ -134,7 +153,8 @@ def _write(rows, detail, rods_only: bool) -> None:
     which = "rods-only thresholds (p_t = 0)" if rods_only else "near-threshold set"
     body = (
         f"Machine: {machine()}. Each threshold of the {which} searched once per "
-        "design of the verdict search (`SolverOptions.stages`; every other option default), "
+        "design of the verdict search (`SolverOptions.stages`, and the options named after "
+        "them; every other option default), "
         "in the same run, on the same samples. 'intervals': thresholds left as an interval by "
         "undecided probes, with the widest in events; 'differ': brackets [s_low, s_high] that "
         "differ from the first design's; 'disjoint': brackets that do not overlap it (certified "

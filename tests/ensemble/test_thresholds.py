@@ -64,16 +64,18 @@ def test_undecided_probes_give_an_interval_that_contains_the_threshold():
 
 def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_event(monkeypatch):
     """n = 32, rods only (the rods-only set of benchmarks/near_threshold_set.py, sample 10):
-    without the refinement stage, and with the LP stage unrefined (``LinearProgram(refine=0)``),
-    two probes below the threshold stay undecided (zero-energy displacements of 1.4e6 times the
-    strain, violations stalled at 1.5e-9) and the threshold is an interval; with the refinement
-    stage, or with the LP stage's own refinement, the threshold is the same one event, inside
-    that interval, and the same on a second search."""
+    without the refinement stage, with the LP stage unrefined (``LinearProgram(refine=0)``) and
+    without polishing, two probes below the threshold stay undecided (zero-energy displacements
+    of 1.4e6 times the strain, violations stalled at 1.5e-9) and the threshold is an interval;
+    with the refinement stage, with the LP stage's own refinement, or with the floppy
+    candidates polished (``Polish``), the threshold is the same one event, inside that interval,
+    and the same on a second search."""
     from tensegrity_rigidity.solver.stages import STAGES, LinearProgram
 
     monkeypatch.setitem(STAGES, "lp-unrefined", LinearProgram(refine=0, name="lp-unrefined"))
     net, u, v, eps = near_threshold_sample(32, [32, 100, 10], "dilation")
-    energy_only = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp-unrefined"))
+    unrefined = ("affine", "newton", "crossover", "ipm", "lp-unrefined")
+    energy_only = SolverOptions(stages=unrefined, polish=False)
     lp_refined = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp"))
     with_refine = SolverOptions(stages=("affine", "newton", "refine", "crossover", "ipm", "lp"))
     wide = find_threshold(net, u, v, eps, 0.0, 0.5, options=energy_only)
@@ -84,6 +86,8 @@ def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_e
     assert th == find_threshold(net, u, v, eps, 0.0, 0.5, options=with_refine)
     by_lp = find_threshold(net, u, v, eps, 0.0, 0.5, options=lp_refined)
     assert by_lp.decided and by_lp.s == th.s
+    polished = find_threshold(net, u, v, eps, 0.0, 0.5, options=SolverOptions(stages=unrefined))
+    assert polished.decided and polished.s == th.s
 
 
 def test_a_rigid_certificate_holds_from_the_first_configuration_that_admits_it():

@@ -361,3 +361,54 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
     assert fine.accepted and fine.work > 1e3 * res.violation
     s = Search(p, res)
     assert s.offer_t(t, "lp") and s.rigid_verdict
+
+
+def test_polish_moves_a_perturbed_floppy_certificate_back_onto_its_tight_set():
+    """A floppy certificate perturbed by 1e-8 of the largest affine extension (the error a
+    double-precision solver leaves on a point of size 1e7, or its tolerance) fails the
+    resolution model; :class:`Polish` moves it back onto the
+    tight set of its rods and one-sided elements in extended precision, and the polished
+    point passes again, close to where it started. Offered to a search with a polisher it is
+    accepted; without one it is not."""
+    from tensegrity_rigidity.solver.stages import Polish
+
+    rng = np.random.default_rng(31)
+    res, polish, polished = Resolution(), Polish(), 0
+    for _ in range(60):
+        inst = random_instance(rng, "lattice")
+        p = Problem(inst, unit_stiffness=True)
+        v = decide(inst, SolverOptions(min_norm=False))
+        if v.status != "floppy":
+            continue
+        u = np.asarray(v.floppy.u, dtype=float)
+        noisy = u + 1e-8 * rng.standard_normal(u.size)
+        cert = p.exact.floppy(noisy, res)
+        assert not cert.accepted and cert.violation <= polish.below
+        x = polish(Search(p, res), noisy)
+        assert x is not None
+        back = p.exact.floppy(x, res)
+        assert back.accepted and back.violation <= 0.1 * res.violation
+        assert np.abs(np.asarray(x, dtype=float) - noisy).max() <= 1e-6
+        assert not Search(p, res).offer_u(noisy, "test")
+        assert Search(p, res, polish=polish).offer_u(noisy, "test")
+        polished += 1
+    assert polished >= 10
+
+
+def test_polish_decides_an_lp_vertex_at_n64_that_no_stage_decides_as_it_is():
+    """n = 64, p_t = 0.3, f_c = 1, dilation (benchmarks/near_threshold_set.py, configuration 1,
+    sample 0, event 12245: a probe of its threshold search). The feasibility LP's vertex has
+    size 9.9e6 (within U = 1e7) and violation 1.4e-8; every other stage's candidates are
+    further off, and no self-stress does work (best 1e-17). Polished, the vertex violates
+    nothing by more than 5e-13: floppy. Without polishing the search ends undecided."""
+    from tensegrity_rigidity.solver.stages import DEFAULT_STAGES, search
+
+    inst = near_threshold_instance(64, [64, 1, 0], "dilation", 0.3, 1.0, 12245)  # CONFIGS[1]
+    p = Problem(inst, unit_stiffness=True)
+    stages = [STAGES[name] for name in DEFAULT_STAGES]
+    s = search(p, Resolution(), stages, polish=None)
+    assert not s.decided
+    assert s.floppy is not None and 1e-9 < s.floppy.violation < 1e-7
+    s = search(Problem(inst, unit_stiffness=True), Resolution(), stages)
+    assert s.decided and not s.rigid_verdict and s.stage == "lp"
+    assert s.floppy is not None and s.floppy.violation < 1e-11 and s.floppy.size > 1e6

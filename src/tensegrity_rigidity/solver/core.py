@@ -43,7 +43,7 @@ from .linalg import one_blas_thread
 from .newton import crossover, newton
 from .problem import Problem
 from .selfstress import purify
-from .stages import DEFAULT_STAGES, STAGES, search
+from .stages import DEFAULT_STAGES, POLISH, STAGES, search
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,9 @@ class SolverOptions:
         units of ``max |e0|``; a rigid certificate's force residual is weighed against it.
     stages : tuple of str
         Stages of the verdict search, in order (see :mod:`tensegrity_rigidity.solver.stages`).
+    polish : bool
+        Polish floppy candidates that narrowly fail onto their tight set in extended precision
+        before rejecting them (:class:`~tensegrity_rigidity.solver.stages.Polish`).
     regularization : float
         ``mu`` of the Newton matrix, relative to the mean stiffness.
     max_iter : int
@@ -74,6 +77,7 @@ class SolverOptions:
     violation_tol: float = Resolution.violation
     displacement_bound: float = Resolution.displacement
     stages: tuple[str, ...] = DEFAULT_STAGES
+    polish: bool = True
     regularization: float = 1e-12
     max_iter: int = 40
     min_norm: bool = True
@@ -316,7 +320,8 @@ def _search(
         u0 = np.asarray(start, dtype=float).ravel() / p.scale
     if start_tensions is not None:
         t0 = np.asarray(start_tensions, dtype=float)[p.sites]
-    s = search(p, opts.resolution, [STAGES[name] for name in opts.stages], u0, t0)
+    stages = [STAGES[name] for name in opts.stages]
+    s = search(p, opts.resolution, stages, u0, t0, POLISH if opts.polish else None)
     return p, s
 
 
