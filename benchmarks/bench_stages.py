@@ -57,9 +57,9 @@ def stage_name(token: str) -> str:
     for item in settings:
         key, value = item.split("=")
         kind = type(getattr(stage, key))
-        if kind not in (int, float):
+        if kind not in (int, float, bool):
             raise SystemExit(f"{base}.{key} is not a number; only numeric parameters can be set")
-        changes[key] = kind(value)
+        changes[key] = bool(float(value)) if kind is bool else kind(value)
     STAGES[token] = replace(stage, **changes)
     return token
 

@@ -627,6 +627,11 @@ class LinearProgram:
         HiGHS runs after the verdict LP's interior point to clean up an imprecise solution or a
         non-optimal crossover basis (without a limit that ran for minutes on near-threshold
         probes at n = 64).
+    interior_fallback : bool
+        When that clean-up hits its limit, HiGHS returns no solution at all, not even its
+        interior point: solve the verdict LP again without the crossover and offer the interior
+        point's tensions and dual displacements instead (the clean-up hit its limit on every
+        undecided probe of configuration 2 of the near-threshold set at n = 64).
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -636,9 +641,10 @@ class LinearProgram:
     simplex_iterations_max: int = 25_000
     refine: int = 1
     refine_iterations_per_site: float = 0.25
+    interior_fallback: bool = True
     name: str = "lp"
 
-    def verdict_lp(self, p: Problem):
+    def verdict_lp(self, p: Problem, crossover: bool | None = None):
         """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``,
         solved as the stage solves it.
 
@@ -646,6 +652,8 @@ class LinearProgram:
         ----------
         p : Problem
             The problem (normalised units).
+        crossover : bool, optional
+            Run HiGHS's crossover after the interior point (default: when ``refine`` is set).
 
         Returns
         -------
@@ -668,7 +676,7 @@ class LinearProgram:
             zeros,
             zeros,
             solver="ipm",
-            run_crossover="on" if self.refine else "off",
+            run_crossover="on" if (self.refine if crossover is None else crossover) else "off",
             ipm_iteration_limit=self.max_iter,
             simplex_iteration_limit=self._refine_budget(p),
         )
@@ -678,6 +686,10 @@ class LinearProgram:
         p = s.p
         h, A, lo, hi = self.verdict_lp(p)
         sol = h.getSolution()
+        if not sol.value_valid and self.refine and self.interior_fallback:
+            # the crossover or its clean-up simplex hit its limit, and HiGHS dropped the
+            # interior point with it: solve again without the crossover
+            sol = self.verdict_lp(p, crossover=False)[0].getSolution()
         if sol.value_valid and sol.dual_valid:
             t = np.asarray(sol.col_value, dtype=float)
             if s.offer_t(np.clip(t, lo, hi), self.name):
