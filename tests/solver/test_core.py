@@ -412,3 +412,26 @@ def test_polish_decides_an_lp_vertex_at_n64_that_no_stage_decides_as_it_is():
     s = search(Problem(inst, unit_stiffness=True), Resolution(), stages)
     assert s.decided and not s.rigid_verdict and s.stage == "lp"
     assert s.floppy is not None and s.floppy.violation < 1e-11 and s.floppy.size > 1e6
+
+
+def test_the_lp_stage_offers_the_interior_point_when_the_crossover_clean_up_runs_out():
+    """n = 64, p_t = 0.3, f_c = 0.5, shear (benchmarks/near_threshold_set.py, configuration 2,
+    sample 0, event 12484: a probe of its threshold search). HiGHS's interior point solves the
+    verdict LP, but the simplex clean-up after its crossover hits the stage's iteration limit,
+    and HiGHS then returns no solution at all: the verdict LP offered nothing and the probe
+    stayed undecided. Solved again without the crossover, the interior point's tensions,
+    purified, certify it rigid. (The feasibility LP is left out on both sides: it is not what
+    this tests.)"""
+    from tensegrity_rigidity.solver.stages import LinearProgram
+
+    inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12484)  # CONFIGS[2]
+    p = Problem(inst, unit_stiffness=True)
+    h, *_ = LinearProgram().verdict_lp(p)
+    assert not h.getSolution().value_valid
+    s = Search(p, Resolution())
+    LinearProgram(interior_fallback=False, simplex_iterations_per_site=0).run(s)
+    assert not s.decided and s.rigid is None and s.floppy is None
+    s = Search(p, Resolution())
+    LinearProgram(simplex_iterations_per_site=0).run(s)
+    assert s.decided and s.rigid_verdict and s.stage == "lp"
+    assert s.rigid is not None and s.rigid.work > 1e3 * Resolution().violation
