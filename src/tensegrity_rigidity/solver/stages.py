@@ -49,10 +49,11 @@ Stages (``STAGES``; the default order is :data:`DEFAULT_STAGES`):
 ``lp``
     The verdict LP over self-stresses with ``|t_b| <= 1`` (HiGHS's interior point with an
     iteration limit, its crossover and one round of LP iterative refinement); its primal is
-    purified, its dual displacements are checked and crossed over. Then the feasibility LP for
-    a zero-energy displacement by the dual simplex: a vertex is offered as a floppy candidate,
-    a proof of infeasibility (a dual ray: an admissible self-stress with positive work, by
-    Farkas' lemma) as a rigid one.
+    purified, its dual displacements are checked and crossed over (the interior point's, when
+    the crossover's clean-up runs out of iterations). Then the feasibility LP for a zero-energy
+    displacement by the dual simplex: a vertex is offered as a floppy candidate, a proof of
+    infeasibility (a dual ray: an admissible self-stress with positive work, by Farkas' lemma)
+    as a rigid one.
 """
 
 from __future__ import annotations
@@ -579,7 +580,9 @@ class LinearProgram:
     First the verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1``: HiGHS's
     interior point (one thread, at most ``max_iter`` iterations), followed by its crossover to
     a vertex when ``refine`` is set. Its tensions are purified and offered, its dual
-    displacements offered and crossed over.
+    displacements offered and crossed over. When the simplex clean-up after the crossover hits
+    its iteration limit, HiGHS returns no solution at all; the LP is then solved again without
+    the crossover and the interior point's solution offered instead (``interior_fallback``).
 
     Near the threshold the vertex is not yet a certificate: HiGHS accepts a basis whose
     variables miss their bounds by up to its feasibility tolerance (``1e-7``), and at n = 64
