@@ -4,22 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from benchmarks.near_threshold_set import CONFIGS
 from tensegrity_rigidity import Instance, lattice_instance, random_periodic_network, strain_tensor
 from tensegrity_rigidity.ensemble.thresholds import EventPath
 from tensegrity_rigidity.model.elements import place_elements, site_uniforms
 from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
 from tensegrity_rigidity.model.sampling import lattice_geometry
 
-#: (p_t, f_c, strain) of the near-threshold set of issue 13 (benchmarks/near_threshold_set.py,
-#: ``CONFIGS``; its sample k of configuration c at size n has the seed [n, c, k])
-NEAR_THRESHOLD = [
-    (0.3, 1.0, "compression"),
-    (0.3, 1.0, "dilation"),
-    (0.3, 0.5, "shear"),
-    (0.1, 0.0, "compression"),
-    (0.6, 0.5, "shear"),
-    (0.2, 0.0, "dilation"),
-]
+#: (p_t, f_c, strain) of the near-threshold set of issue 13, the benchmarks' own table (its
+#: sample k of configuration c at size n has the seed [n, c, k])
+NEAR_THRESHOLD = CONFIGS
 
 
 def near_threshold_sample(n: int, seed, phi: str):
