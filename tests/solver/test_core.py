@@ -414,6 +414,61 @@ def test_polish_decides_an_lp_vertex_at_n64_that_no_stage_decides_as_it_is():
     assert s.floppy is not None and s.floppy.violation < 1e-11 and s.floppy.size > 1e6
 
 
+def test_balance_restores_perturbed_self_stresses_without_flipping_a_sign():
+    """A rigid certificate's tensions with a relative error of 1e-9 on their support (signs
+    kept) fail the resolution model once ``U`` times their force residual exceeds their work;
+    :func:`rebalance` moves them back onto a self-stress with admissible signs, zero where they
+    were zero on one-sided elements, with a residual a thousand times smaller, and a search
+    with a balancer accepts them."""
+    from tensegrity_rigidity.solver.selfstress import rebalance
+    from tensegrity_rigidity.solver.stages import Balance
+
+    rng = np.random.default_rng(47)
+    res, balanced = Resolution(1e-9, 1e9), 0
+    for _ in range(80):
+        inst = random_instance(rng, "lattice")
+        v = decide(inst, SolverOptions(min_norm=False))
+        if v.status != "rigid":
+            continue
+        p = Problem(inst, unit_stiffness=True)
+        t = np.asarray(v.rigid.t, dtype=float)
+        noisy = t * (1 + 1e-9 * rng.standard_normal(t.size))
+        cert = p.exact.rigid(noisy, res)
+        if cert.accepted or not cert.work > 1e3 * res.violation:
+            continue
+        x = rebalance(p, noisy)
+        assert x is not None
+        assert not np.any(p.sigma * x < 0)
+        assert np.all(x[(p.sigma != 0) & (t == 0)] == 0)
+        back = p.exact.rigid(x, res)
+        assert back.accepted and back.residual < 1e-3 * cert.residual
+        assert Search(p, res, balance=Balance()).offer_t(noisy, "test")
+        balanced += 1
+    assert balanced >= 10
+
+
+def test_balance_decides_an_n64_probe_whose_purification_stalls():
+    """n = 64, p_t = 0.3, f_c = 0.5, shear (benchmarks/near_threshold_set.py, configuration 2,
+    sample 0, event 12585: a probe of its threshold search). The interior point's tensions,
+    purified, do work 0.043 but keep a force residual of 4e-9 of their size: the support has
+    near-mechanisms, and the correction that would remove it flips small cable tensions. At
+    U = 1e8 that fails ``w > tau + U r`` and no energy stage decides the probe; balanced
+    (:class:`Balance`), the residual falls below 1e-10 and the probe is rigid."""
+    from tensegrity_rigidity.solver.stages import Balance, search
+
+    inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12585)  # CONFIGS[2]
+    stages = [STAGES[name] for name in ("affine", "newton", "refine", "crossover", "ipm")]
+    res = Resolution(1e-9, 1e8)
+    s = search(Problem(inst, unit_stiffness=True), res, stages, balance=None)
+    assert not s.decided
+    s = search(Problem(inst, unit_stiffness=True), Resolution(), stages, balance=None)
+    assert s.decided and s.rigid_verdict and s.stage == "ipm"
+    assert s.rigid is not None and s.rigid.work > 0.01 and 1e-9 < s.rigid.residual < 1e-8
+    s = search(Problem(inst, unit_stiffness=True), res, stages, balance=Balance())
+    assert s.decided and s.rigid_verdict and s.stage == "ipm" and s.balanced >= 1
+    assert s.rigid is not None and s.rigid.work > 0.01 and s.rigid.residual < 1e-10
+
+
 def test_the_lp_stage_offers_the_interior_point_when_the_crossover_clean_up_runs_out():
     """n = 64, p_t = 0.3, f_c = 0.5, shear (benchmarks/near_threshold_set.py, configuration 2,
     sample 0, event 12484: a probe of its threshold search). HiGHS's interior point solves the

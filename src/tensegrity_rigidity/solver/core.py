@@ -43,7 +43,7 @@ from .linalg import one_blas_thread
 from .newton import crossover, newton
 from .problem import Problem
 from .selfstress import purify
-from .stages import DEFAULT_STAGES, POLISH, STAGES, search
+from .stages import BALANCE, DEFAULT_STAGES, POLISH, STAGES, search
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,9 @@ class SolverOptions:
     polish : bool
         Polish floppy candidates that narrowly fail onto their tight set in extended precision
         before rejecting them (:class:`~tensegrity_rigidity.solver.stages.Polish`).
+    balance : bool
+        Balance rigid candidates that narrowly fail to extended round-off after purification
+        (:class:`~tensegrity_rigidity.solver.stages.Balance`).
     regularization : float
         ``mu`` of the Newton matrix, relative to the mean stiffness.
     max_iter : int
@@ -78,6 +81,7 @@ class SolverOptions:
     displacement_bound: float = Resolution.displacement
     stages: tuple[str, ...] = DEFAULT_STAGES
     polish: bool = True
+    balance: bool = True
     regularization: float = 1e-12
     max_iter: int = 40
     min_norm: bool = True
@@ -321,7 +325,15 @@ def _search(
     if start_tensions is not None:
         t0 = np.asarray(start_tensions, dtype=float)[p.sites]
     stages = [STAGES[name] for name in opts.stages]
-    s = search(p, opts.resolution, stages, u0, t0, POLISH if opts.polish else None)
+    s = search(
+        p,
+        opts.resolution,
+        stages,
+        u0,
+        t0,
+        POLISH if opts.polish else None,
+        BALANCE if opts.balance else None,
+    )
     return p, s
 
 

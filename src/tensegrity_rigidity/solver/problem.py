@@ -183,6 +183,29 @@ class Problem:
         self.factorizations += 1
         return self._factor
 
+    def factor_shifted(self, weights: np.ndarray, shifts) -> PatternFactor | None:
+        """Factorise ``R^T diag(weights) R + mu I`` with the first shift ``mu`` of ``shifts``
+        for which it succeeds (singular matrices need a larger one).
+
+        Parameters
+        ----------
+        weights : (m,) float
+            Per-element weights.
+        shifts : sequence of float
+            Shifts tried in turn.
+
+        Returns
+        -------
+        PatternFactor or None
+            The factorisation, or None when every shift failed.
+        """
+        for mu in shifts:
+            try:
+                return self.factor_values(self.values(weights, mu))
+            except ArithmeticError:
+                continue
+        return None
+
     def energy(self, u: np.ndarray) -> float:
         """The energy ``E(u)`` (no background stiffness).
 

@@ -108,3 +108,92 @@ def _refine_extended(p: Problem, t: np.ndarray, w: np.ndarray, solver, steps: in
             break
         t_ld, r, r_norm = trial, r_trial, r_trial_norm
     return t_ld
+
+
+def rebalance(
+    p: Problem,
+    t: np.ndarray,
+    steps: int = 20,
+    shifts: tuple[float, ...] = (1e-18, 1e-16, 1e-14),
+    rod_weight: float = 1e-6,
+) -> np.ndarray | None:
+    """Balance nearly balanced admissible tensions to extended round-off, keeping their signs.
+
+    Purification stalls where the support of ``t`` has near-mechanisms: the residual lies
+    along directions in which ``R^T W R`` is of the order of its regularisation, and the
+    correction that would remove it flips the signs of a few small one-sided tensions, so the
+    refinement stops. This continues with a smaller regularisation (the first of ``shifts``,
+    relative to ``max t^2``, that factorises) and an active set: each correction
+    ``-W R (R^T W R)^{-1} R^T t`` (residual in extended precision) is cut at the first
+    one-sided element it would take through zero (a ratio test), that element is fixed at zero
+    and leaves the weights, and the matrix is factorised again. It ends after ``steps``
+    corrections, or when a full correction no longer halves the residual.
+
+    Parameters
+    ----------
+    p : Problem
+        The problem.
+    t : (m,) float or longdouble
+        Admissible tensions on the non-empty sites (a purified candidate).
+    steps : int
+        Most corrections.
+    shifts : tuple of float
+        Regularisations tried in turn, relative to ``max t^2``.
+    rod_weight : float
+        Weight of rods, relative to ``max t^2``, added to ``t^2``: rods may take up stress
+        they did not carry (one-sided elements at zero may not: their sign is not known).
+
+    Returns
+    -------
+    (m,) longdouble or None
+        The tensions with the least residual met (admissible signs), or None when ``t`` is
+        zero, not admissible, or no factorisation succeeded.
+    """
+    exact = p.exact
+    x = np.array(t, dtype=np.longdouble)
+    tf = np.asarray(x, dtype=float)
+    t_max = float(np.abs(tf).max(initial=0.0))
+    if t_max == 0.0 or not np.isfinite(t_max) or np.any(p.sigma * tf < 0):
+        return None
+    w = tf * tf
+    w[p.rod] += rod_weight * t_max**2
+    r = exact.forces(x)
+    r_norm = float(np.abs(r).sum())
+    best, best_rel = x, r_norm / float(np.abs(x).sum())
+    solver, level, fresh = None, 0, False
+    for _ in range(steps):
+        if solver is None:
+            while level < len(shifts) and solver is None:
+                solver = p.factor_shifted(w, [shifts[level] * t_max**2])
+                level += solver is None
+            if solver is None:
+                break
+            fresh = True
+        # the net force is zero in exact arithmetic; its round-off would be amplified along
+        # the translations, which the small shift barely regularises
+        f = np.asarray(r, dtype=float).reshape(-1, 2)
+        f = (f - f.mean(axis=0)).ravel()
+        step = -(w * (p.R @ solver.solve(f)))
+        trial = x + step
+        flips = p.sigma * trial < 0
+        if flips.any():
+            ratios = np.asarray(-x[flips] / step[flips], dtype=float)
+            alpha = float(ratios.min())
+            trial = x + alpha * step
+            hit = np.flatnonzero(flips)[ratios <= alpha * (1 + 1e-9)]
+            trial[hit] = 0.0
+            w[hit] = 0.0
+            solver = None  # the weights changed
+        r_trial = exact.forces(trial)
+        r_trial_norm = float(np.abs(r_trial).sum())
+        if solver is not None and not r_trial_norm < 0.5 * r_norm:
+            if not fresh:
+                break  # a full correction that no longer gains: round-off
+            solver, level = None, level + 1  # too small a shift for this factorisation
+            continue
+        fresh = False
+        x, r, r_norm = trial, r_trial, r_trial_norm
+        rel = r_norm / float(np.abs(x).sum())
+        if rel < best_rel:
+            best, best_rel = x, rel
+    return best
