@@ -461,7 +461,7 @@ def test_balance_decides_an_n64_probe_whose_purification_stalls():
     res = Resolution(1e-9, 1e8)
     s = search(Problem(inst, unit_stiffness=True), res, stages, balance=None)
     assert not s.decided
-    s = search(Problem(inst, unit_stiffness=True), Resolution(), stages, balance=None)
+    s = search(Problem(inst, unit_stiffness=True), Resolution(1e-9, 1e7), stages, balance=None)
     assert s.decided and s.rigid_verdict and s.stage == "ipm"
     assert s.rigid is not None and s.rigid.work > 0.01 and 1e-9 < s.rigid.residual < 1e-8
     s = search(Problem(inst, unit_stiffness=True), res, stages, balance=Balance())

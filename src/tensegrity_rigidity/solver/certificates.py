@@ -39,7 +39,7 @@ and stay valid), and the bound is added to each test:
 
 * a violation ``v_b = e0_b + dhat_b . (u_j - u_i)``: about ten roundings of quantities up to
   ``1 + 4 size``, bounded with a factor 2 to spare by :func:`violation_roundoff`,
-  ``20 eps (1 + 4 size)`` (4e-11 at ``U = 1e7``);
+  ``20 eps (1 + 4 size)`` (4.3e-10 at ``U = 1e8``);
 * the work and the residual (:meth:`ExactGeometry.rigid`): a bond vector is correctly rounded
   (:func:`bond_vectors`), so its unit vector carries a relative error below ``6 eps``, its
   product with ``t_b`` one more; a node's force sums at most ``D`` contributions in turn
@@ -93,7 +93,7 @@ class Resolution:
     """
 
     violation: float = 1e-9
-    displacement: float = 1e7
+    displacement: float = 1e8
 
 
 @dataclass(frozen=True)

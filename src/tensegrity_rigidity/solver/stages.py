@@ -584,7 +584,7 @@ class Balance:
     Purification stops where the candidate's support has near-mechanisms: the remaining force
     residual lies along directions that its regularisation damps, and removing it would flip
     a few small one-sided tensions. Then a self-stress with real work (``1e-2`` of its size)
-    can keep a residual of ``4e-9`` of its size, which ``U = 1e7`` forgives
+    can keep a residual of ``4e-9`` of its size, which ``U = 1e7`` forgave
     (``w > tau + U r``) and ``U = 1e8`` does not. :func:`~.selfstress.rebalance` continues
     with a smaller regularisation and an active set: corrections cut at the first one-sided
     tension they would take through zero, which is then fixed at zero. Measured on n = 64,
