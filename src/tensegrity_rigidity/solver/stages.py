@@ -7,7 +7,8 @@ else decides. The stages only propose candidates:
   violation of at most ``1e-6``, once more after :class:`Polish` moved them onto their tight
   set in extended precision);
 * tensions ``t`` (rigid candidates, first moved onto an exact self-stress by
-  :func:`~.selfstress.purify`).
+  :func:`~.selfstress.purify` and, when that stalls with real work left, once more by
+  :class:`Balance`).
 
 :class:`Search` holds what all stages share: the problem, the lowest-energy point so far and
 the best candidate of each kind. Stages run in the order given by
