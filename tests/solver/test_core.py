@@ -414,6 +414,27 @@ def test_polish_decides_an_lp_vertex_at_n64_that_no_stage_decides_as_it_is():
     assert s.floppy is not None and s.floppy.violation < 1e-11 and s.floppy.size > 1e6
 
 
+def test_polish_tries_a_narrower_slack_when_the_held_set_is_inconsistent():
+    """n = 64, p_t = 0.1, f_c = 0 (struts), compression (benchmarks/near_threshold_set.py,
+    configuration 3, sample 0, event 14909: a probe of its threshold search). The verdict LP's
+    dual displacements (size 6.6e4) violate one strut by 1.6e-9. Holding every element within
+    1e-6 of its bound holds 12 struts that are slack at the zero-energy points nearby, and the
+    held set is inconsistent (it misses by 3.4e-8): the polish does not converge and the probe
+    stays undecided. At a slack of 1e-9 it ends at a violation below 1e-10: floppy."""
+    from tensegrity_rigidity.solver.stages import LinearProgram, Polish, search
+
+    inst = near_threshold_instance(64, [64, 3, 0], "compression", 0.1, 0.0, 14909)  # CONFIGS[3]
+    stages = [LinearProgram(simplex_iterations_per_site=0)]
+    s = search(
+        Problem(inst, unit_stiffness=True), Resolution(), stages, polish=Polish(slacks=(1e-6,))
+    )
+    assert not s.decided
+    assert s.floppy is not None and 1e-9 < s.floppy.violation < 2e-9
+    s = search(Problem(inst, unit_stiffness=True), Resolution(), stages, polish=Polish())
+    assert s.decided and not s.rigid_verdict and s.stage == "lp"
+    assert s.floppy is not None and s.floppy.violation < 1e-10 and s.floppy.size < 1e5
+
+
 def test_balance_restores_perturbed_self_stresses_without_flipping_a_sign():
     """A rigid certificate's tensions with a relative error of 1e-9 on their support (signs
     kept) fail the resolution model once ``U`` times their force residual exceeds their work;

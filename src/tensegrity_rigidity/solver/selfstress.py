@@ -126,8 +126,10 @@ def rebalance(
     relative to ``max t^2``, that factorises) and an active set: each correction
     ``-W R (R^T W R)^{-1} R^T t`` (residual in extended precision) is cut at the first
     one-sided element it would take through zero (a ratio test), that element is fixed at zero
-    and leaves the weights, and the matrix is factorised again. It ends after ``steps``
-    corrections, or when a full correction no longer halves the residual.
+    and leaves the weights, and the matrix is factorised again. A full correction that does
+    not halve the residual ends it, unless it was the first on its factorisation: then the
+    shift was too small for the solve to be accurate, and the next one is tried. At most
+    ``steps`` corrections (and as many factorisations).
 
     Parameters
     ----------
@@ -146,8 +148,8 @@ def rebalance(
     Returns
     -------
     (m,) longdouble or None
-        The tensions with the least residual met (admissible signs), or None when ``t`` is
-        zero, not admissible, or no factorisation succeeded.
+        The tensions with the least relative residual met (admissible signs; ``t`` itself
+        when nothing reduced it), or None when ``t`` is zero or not admissible.
     """
     exact = p.exact
     x = np.array(t, dtype=np.longdouble)
