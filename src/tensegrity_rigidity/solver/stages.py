@@ -532,7 +532,7 @@ class Polish:
     elements that are slack at every zero-energy point near the candidate, and the held set
     becomes inconsistent; too narrow, and the rounds add violated elements one set at a time.
     At n = 64, configuration 3, two probes' candidates (violations ``1.6e-9`` and ``5.3e-9``,
-    sizes ``6.6e4`` and ``1.2e6``) fail at ``1e-6`` (12 more cables held; the set misses by
+    sizes ``6.6e4`` and ``1.2e6``) fail at ``1e-6`` (12 more struts held; the set misses by
     ``3.4e-8``) and end at ``8.4e-11`` and ``4.8e-11`` at ``1e-9``.
 
     Measured on the near-threshold set (``BENCHMARKS.md``): at n = 64, configuration 1,
