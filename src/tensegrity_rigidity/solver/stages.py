@@ -711,6 +711,8 @@ class LinearProgram:
         interior point: solve the verdict LP again without the crossover and offer the interior
         point's tensions and dual displacements instead (the clean-up hit its limit on every
         undecided probe of configuration 2 of the near-threshold set at n = 64).
+    feasibility_primal : bool
+        Solve the feasibility LP by the primal simplex instead of the dual.
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -721,6 +723,7 @@ class LinearProgram:
     refine: int = 1
     refine_iterations_per_site: float = 0.25
     interior_fallback: bool = True
+    feasibility_primal: bool = False
     name: str = "lp"
 
     def verdict_lp(self, p: Problem, crossover: bool | None = None):
@@ -783,7 +786,7 @@ class LinearProgram:
         max_iter = self._feasibility_budget(p)
         if max_iter <= 0:
             return
-        vertex, ray = _feasibility_lp(p, max_iter)
+        vertex, ray = _feasibility_lp(p, max_iter, primal=self.feasibility_primal)
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
@@ -879,8 +882,10 @@ def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
     return t + d * x, np.asarray(sol.row_dual, dtype=float), h.getBasis()
 
 
-def _feasibility_lp(p: Problem, max_iter: int) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's dual simplex.
+def _feasibility_lp(
+    p: Problem, max_iter: int, primal: bool = False
+) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's dual (or primal) simplex.
 
     Rows in site order: rods ``R u = -e0``, cables ``R u <= -e0``, struts ``R u >= -e0``; the
     columns are free. At most ``max_iter`` simplex iterations, one thread.
@@ -891,6 +896,8 @@ def _feasibility_lp(p: Problem, max_iter: int) -> tuple[np.ndarray | None, np.nd
         The problem (normalised units).
     max_iter : int
         Most simplex iterations.
+    primal : bool
+        Run the primal simplex instead of the dual.
 
     Returns
     -------
@@ -918,6 +925,7 @@ def _feasibility_lp(p: Problem, max_iter: int) -> tuple[np.ndarray | None, np.nd
         solver="simplex",
         simplex_iteration_limit=max_iter,
         primal_feasibility_tolerance=1e-9,
+        simplex_strategy=4 if primal else 1,
     )
     status = h.getModelStatus()
     if status == highspy.HighsModelStatus.kOptimal:
