@@ -435,6 +435,24 @@ def test_polish_tries_a_narrower_slack_when_the_held_set_is_inconsistent():
     assert s.floppy is not None and s.floppy.violation < 1e-10 and s.floppy.size < 1e5
 
 
+def test_the_primal_feasibility_lp_proves_infeasibility_where_the_dual_stalls():
+    """n = 64, p_t = 0.3, f_c = 0.5, shear (benchmarks/near_threshold_set.py, configuration 2,
+    sample 0, event 12452: a probe of its threshold search, undecided by every stage with the
+    dual simplex, whose feasibility LP ends with status "Unknown" after 8,402 iterations and
+    41.5 s; measured, not repeated here). The primal simplex proves the LP infeasible within
+    the same budget, and its dual ray, purified, is an admissible self-stress doing work 0.0067:
+    rigid."""
+    from tensegrity_rigidity.solver.stages import LinearProgram, _feasibility_lp
+
+    inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12452)  # CONFIGS[2]
+    p = Problem(inst, unit_stiffness=True)
+    vertex, ray = _feasibility_lp(p, LinearProgram()._feasibility_budget(p), primal=True)
+    assert vertex is None and ray is not None
+    s = Search(p, Resolution())
+    assert s.offer_t(ray, "lp") and s.rigid_verdict
+    assert s.rigid is not None and s.rigid.work > 1e-3 and s.rigid.residual < 1e-15
+
+
 def test_balance_restores_perturbed_self_stresses_without_flipping_a_sign():
     """A rigid certificate's tensions with a relative error of 1e-9 on their support (signs
     kept) fail the resolution model once ``U`` times their force residual exceeds their work;

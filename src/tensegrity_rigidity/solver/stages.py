@@ -712,7 +712,10 @@ class LinearProgram:
         point's tensions and dual displacements instead (the clean-up hit its limit on every
         undecided probe of configuration 2 of the near-threshold set at n = 64).
     feasibility_primal : bool
-        Solve the feasibility LP by the primal simplex instead of the dual.
+        Solve the feasibility LP by the primal simplex instead of the dual. On one n = 64
+        probe the dual ends "Unknown" after 41.5 s where the primal proves infeasibility in
+        5.7 s, but over the near-threshold set the primal loses floppy vertices the dual finds
+        (n = 64 intervals 278 events against 247; ``BENCHMARKS.md``): off by default.
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
