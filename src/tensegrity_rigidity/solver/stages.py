@@ -613,8 +613,8 @@ class Balance:
     with a smaller regularisation and an active set: corrections cut at the first one-sided
     tension they would take through zero, which is then fixed at zero. Measured on n = 64,
     configuration 2 of the near-threshold set, sample 0, event 12585 (``BENCHMARKS.md``): the
-    interior point's purified tensions (work 0.043, residual 4.1e-9) end at residual 3.9e-11
-    after 15 factorisations (0.1 s).
+    interior point's purified tensions (work 0.043, residual 4.1e-9) end at residual 1.9e-11
+    after 18 factorisations (0.1 s).
 
     Only candidates whose work exceeds ``tau`` and whose residual is at most ``below`` (both
     relative to ``|t|_1``) are balanced, at most ``attempts`` per search: a count, not a time.
