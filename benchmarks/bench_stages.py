@@ -1,7 +1,7 @@
 """Designs of the verdict search side by side on the near-threshold thresholds (issue 13).
 
 A design is an order of stages (``SolverOptions.stages``); a stage may carry parameters,
-``name:param=value[:param=value]`` (``ipm:max_iter=100``, ``lp:simplex_iterations_per_site=1``),
+``name:param=value[:param=value]`` (``ipm:max_iter=100``, ``lp:feasibility_simplex=dual+primal``),
 registered as a stage of its own for the run, and a token ``option=value`` sets a numeric or
 boolean field of ``SolverOptions`` for the design (``polish=0``, ``displacement_bound=1e8``).
 Every design searches the same thresholds of the near-threshold set (six configurations of
@@ -57,8 +57,8 @@ def stage_name(token: str) -> str:
     for item in settings:
         key, value = item.split("=")
         kind = type(getattr(stage, key))
-        if kind not in (int, float, bool):
-            raise SystemExit(f"{base}.{key} is not a number; only numeric parameters can be set")
+        if kind not in (int, float, bool, str):
+            raise SystemExit(f"{base}.{key} cannot be set here; only numbers, flags and names")
         changes[key] = bool(float(value)) if kind is bool else kind(value)
     STAGES[token] = replace(stage, **changes)
     return token

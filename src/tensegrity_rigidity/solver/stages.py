@@ -63,6 +63,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
 from .displacements import min_norm_minimizer
 from .ipm import interior_point
@@ -711,11 +712,14 @@ class LinearProgram:
         interior point: solve the verdict LP again without the crossover and offer the interior
         point's tensions and dual displacements instead (the clean-up hit its limit on every
         undecided probe of configuration 2 of the near-threshold set at n = 64).
-    feasibility_primal : bool
-        Solve the feasibility LP by the primal simplex instead of the dual. On one n = 64
-        probe the dual ends "Unknown" after 41.5 s where the primal proves infeasibility in
-        5.7 s, but over the near-threshold set the primal loses floppy vertices the dual finds
-        (n = 64 intervals 278 events against 247; ``BENCHMARKS.md``): off by default.
+    feasibility_simplex : str
+        How HiGHS solves the feasibility LP: ``"dual"`` (its dual simplex), ``"primal"``, or
+        ``"dual+primal"``: the dual simplex, then the primal simplex when the dual stops with
+        neither a vertex nor a proof of infeasibility before its iteration limit (status
+        "Unknown"), each with the full budget. On one n = 64 probe the dual ends "Unknown"
+        after 8,402 iterations and 41.5 s where the primal proves infeasibility in 18,924
+        iterations and 5.7 s, but over the near-threshold set the primal alone loses floppy
+        vertices the dual finds (n = 64 intervals 278 events against 247; ``BENCHMARKS.md``).
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -726,8 +730,15 @@ class LinearProgram:
     refine: int = 1
     refine_iterations_per_site: float = 0.25
     interior_fallback: bool = True
-    feasibility_primal: bool = False
+    feasibility_simplex: str = "dual"
     name: str = "lp"
+
+    def __post_init__(self):
+        if self.feasibility_simplex not in FEASIBILITY_SIMPLEX:
+            raise InputError(
+                "LinearProgram.feasibility_simplex must be one of "
+                f"{', '.join(map(repr, FEASIBILITY_SIMPLEX))}, got {self.feasibility_simplex!r}"
+            )
 
     def verdict_lp(self, p: Problem, crossover: bool | None = None):
         """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``,
@@ -789,7 +800,7 @@ class LinearProgram:
         max_iter = self._feasibility_budget(p)
         if max_iter <= 0:
             return
-        vertex, ray = _feasibility_lp(p, max_iter, primal=self.feasibility_primal)
+        vertex, ray = _feasibility_lp(p, max_iter, self.feasibility_simplex)
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
@@ -885,22 +896,28 @@ def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
     return t + d * x, np.asarray(sol.row_dual, dtype=float), h.getBasis()
 
 
+#: The values of ``LinearProgram.feasibility_simplex``: HiGHS's simplex variants, tried in turn
+#: (the next one only after status "Unknown").
+FEASIBILITY_SIMPLEX = {"dual": ("dual",), "primal": ("primal",), "dual+primal": ("dual", "primal")}
+
+
 def _feasibility_lp(
-    p: Problem, max_iter: int, primal: bool = False
+    p: Problem, max_iter: int, simplex: str = "dual"
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's dual (or primal) simplex.
+    """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's simplex.
 
     Rows in site order: rods ``R u = -e0``, cables ``R u <= -e0``, struts ``R u >= -e0``; the
-    columns are free. At most ``max_iter`` simplex iterations, one thread.
+    columns are free. One thread.
 
     Parameters
     ----------
     p : Problem
         The problem (normalised units).
     max_iter : int
-        Most simplex iterations.
-    primal : bool
-        Run the primal simplex instead of the dual.
+        Most simplex iterations of each variant run.
+    simplex : str
+        A key of :data:`FEASIBILITY_SIMPLEX`: the variants tried in turn, each after the last
+        one stopped with status "Unknown" (neither an answer nor its iteration limit).
 
     Returns
     -------
@@ -918,27 +935,29 @@ def _feasibility_lp(
 
     A = p.R.tocsc()
     inf = highspy.kHighsInf
-    h = _highs(
-        A,
-        np.zeros(A.shape[1]),
-        np.full(A.shape[1], -inf),
-        np.full(A.shape[1], inf),
-        np.where(p.sigma > 0, -inf, -p.e0),
-        np.where(p.sigma < 0, inf, -p.e0),
-        solver="simplex",
-        simplex_iteration_limit=max_iter,
-        primal_feasibility_tolerance=1e-9,
-        simplex_strategy=4 if primal else 1,
-    )
-    status = h.getModelStatus()
-    if status == highspy.HighsModelStatus.kOptimal:
-        return np.asarray(h.getSolution().col_value, dtype=float), None
-    if status == highspy.HighsModelStatus.kInfeasible:
-        # (status, has_ray, values); a method of the compiled base class that highspy's type
-        # stubs leave out
-        *_, has_ray, ray = h.getDualRay()  # type: ignore[attr-defined]
-        if has_ray:
-            return None, -np.asarray(ray, dtype=float)
+    for variant in FEASIBILITY_SIMPLEX[simplex]:
+        h = _highs(
+            A,
+            np.zeros(A.shape[1]),
+            np.full(A.shape[1], -inf),
+            np.full(A.shape[1], inf),
+            np.where(p.sigma > 0, -inf, -p.e0),
+            np.where(p.sigma < 0, inf, -p.e0),
+            solver="simplex",
+            simplex_iteration_limit=max_iter,
+            primal_feasibility_tolerance=1e-9,
+            simplex_strategy=4 if variant == "primal" else 1,
+        )
+        status = h.getModelStatus()
+        if status == highspy.HighsModelStatus.kOptimal:
+            return np.asarray(h.getSolution().col_value, dtype=float), None
+        if status == highspy.HighsModelStatus.kInfeasible:
+            # (status, has_ray, values); a method of the compiled base class that highspy's
+            # type stubs leave out
+            *_, has_ray, ray = h.getDualRay()  # type: ignore[attr-defined]
+            return (None, -np.asarray(ray, dtype=float)) if has_ray else (None, None)
+        if status != highspy.HighsModelStatus.kUnknown:
+            break  # the budget is spent (or HiGHS failed otherwise): no second variant
     return None, None
 
 
