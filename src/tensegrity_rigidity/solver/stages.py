@@ -678,11 +678,13 @@ class LinearProgram:
     round) set to zero, are offered as they are, its duals as displacements.
 
     Then, if nothing was accepted, the feasibility LP for a zero-energy displacement by the dual
-    simplex (at most ``simplex_iterations_per_site`` iterations per non-empty site and at most
-    ``simplex_iterations_max`` in all, :func:`_feasibility_lp`): a vertex satisfies its rows to
-    HiGHS's tolerance and is checked as it is; when the simplex proves the LP infeasible
-    instead, its dual ray is an admissible self-stress with positive work (Farkas' lemma),
-    purified and offered as a rigid candidate. A HiGHS failure leaves the search as it was.
+    simplex, and by the primal when the dual stops with status "Unknown"
+    (``feasibility_simplex``; each at most ``simplex_iterations_per_site`` iterations per
+    non-empty site and at most ``simplex_iterations_max``, :func:`_feasibility_lp`): a vertex
+    satisfies its rows to HiGHS's tolerance and is checked as it is; when the simplex proves
+    the LP infeasible instead, its dual ray is an admissible self-stress with positive work
+    (Farkas' lemma), purified and offered as a rigid candidate. A HiGHS failure leaves the
+    search as it was.
 
     Attributes
     ----------
@@ -714,12 +716,14 @@ class LinearProgram:
         undecided probe of configuration 2 of the near-threshold set at n = 64).
     feasibility_simplex : str
         How HiGHS solves the feasibility LP: ``"dual"`` (its dual simplex), ``"primal"``, or
-        ``"dual+primal"``: the dual simplex, then the primal simplex when the dual stops with
-        neither a vertex nor a proof of infeasibility before its iteration limit (status
-        "Unknown"), each with the full budget. On one n = 64 probe the dual ends "Unknown"
-        after 8,402 iterations and 41.5 s where the primal proves infeasibility in 18,924
-        iterations and 5.7 s, but over the near-threshold set the primal alone loses floppy
-        vertices the dual finds (n = 64 intervals 278 events against 247; ``BENCHMARKS.md``).
+        ``"dual+primal"`` (the default): the dual simplex, then the primal simplex when the
+        dual stops with neither a vertex nor a proof of infeasibility before its iteration
+        limit (status "Unknown"), each with the full budget. On one n = 64 probe the dual ends
+        "Unknown" after 8,402 iterations and 41.5 s where the primal proves infeasibility in
+        18,924 iterations and 5.7 s. Over the near-threshold set (``BENCHMARKS.md``) the primal
+        alone loses floppy vertices the dual finds (n = 64 intervals 278 events against 247),
+        while ``"dual+primal"`` narrows one n = 64 interval from 37 to 6 events and leaves the
+        others and every n = 32 bracket as the dual leaves them (n = 64: 477 s against 480 s).
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -730,7 +734,7 @@ class LinearProgram:
     refine: int = 1
     refine_iterations_per_site: float = 0.25
     interior_fallback: bool = True
-    feasibility_simplex: str = "dual"
+    feasibility_simplex: str = "dual+primal"
     name: str = "lp"
 
     def __post_init__(self):
