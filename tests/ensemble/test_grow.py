@@ -135,3 +135,23 @@ def test_changed_tolerance_is_part_of_the_row_key():
     from tensegrity_rigidity.solver.core import SolverOptions
 
     assert set(a.settings()["solver"]) == {f.name for f in fields(SolverOptions)}
+
+
+def test_the_verdict_searchs_parameters_are_part_of_the_settings(monkeypatch):
+    """A changed default of a stage (here the LP stage's feasibility simplex) changes the
+    verdicts of near-threshold probes, so it must change the digest: a resumed sweep never
+    mixes rows of two searches."""
+    from dataclasses import replace
+
+    from tensegrity_rigidity.solver import stages
+
+    a = _spec()
+    before = a.settings_digest()
+    assert a.settings()["search"]["stages"]["lp"]["feasibility_simplex"] == "dual+primal"
+    lp = replace(stages.STAGES["lp"], feasibility_simplex="dual")
+    monkeypatch.setitem(stages.STAGES, "lp", lp)
+    assert a.settings_digest() != before
+    monkeypatch.setattr(
+        "tensegrity_rigidity.ensemble.spec.POLISH", replace(stages.POLISH, rounds=2)
+    )
+    assert _spec().settings()["search"]["polish"]["rounds"] == 2

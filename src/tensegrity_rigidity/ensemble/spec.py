@@ -82,6 +82,7 @@ from ..errors import InputError, SpecError
 from ..model.lattice import CROSSING_DELTA
 from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
+from ..solver.stages import BALANCE, POLISH, STAGES
 
 GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
 FLAT_KEYS = GRID_KEYS + ("samples", "verdict")
@@ -277,14 +278,18 @@ class Spec:
         """Everything but the grid that changes a sample's result (JSON-ready).
 
         The solver options are listed field by field from the effective
-        :class:`SolverOptions`, defaults included, so a changed default is a changed setting.
+        :class:`SolverOptions`, defaults included, so a changed default is a changed setting;
+        so are the parameters of the verdict search those options name (each stage in order,
+        the polisher and the balancer), whose defaults change the verdicts of near-threshold
+        probes.
 
         Returns
         -------
         dict
             ``mode``, ``threshold_path``, ``lattice``, ``gamma``, ``angles``, ``verdict``,
-            ``solver``.
+            ``solver``, ``search``.
         """
+        opts = self.solver_options()
         return {
             "mode": self.mode,
             "threshold_path": None if self.threshold is None else self.threshold["path"],
@@ -292,7 +297,17 @@ class Spec:
             "gamma": self.gamma,
             "angles": self.angles,
             "verdict": self.verdict,
-            "solver": asdict(self.solver_options()),
+            "solver": asdict(opts),
+            # as JSON reads them back (lists, not tuples), so that a recorded spec compares equal
+            "search": json.loads(
+                json.dumps(
+                    {
+                        "stages": {name: asdict(STAGES[name]) for name in opts.stages},
+                        "polish": asdict(POLISH),
+                        "balance": asdict(BALANCE),
+                    }
+                )
+            ),
         }
 
     def settings_digest(self) -> str:
