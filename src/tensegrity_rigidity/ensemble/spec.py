@@ -77,6 +77,7 @@ import tomllib
 import warnings
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError, SpecError
 from ..model.lattice import CROSSING_DELTA
@@ -171,6 +172,11 @@ class GridPoint:
     f_c: float
     phi: float
     seed: int
+
+
+def _fields(stage: Any) -> dict:
+    """A verdict stage's parameters (every stage is a dataclass)."""
+    return asdict(stage)
 
 
 def _digest(obj) -> str:
@@ -302,7 +308,7 @@ class Spec:
             "search": json.loads(
                 json.dumps(
                     {
-                        "stages": {name: asdict(STAGES[name]) for name in opts.stages},
+                        "stages": {name: _fields(STAGES[name]) for name in opts.stages},
                         "polish": asdict(POLISH),
                         "balance": asdict(BALANCE),
                     }

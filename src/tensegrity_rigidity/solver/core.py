@@ -37,7 +37,7 @@ from ..errors import InputError, UndecidedWarning
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
-from .displacements import min_norm_minimizer
+from .displacements import project
 from .ipm import interior_point
 from .linalg import one_blas_thread
 from .newton import crossover, newton
@@ -563,7 +563,7 @@ def solve(
                 # so that the equalities of U* are consistent: a rod's target is its extension
                 # at u_n even where t_n is 0 (zero targets there left the system inconsistent
                 # by that extension, and the projection could not reach feasibility)
-                mn = min_norm_minimizer(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
+                mn = project(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
                 kkt = (mn.feasibility, mn.stationarity, mn.dual)
                 if mn.ok:
                     u_n, min_norm_ok = mn.u, True
