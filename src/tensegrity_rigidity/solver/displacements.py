@@ -168,11 +168,7 @@ def augmented_lagrangian(
     MinNormResult
         The iterate with the smallest KKT residual met (``rounds``: the Newton steps).
     """
-    stressed = p.one_sided & (t != 0)
-    eq = p.rod | stressed
-    ineq = p.one_sided & ~stressed
-    c = np.where(eq, t / p.k, 0.0)
-    E, In = np.flatnonzero(eq), np.flatnonzero(ineq)
+    eq, ineq, c, E, In = _polyhedron(p, t)
     sig = p.sigma[In]
     u = np.zeros(p.n2) if u_start is None else np.array(u_start, float)
     lam = np.zeros(p.sites.size)
@@ -269,11 +265,7 @@ def min_norm_minimizer(
         The displacements and their KKT residuals (the iterate with the smallest KKT
         residual).
     """
-    stressed = p.one_sided & (t != 0)
-    eq = p.rod | stressed
-    ineq = p.one_sided & ~stressed
-    c = np.where(eq, t / p.k, 0.0)  # v_b = c_b on equalities, sigma v_b <= 0 on inequalities
-    E, In = np.flatnonzero(eq), np.flatnonzero(ineq)
+    eq, ineq, c, E, In = _polyhedron(p, t)
     kkt_system = _QuasiDefinite(p.R.tocsr(), E, In, p.sigma[In], regularization, refinement)
     RE, G, REt, Gt = kkt_system.RE, kkt_system.G, kkt_system.REt, kkt_system.Gt
     bE = (c - p.e0)[E]
@@ -329,6 +321,18 @@ def min_norm_minimizer(
     feas, stat, dual = _certificate(p, u, y, z, E, In, eq, ineq, c)
     ok = feas <= tol and stat <= tol and dual <= 1e-9
     return MinNormResult(u, feas, stat, dual, it, ok)
+
+
+def _polyhedron(p: Problem, t: np.ndarray):
+    """``U*`` of the tensions ``t`` ((m,)): masks of its equalities (rods and stressed
+    one-sided elements) and inequalities (the other one-sided elements), each (m,) bool; the
+    targets ``c`` ((m,), ``v_b = c_b`` on the equalities, ``sigma_b v_b <= 0`` on the
+    inequalities); the indices of both."""
+    stressed = p.one_sided & (t != 0)
+    eq = p.rod | stressed
+    ineq = p.one_sided & ~stressed
+    c = np.where(eq, t / p.k, 0.0)
+    return eq, ineq, c, np.flatnonzero(eq), np.flatnonzero(ineq)
 
 
 def _certificate(p, u, y, z, E, In, eq, ineq, c) -> tuple[float, float, float]:
