@@ -79,6 +79,34 @@ def test_the_fixed_nu_reading_recovers_a_known_threshold():
     assert abs(fit.y_inf - 0.66027) < 2 * fit.y_inf_err < 0.01
 
 
+def test_the_extrapolation_is_refitted_without_the_smallest_sizes(runs):
+    """One row per smallest size kept (at least two sizes left); the first is the headline
+    fit, and the free fit needs three sizes."""
+    fss, _, _ = runs
+    t = fss.pc_by_smallest
+    assert t is not None and list(t.n_min) == list(TINY.pc_sizes[:-1])
+    assert list(t.sizes) == [len(TINY.pc_sizes) - k for k in range(len(t))]
+    pc = fss.extrapolated.set_index("key").loc["rods_only_pc"]
+    assert (t.p_c.iloc[0], t.p_c_err.iloc[0]) == (pc.y_inf, pc.y_inf_err)
+    assert t.p_c_fixed.iloc[0] == fss.pc_at_check_nu.y_inf
+    assert np.isnan(t.p_c.iloc[-1]) and np.isfinite(t.p_c_fixed).all()
+    section = fss_section(fss)
+    assert len(section.tables) == 2 and "The second table refits" in section.paragraphs[0]
+
+
+def test_dropping_a_size_with_a_large_correction_recovers_the_threshold():
+    """Synthetic p_c + a n^(-1/1.16) + b n^(-3): the n^(-3) correction is 4e-3 at n = 8, 6e-5
+    at n = 32. With every size the fixed-nu reading is several errors off p_c; dropping sizes
+    from below brings it within its error."""
+    n = np.array([8.0, 16.0, 32.0, 64.0, 128.0])
+    err = np.full(5, 1e-4)
+    y = 0.66027 - 0.06 * n ** (-1 / 1.16) - 2.0 * n**-3.0
+    t = fs.pc_by_smallest_size(n, y, err).set_index("n_min")
+    assert t.z_fixed.loc[8] > 3 and t.chi2_fixed.loc[8] > 10 * t.dof_fixed.loc[8]
+    assert t.z_fixed.loc[8] > t.z_fixed.loc[16] > t.z_fixed.loc[32]
+    assert t.z_fixed.loc[32] < 1
+
+
 def test_rods_only_threshold_error_counts_samples_not_strains(runs):
     """The headline rods-only P = 1/2 point pools three strains of the same samples: its
     bootstrap draws samples (all their strains at once), not (sample, strain) rows."""

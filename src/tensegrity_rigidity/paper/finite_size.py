@@ -178,6 +178,10 @@ class FiniteSizeResult:
         (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
     pc_widths_z, pc_widths_nu_z : float
         Its p_c against :data:`PC_CHECK` and its nu against :data:`NU_CHECK`.
+    pc_by_smallest : DataFrame
+        The rods-only extrapolation refitted from the sizes ``n >= n_min``, one row per
+        ``n_min`` (:func:`pc_by_smallest_size`): how much the extrapolation rests on the
+        smallest sizes, where corrections to scaling are largest.
     """
 
     by_size: pd.DataFrame
@@ -196,6 +200,58 @@ class FiniteSizeResult:
     pc_widths: an.WidthScaling | None = None
     pc_widths_z: float = float("nan")
     pc_widths_nu_z: float = float("nan")
+    pc_by_smallest: pd.DataFrame | None = None
+
+
+def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.DataFrame:
+    """The rods-only extrapolation refitted without the smallest sizes.
+
+    ``p_c(n) = p_c + a n^(-1/nu)`` holds only asymptotically: corrections to scaling, largest
+    at the smallest n, pull a fit towards them, the more so as their errors are the smallest
+    (most samples). Dropping sizes one at a time from below shows how much the extrapolation
+    rests on them; a reading that moves by more than its error is not determined by the data.
+
+    Parameters
+    ----------
+    n, y, err : (K,) float
+        Sizes (ascending), P = 1/2 points and their standard errors.
+
+    Returns
+    -------
+    DataFrame
+        One row per ``n_min`` leaving at least two sizes: ``n_min``, ``sizes``; the free fit's
+        ``p_c``, ``p_c_err``, ``nu``, ``nu_err``, ``chi2``, ``dof`` and ``z`` against
+        :data:`PC_CHECK` (NaN with fewer than three sizes); the fit with nu fixed at
+        :data:`NU_CHECK`'s ``p_c_fixed``, ``p_c_fixed_err``, ``chi2_fixed``, ``dof_fixed``
+        and ``z_fixed``.
+    """
+    n, y, err = (np.asarray(a, float) for a in (n, y, err))
+    rows = []
+    for n_min in n[:-1]:
+        keep = n >= n_min
+        free = an.fit_finite_size(n[keep], y[keep], err[keep])
+        fixed = an.fit_finite_size(
+            n[keep], y[keep], err[keep], nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0
+        )
+        rows.append(
+            {
+                "n_min": int(n_min),
+                "sizes": int(keep.sum()),
+                "p_c": free.y_inf,
+                "p_c_err": free.y_inf_err,
+                "nu": free.nu,
+                "nu_err": free.nu_err,
+                "chi2": free.chi2,
+                "dof": free.dof,
+                "z": an.agreement_z(free.y_inf, free.y_inf_err**2, PC_CHECK.value, 0.0),
+                "p_c_fixed": fixed.y_inf,
+                "p_c_fixed_err": fixed.y_inf_err,
+                "chi2_fixed": fixed.chi2,
+                "dof_fixed": fixed.dof,
+                "z_fixed": an.agreement_z(fixed.y_inf, fixed.y_inf_err**2, PC_CHECK.value, 0.0),
+            }
+        )
+    return pd.DataFrame(rows)
 
 
 def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
@@ -298,6 +354,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_widths=widths,
         pc_widths_z=widths_z,
         pc_widths_nu_z=widths_nu_z,
+        pc_by_smallest=pc_by_smallest_size(*series("rods_only_pc")),
     )
 
 

@@ -104,6 +104,8 @@ def tables_of(results: dict) -> dict[str, pd.DataFrame]:
     if "fss" in results:
         extra["fss_by_size"] = results["fss"].by_size
         extra["fss_extrapolated"] = results["fss"].extrapolated
+        if results["fss"].pc_by_smallest is not None:
+            extra["fss_pc_by_smallest_size"] = results["fss"].pc_by_smallest
     if "delta" in results:
         extra["delta_by_delta"] = results["delta"].by_delta
     if "method" in results:
@@ -244,6 +246,46 @@ def _pc_widths(r) -> str:
     )
 
 
+def _pc_smallest(r) -> tuple[str, tuple[pd.DataFrame, ...]]:
+    """The rods-only extrapolation without the smallest sizes: a sentence and its table."""
+    t = getattr(r, "pc_by_smallest", None)
+    if t is None or len(t) < 2:
+        return "", ()
+    free = t[np.isfinite(t.p_c)]
+    spread = (
+        f" Fitted freely, p_c ranges from {free.p_c.min():.4f} to {free.p_c.max():.4f} as the "
+        "smallest sizes are dropped"
+        if len(free) > 1
+        else ""
+    )
+    text = (
+        " The second table refits the rods-only point without the smallest sizes, "
+        "where corrections to scaling are largest (a reading that moves by more than its error "
+        "is not determined by these sizes)." + (spread + "." if spread else "")
+    )
+    table = pd.DataFrame(
+        {
+            "sizes used": [
+                "n >= " + str(int(row.n_min)) + f" ({int(row.sizes)})" for row in t.itertuples()
+            ],
+            "p_c, nu fitted": [_fmt(row.p_c, row.p_c_err) for row in t.itertuples()],
+            "nu": [_fmt(row.nu, row.nu_err) for row in t.itertuples()],
+            "chi-square / dof, nu fitted": [
+                f"{row.chi2:.2f} / {row.dof}" for row in t.itertuples()
+            ],
+            "z, nu fitted": [f"{row.z:.2f}" for row in t.itertuples()],
+            f"p_c, nu = {NU_CHECK.value}": [
+                _fmt(row.p_c_fixed, row.p_c_fixed_err) for row in t.itertuples()
+            ],
+            "chi-square / dof, nu fixed": [
+                f"{row.chi2_fixed:.2f} / {row.dof_fixed}" for row in t.itertuples()
+            ],
+            "z, nu fixed": [f"{row.z_fixed:.2f}" for row in t.itertuples()],
+        }
+    )
+    return text, (table,)
+
+
 def _pc_intervals(r) -> str:
     """The rods-only thresholds reported as intervals (undecided probes), per size."""
     pc = r.by_size[r.by_size.key == "rods_only_pc"].sort_values("n")
@@ -265,6 +307,7 @@ def fss_section(r) -> Section:
     """Finite size: the headline claims per n and extrapolated to n -> infinity."""
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
+    smallest, smallest_tables = _pc_smallest(r)
     paragraphs = (
         (
             f"The headline claims at n = {', '.join(map(str, r.sizes))} "
@@ -306,6 +349,7 @@ def fss_section(r) -> Section:
         )
         + _pc_widths(r)
         + _pc_intervals(r)
+        + smallest
         + (
             " The other claims are extrapolated with nu fixed at the fitted value, its error added."
             if r.sizes
@@ -322,7 +366,7 @@ def fss_section(r) -> Section:
         table[f"n = {n}"] = [_fmt(v, e) for v, e in zip(wide[n], err[n], strict=True)]
     table["n -> infinity"] = [_fmt(ex.loc[k].y_inf, ex.loc[k].y_inf_err) for k in wide.index]
     table["z_paper"] = [f"{ex.loc[k].z_paper:.2f}" for k in wide.index]
-    return Section("Finite size", paragraphs, (table,))
+    return Section("Finite size", paragraphs, (table, *smallest_tables))
 
 
 def delta_section(r) -> Section:
