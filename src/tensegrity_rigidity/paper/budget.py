@@ -55,20 +55,20 @@ from .studies import SCALES, Scale
 # medians: a sweep's time is a sum. Sources:
 #
 # THRESHOLD_SECONDS: one exact threshold search along p_r (certified verdicts, an interval when
-#   probes are undecided) on the near-transition benchmark configurations (p_t = 0.1 to 0.6,
-#   mostly 0.3; benchmarks/near_threshold_set.py), measured Nov 2026:
-#   n = 8: "a few ms": 0.01 s, the upper end, to cover the per-row overhead;
-#   n = 16: 0.1 to 0.2 s; BENCHMARKS.md (36 samples): medians 0.124 / 0.152 s, means 0.135 /
-#     0.167 s: 0.17 s;
-#   n = 32: median 1.2 s, max 4.6 s (12 samples); mean = 1.3 x median (the 36-sample n = 32 run
-#     in BENCHMARKS.md has mean / median = 2.861 / 2.272 = 1.26): 1.56 s;
-#   n = 64: median 44 s, max 76 s (6 samples; the max is only 1.7 x the median): 1.1 x median,
-#     48 s. n = 128 is extrapolated (x 31 per doubling, as from 32 to 64).
-THRESHOLD_SECONDS = {8: 0.01, 16: 0.17, 32: 1.56, 64: 48.0}
+#   probes are undecided) at p_t = 0.3, the means of the p_t = 0.3 rows (f_c = 0, 0.5, 1; three
+#   strains) of the finite-size run of 2026-11-26 (`reproduce --scale fss` from a clean clone at
+#   a3eff61, 2 workers; benchmarks/calibrate_budget.py, BENCHMARKS.md): 0.080, 0.327, 2.90 and
+#   73.2 s at n = 8, 16, 32, 64 over 3600, 1800, 864 and 92 rows (medians 0.067, 0.270,
+#   1.86, 61.9 s). The constants before (0.01, 0.17, 1.56, 48 s, from the
+#   near-threshold benchmark set before the refine stage, the LP stage's iterative refinement
+#   and its primal simplex) priced that run's threshold rows 1.5 to 8 times too low. n = 128 is
+#   extrapolated (x 25 per doubling, as from 32 to 64).
+THRESHOLD_SECONDS = {8: 0.080, 16: 0.33, 32: 2.90, 64: 73.0}
 # THRESHOLD_PT_FACTOR: cost relative to p_t = 0.3, by p_t (linear in between, 1 above 0.3), from
 #   the 4,800 threshold rows of Fig. 1C of a quick run (n = 12, solve_seconds per row): means
 #   0.029, 0.100, 0.158, 0.171 s at p_t = 0, 0.1, 0.2, 0.3. Rods only needs no active set.
-#   Above 0.3 Fig. 1B's rows (p_t up to 0.8) averaged 0.081 s: 1 errs long.
+#   Above 0.3 Fig. 1B's rows (p_t up to 0.8) averaged 0.081 s: 1 errs long. The finite-size
+#   run of 2026-11-26 agrees: 0.52 and 0.82 at p_t = 0.1 and 0.2 (n = 32), 0.56 and 0.90 (16).
 THRESHOLD_PT_FACTOR = ((0.0, 0.17), (0.1, 0.58), (0.2, 0.92), (0.3, 1.0))
 # RODS_THRESHOLD_SECONDS: a rods-only threshold search (p_t = 0), measured directly because its
 #   cost relative to a search at p_t = 0.3 falls with n: means of the rows of the rods-only p_c

@@ -24,14 +24,16 @@ from .studies import SCALES, STORED
 #: the two in step) until someone times a run
 EXPECTED = {
     "tiny": "about a minute",
-    "quick": "11 minutes measured on 2026-11-25 from a clean clone, install included; the "
-    "budget model prices it low: its Fig. 4 rows cost 31 ms, priced at 20 (estimated 6 minutes)",
-    "paper": "25 minutes measured on 2026-11-23 (estimated 24 minutes)",
-    "fss": "estimated 96 minutes (before the rods-only p_c sweeps were added: 180 CPU minutes, "
-    "2 h 04 min wall on 2 shared cores, measured on 2026-11-23; resumable: re-run to continue)",
+    "quick": "8 min 33 s measured on 2026-11-26 from a clean clone at fe7943b, install included "
+    "(estimated 8 minutes)",
+    "paper": "25 minutes measured on 2026-11-23 at 1b0a804, before the LP stage's iterative "
+    "refinement and primal simplex (estimated 33 minutes at the threshold costs measured on "
+    "2026-11-26)",
+    "fss": "estimated 109 minutes, from the threshold costs of a run of 2026-11-26 (resumable: "
+    "re-run to continue)",
     "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
     "minutes measured on 2026-11-25 (estimated 33 minutes)",
-    "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 47 CPU hours "
+    "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 60 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }
 

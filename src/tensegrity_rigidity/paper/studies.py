@@ -155,19 +155,23 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #:   Energy exponents alpha and the nonaffinity peak are not set by S (least-squares errors over
 #:   4-5 grid points; the p_r grid).
 #:
-#: fss (110 min on 2 workers, estimate 92 min): per size 12.5 threshold searches per sample (in
-#:   units of one at p_t = 0.3: 3 rods-only x 0.17, 9 at p_t = 0.3, 4 at p_t = 0.1, 0.2 x 0.75):
-#:   0.13, 2.1, 19.5, 600 s at n = 8, 16, 32, 64. n = 64 takes what is left of the budget: 12
-#:   samples (7,200 CPU s): S_t/S_r +-0.0087, p_crit +-0.0036. The cheaper sizes get errors no
-#:   larger: n = 8: 400 (p_crit +-0.0020, S_t/S_r +-0.0125), 16: 200 (+-0.0019, +-0.0038), 32:
-#:   96 (+-0.0019, +-0.0041). With these, a synthetic extrapolation p_c(n) = p_c + a n^(-1/nu)
-#:   (nu fitted) scatters by +-0.010 around the true p_c (60 draws): the extrapolated rods-only
-#:   p_c carries about +-0.01, which only n = 128 (fss-cluster) narrows. Node disorder: n = 32,
-#:   32 samples per delta (S_t/S_r +-0.0071, p_c +-0.0033); delta = 0.2 reads the first 32
-#:   samples of the fss sweeps at n = 32.
+#: fss (110 min on 2 workers, estimate 109 min): per size 12.5 threshold searches per sample
+#:   (in units of one at p_t = 0.3: 3 rods-only, cheap, 9 at p_t = 0.3, 4 at p_t = 0.1, 0.2 x
+#:   0.75), priced by the costs measured in the finite-size run of 2026-11-26 (paper.budget):
+#:   1.0, 4.1, 36 and about 880 CPU s per sample at n = 8, 16, 32, 64. That run had the former
+#:   counts (12 samples at n = 64, 200 at 16, 96 at 32, 32 per delta) and was stopped after 97
+#:   min with n = 64 two thirds done (about 150 min in all). The counts are now chosen from the
+#:   error targets (S_t/S_r +-0.013, p_crit +-0.005; `budget.expected_errors`) within the
+#:   budget: n = 64 takes 8 samples (S_t/S_r +-0.0106, p_crit +-0.0044), n = 32 64 (+-0.0050),
+#:   node disorder 24 per delta (S_t/S_r +-0.0082, p_c +-0.0038); n = 8: 400 (S_t/S_r
+#:   +-0.0126), n = 16: 160 (+-0.0042), which cost little. The extrapolations rest most on the
+#:   largest sizes; with 12 samples at n = 64 a synthetic extrapolation p_c(n) = p_c + a
+#:   n^(-1/nu) (nu fitted) scattered by +-0.010 around the true p_c (60 draws): only n = 128
+#:   (fss-cluster, pc) narrows it. delta = 0.2 reads the first 24 samples of the fss sweeps at
+#:   n = 32.
 #:
 #: fss-cluster: fss plus n = 128 (8 samples: one threshold search there is extrapolated to
-#:   25 min, 41 CPU hours for n = 128, 47 in all) and 32 samples at n = 64 (S_t/S_r +-0.0053,
+#:   30 min at p_t = 0.3; 60 CPU hours in all) and 32 samples at n = 64 (S_t/S_r +-0.0053,
 #:   p_crit +-0.0022); meant for a Dask cluster (--scheduler; --estimate --workers N gives the
 #:   wall time). Its sweeps extend those of fss in the same output directory.
 #: (n, samples) of the rods-only thresholds of the p_c extrapolation at the fss scales: the
@@ -201,9 +205,9 @@ SCALES = {
     ),
     "fss": Scale(
         "fss", 32, 32, 0, 0, 0, 0.025, 0, 200,
-        fss_sizes=(8, 16, 32, 64), samples_fss=(400, 200, 96, 12),
+        fss_sizes=(8, 16, 32, 64), samples_fss=(400, 160, 64, 8),
         fss_pc=FSS_PC_NO_128,
-        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
+        deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=24,
         studies=("fss", "delta"), budget_minutes=110,
     ),
     "pc": Scale(
