@@ -248,40 +248,34 @@ def _pc_widths(r) -> str:
 
 def _pc_smallest(r) -> tuple[str, tuple[pd.DataFrame, ...]]:
     """The rods-only extrapolation without the smallest sizes: a sentence and its table."""
-    t = getattr(r, "pc_by_smallest", None)
+    t = r.pc_by_smallest
     if t is None or len(t) < 2:
         return "", ()
     free = t[np.isfinite(t.p_c)]
-    spread = (
-        f" Fitted freely, p_c ranges from {free.p_c.min():.4f} to {free.p_c.max():.4f} as the "
-        "smallest sizes are dropped"
-        if len(free) > 1
-        else ""
-    )
     text = (
         " The second table refits the rods-only point without the smallest sizes, "
         "where corrections to scaling are largest (a reading that moves by more than its error "
-        "is not determined by these sizes)." + (spread + "." if spread else "")
+        "is not determined by these sizes)."
     )
+    if len(free) > 1:
+        text += (
+            f" Fitted freely, p_c ranges from {free.p_c.min():.4f} to {free.p_c.max():.4f} as "
+            "the smallest sizes are dropped."
+        )
     table = pd.DataFrame(
-        {
-            "sizes used": [
-                "n >= " + str(int(row.n_min)) + f" ({int(row.sizes)})" for row in t.itertuples()
-            ],
-            "p_c, nu fitted": [_fmt(row.p_c, row.p_c_err) for row in t.itertuples()],
-            "nu": [_fmt(row.nu, row.nu_err) for row in t.itertuples()],
-            "chi-square / dof, nu fitted": [
-                f"{row.chi2:.2f} / {row.dof}" for row in t.itertuples()
-            ],
-            "z, nu fitted": [f"{row.z:.2f}" for row in t.itertuples()],
-            f"p_c, nu = {NU_CHECK.value}": [
-                _fmt(row.p_c_fixed, row.p_c_fixed_err) for row in t.itertuples()
-            ],
-            "chi-square / dof, nu fixed": [
-                f"{row.chi2_fixed:.2f} / {row.dof_fixed}" for row in t.itertuples()
-            ],
-            "z, nu fixed": [f"{row.z_fixed:.2f}" for row in t.itertuples()],
-        }
+        [
+            {
+                "sizes used": f"n >= {int(row.n_min)} ({int(row.sizes)})",
+                "p_c, nu fitted": _fmt(row.p_c, row.p_c_err),
+                "nu": _fmt(row.nu, row.nu_err),
+                "chi-square / dof, nu fitted": f"{row.chi2:.2f} / {row.dof}",
+                "z, nu fitted": f"{row.z:.2f}",
+                f"p_c, nu = {NU_CHECK.value}": _fmt(row.p_c_fixed, row.p_c_fixed_err),
+                "chi-square / dof, nu fixed": f"{row.chi2_fixed:.2f} / {row.dof_fixed}",
+                "z, nu fixed": f"{row.z_fixed:.2f}",
+            }
+            for row in t.itertuples()
+        ]
     )
     return text, (table,)
 
