@@ -26,9 +26,8 @@ EXPECTED = {
     "tiny": "about a minute",
     "quick": "8 min 33 s measured on 2026-11-26 from a clean clone at fe7943b, install included "
     "(estimated 8 minutes)",
-    "paper": "25 minutes measured on 2026-11-23 at 1b0a804, before the LP stage's iterative "
-    "refinement and primal simplex (estimated 33 minutes at the threshold costs measured on "
-    "2026-11-26)",
+    "paper": "32 min 42 s measured on 2026-11-26 from a clean clone at 5a78b41 (estimated 33 "
+    "minutes)",
     "fss": "estimated 109 minutes, from the threshold costs of a run of 2026-11-26 (resumable: "
     "re-run to continue)",
     "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
