@@ -28,8 +28,8 @@ EXPECTED = {
     "(estimated 8 minutes)",
     "paper": "32 min 42 s measured on 2026-11-26 from a clean clone at 5a78b41 (estimated 33 "
     "minutes)",
-    "fss": "estimated 109 minutes, from the threshold costs of a run of 2026-11-26 (resumable: "
-    "re-run to continue)",
+    "fss": "97 minutes measured on 2026-11-26 in one run from a clean clone at 5a78b41 "
+    "(estimated 109 minutes; resumable: re-run to continue)",
     "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
     "minutes measured on 2026-11-25 (estimated 33 minutes)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 60 CPU hours "
