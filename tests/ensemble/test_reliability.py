@@ -195,7 +195,7 @@ def test_rows_of_another_revision_are_not_resumed(tmp_path):
     run_sweep(spec, out, executor="serial", progress=False)
     meta = out / "_spec.json"
     record = json.loads(meta.read_text())
-    assert record["rows_revision"] == ROWS_REVISION
+    assert record["rows_revision"] == ROWS_REVISION["grid"]
     run_sweep(spec, out, executor="serial", progress=False)  # same revision: resumes
     del record["rows_revision"]
     meta.write_text(json.dumps(record))
@@ -203,6 +203,33 @@ def test_rows_of_another_revision_are_not_resumed(tmp_path):
     with pytest.raises(SpecError, match="rows of revision 1"):
         run_sweep(spec, out, executor="serial", progress=False)
     assert sorted(p.name for p in out.glob("part-*")) == parts  # nothing deleted or added
+
+
+def test_threshold_rows_keep_their_revision_when_grid_rows_change(tmp_path):
+    """Threshold rows hold only verdicts, so a threshold directory written under revision 2
+    (before grid rows went to revision 3 with the relaxation's longer interior point) resumes
+    rather than being refused, while a grid directory of revision 2 is refused."""
+    import json
+
+    from tensegrity_rigidity.ensemble.store import ROWS_REVISION
+
+    assert ROWS_REVISION == {"grid": 3, "threshold": 2}
+    threshold = SMALL.replace("p_r = [0.55, 0.7]\n", "").replace(
+        "[output]", '[threshold]\npath = "p_r"\n[output]'
+    )
+    for text, name, refused in ((threshold, "t", False), (SMALL, "g", True)):
+        spec = _write(tmp_path, text, f"{name}.toml")
+        out = tmp_path / name
+        run_sweep(spec, out, executor="serial", progress=False)
+        meta = out / "_spec.json"
+        record = json.loads(meta.read_text())
+        record["rows_revision"] = 2
+        meta.write_text(json.dumps(record))
+        if refused:
+            with pytest.raises(SpecError, match="rows of revision 2"):
+                run_sweep(spec, out, executor="serial", progress=False)
+        else:
+            run_sweep(spec, out, executor="serial", progress=False)
 
 
 def test_store_refuses_to_write_without_the_lock(tmp_path):

@@ -170,6 +170,60 @@ def test_minimum_norm_is_not_claimed_when_the_relaxed_energy_is_not_certified():
     assert 0.1 * res.energy < res.energy_lower < res.energy
 
 
+def _paper_sample(study: str, p_r: float, phi: float, k: int) -> Instance:
+    """Sample ``k`` of the paper scale's sweep ``study`` (n = 32) at ``p_r`` and strain ``phi``."""
+    from tensegrity_rigidity import strain_tensor
+    from tensegrity_rigidity.ensemble.runner import sample_geometry
+    from tensegrity_rigidity.ensemble.spec import parse_spec
+    from tensegrity_rigidity.model.elements import place_elements
+    from tensegrity_rigidity.paper.registry import SWEEPS
+    from tensegrity_rigidity.paper.studies import SCALES
+
+    sweeps: dict = {}
+    for sweep in SWEEPS.values():
+        sweeps.update(sweep(SCALES["paper"]))
+    spec = parse_spec(sweeps[study])
+    (point,) = [q for q in spec.points() if abs(q.p_r - p_r) < 1e-12 and abs(q.phi - phi) < 1e-12]
+    net, u, v, theta = sample_geometry(spec, point, k)
+    kinds = place_elements(u, v, point.p_r, point.p_t, point.f_c)
+    return Instance(net.with_kinds(kinds), strain_tensor(point.phi, theta, spec.gamma))
+
+
+def test_the_long_relaxation_certifies_energies_the_short_one_leaves_uncertified():
+    """Two rigid samples of the paper-scale Fig. 2 sweeps (n = 32, the transition's rigid side)
+    whose relaxed energy the short interior point (60 iterations at 1e-10) left uncertified
+    (lower bound 0 and 0.99999 of the energy), so that the sweep stored no nonaffinity for
+    them: the long one (``RELAX_IPM``) certifies both, and their displacements are then
+    certified minimum-norm. Without it both fail."""
+    from tensegrity_rigidity.solver.core import ENERGY_GAP
+
+    for study, p_r, k in (("fig2_pt0.2", 0.55, 16), ("fig2_pt0.3", 0.5, 21)):
+        res = solve(_paper_sample(study, p_r, 0.0, k))
+        assert res.decided and res.rigid
+        assert res.energy_lower >= (1 - ENERGY_GAP) * res.energy, (study, res.message)
+        assert res.min_norm_ok, (study, res.min_norm_residuals, res.message)
+
+
+def test_the_long_relaxation_never_replaces_a_certified_short_one():
+    """At the rigid side of this n = 32 threshold (configuration 1 of the near-threshold set,
+    sample 0) the short interior point certifies the energy. The long one alone ends 1e-4 higher
+    and uncertified (its last iterate is worse), so it runs only where the short one fails, and
+    its result is kept only if it certifies (``RELAX_IPM``)."""
+    from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
+
+    n, c = 32, 1
+    p_t, f_c, phi = NEAR_THRESHOLD[c]
+    net, u, v, eps = near_threshold_sample(n, [n, c, 0], phi)
+    th = find_threshold(net, u, v, eps, p_t, f_c)
+    ev = EventPath(u, v, "p_r", p_t, f_c)
+    inst = Instance(
+        net.with_kinds(ev.kinds(int(np.searchsorted(ev.positions, th.s_high)) + 1)), eps
+    )
+    res = solve(inst)
+    assert res.decided and res.rigid
+    assert res.min_norm_ok, (res.min_norm_residuals, res.message)
+
+
 def test_the_augmented_lagrangian_projects_rigid_samples_like_the_interior_point():
     """On the rigid verdicts of 150 random small instances, the augmented Lagrangian (the first
     try of ``project`` where the tensions are not zero) certifies the projection within its

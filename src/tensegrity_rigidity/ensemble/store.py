@@ -52,13 +52,36 @@ from ..errors import InputError, SpecError
 from .spec import Spec, parse_spec
 
 FORMAT = 2
-#: What the rows of a given spec contain. Bumped whenever a change of the package changes the
-#: rows the same spec produces, so that a resumed or grown sweep never mixes rows of two
-#: versions silently (a directory records the revision its rows were written under; one without
-#: a record is revision 1). History: 2 -- ``min_norm_ok`` and the nonaffinity need a certified
-#: relaxed energy (rows of revision 1 can carry ``min_norm_ok`` True and a nonaffinity read off
-#: an unconverged relaxation near a sample's own threshold).
-ROWS_REVISION = 2
+#: What the rows of a given spec contain, per mode ("grid": one solve per sample, "threshold":
+#: one threshold search per sample). Bumped whenever a change of the package changes the rows
+#: the same spec produces, so that a resumed or grown sweep never mixes rows of two versions
+#: silently (a directory records the revision its rows were written under; one without a record
+#: is revision 1). Threshold rows hold only verdicts, so changes of the relaxed state leave
+#: them, and the runs that stored them, valid. History: 2 (both modes) -- ``min_norm_ok`` and
+#: the nonaffinity need a certified relaxed energy (rows of revision 1 can carry ``min_norm_ok``
+#: True and a nonaffinity read off an unconverged relaxation near a sample's own threshold).
+#: 3 (grid) -- a longer interior point certifies relaxed energies the short one left
+#: uncertified (``RELAX_IPM``): such rows now carry ``min_norm_ok`` True and a nonaffinity
+#: where revision 2 stored NaN, and their energy can be lower.
+ROWS_REVISION = {"grid": 3, "threshold": 2}
+
+
+def rows_revision(spec: Spec) -> int:
+    """The revision of the rows ``spec`` produces (:data:`ROWS_REVISION` of its mode).
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep.
+
+    Returns
+    -------
+    int
+        The revision.
+    """
+    return ROWS_REVISION["threshold" if spec.threshold is not None else "grid"]
+
+
 KEY_COLUMNS = ["point_key", "sample", "theta"]
 
 
@@ -228,11 +251,11 @@ class ResultStore:
                     "--out or delete that directory"
                 )
             revision = old.get("rows_revision", 1)
-            if revision != ROWS_REVISION and self._has_rows():
+            if revision != rows_revision(spec) and self._has_rows():
                 raise SpecError(
                     f"{self.root} holds rows of revision {revision}, written by another "
                     f"version of tensegrity-rigidity; this version writes revision "
-                    f"{ROWS_REVISION} (see ROWS_REVISION), and resuming would mix the two: "
+                    f"{rows_revision(spec)} (see ROWS_REVISION), and resuming would mix the two: "
                     "choose another --out or delete that directory"
                 )
         elif self._has_rows():
@@ -241,7 +264,7 @@ class ResultStore:
         self._verify()
         record = {
             "format": FORMAT,
-            "rows_revision": ROWS_REVISION,
+            "rows_revision": rows_revision(spec),
             "settings": settings,
             "settings_digest": spec.settings_digest(),
             "spec": spec.canonical(),
