@@ -112,6 +112,28 @@ def test_rows_without_minimum_norm_displacements_lose_their_nonaffinity():
     assert masked.energy.tolist() == [0.0, 1.0, 2.0]
 
 
+def test_rigid_rows_without_certified_tensions_lose_their_taut_fractions():
+    """A rigid row whose relaxed energy is not within ENERGY_GAP of its lower bound has
+    tensions that need not be t*: its taut fractions become NaN (counted); certified rigid
+    rows and floppy rows keep theirs, and rows without ``energy_lower`` are left alone."""
+    rows = pd.DataFrame(
+        {
+            "rigid": [True, True, False, True],
+            "energy": [1.0, 1.0, 0.0, 2.0],
+            "frac_cables_taut": [0.3, 0.5, 0.0, 0.4],
+            "frac_struts_taut": [0.2, 0.6, 0.0, 0.1],
+        }
+    )
+    same, count = studies.mask_uncertified_tensions(rows)
+    assert count is None and same.frac_cables_taut.tolist() == [0.3, 0.5, 0.0, 0.4]
+    rows["energy_lower"] = [1.0 - 1e-12, 0.9, 0.0, 2.0]
+    masked, count = studies.mask_uncertified_tensions(rows)
+    assert count == 1
+    assert np.isnan(masked.frac_cables_taut[1]) and np.isnan(masked.frac_struts_taut[1])
+    assert masked.frac_cables_taut[[0, 2, 3]].tolist() == [0.3, 0.0, 0.4]
+    assert masked.energy.tolist() == rows.energy.tolist()
+
+
 def test_tail_statistics_show_what_the_mean_hangs_on():
     at = pd.DataFrame(
         {

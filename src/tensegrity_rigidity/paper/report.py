@@ -144,6 +144,12 @@ def tails_section(r) -> Section:
             f"{r.min_norm_failed} grid samples have no verified minimum-norm displacements "
             "(min_norm_ok = False); their Gamma is left out (NaN), their verdict and energy kept."
         )
+    if r.tensions_uncertified:
+        mn += (
+            f" {r.tensions_uncertified} rigid grid samples have no certified relaxed energy, so "
+            "their tensions need not be t*: their fractions of taut cables and struts are left "
+            "out (NaN)."
+        )
     paragraphs = [mn]
     w = r.worst_tail
     if w is not None:

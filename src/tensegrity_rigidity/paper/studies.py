@@ -45,7 +45,7 @@ from ..model.elements import place_elements
 from ..model.lattice import DEFAULT_DELTA
 from ..model.network import Instance
 from ..model.strain import NAMED_STRAINS, strain_tensor
-from ..solver.core import SolveResult, solve
+from ..solver.core import ENERGY_GAP, SolveResult, solve
 from .claims import Measurement
 
 PHI5 = [0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4, math.pi]
@@ -652,6 +652,10 @@ class Fig2Result:
     min_norm_failed : int or None
         Grid samples whose displacements are not the verified minimum-norm minimiser (their
         Gamma is NaN); None when the rows do not record it.
+    tensions_uncertified : int or None
+        Rigid grid samples whose relaxed energy is not certified, so that their tensions need
+        not be t* (their taut fractions are NaN, :func:`mask_uncertified_tensions`); None when
+        the rows do not record the energy's lower bound.
     taut_at_transition : tuple
         (mean, error, [(p_t, p_r), ...]): the fraction of taut cables in rigid samples at the grid
         p_r nearest p_crit under compression, averaged over p_t = 0.1, 0.2, 0.3; None when no
@@ -669,6 +673,7 @@ class Fig2Result:
     tails: pd.DataFrame
     worst_tail: dict | None
     min_norm_failed: int | None
+    tensions_uncertified: int | None
     taut_at_transition: tuple | None
     n: int
     samples: int
@@ -724,6 +729,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         rows, excluded[name] = sweep_rows(out, name, sweeps[name], **kw)
         grids.append(rows)
     rows, min_norm_failed = mask_min_norm(pd.concat(grids, ignore_index=True))
+    rows, tensions_uncertified = mask_uncertified_tensions(rows)
     th, excluded["fig2_thresholds"] = sweep_rows(
         out, "fig2_thresholds", sweeps["fig2_thresholds"], **kw
     )
@@ -802,6 +808,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         tails=tails,
         worst_tail=worst_tail(tails),
         min_norm_failed=min_norm_failed,
+        tensions_uncertified=tensions_uncertified,
         taut_at_transition=taut_tr,
         n=scale.n_grid,
         samples=scale.samples_grid,
@@ -835,6 +842,28 @@ def mask_min_norm(rows: pd.DataFrame) -> tuple[pd.DataFrame, int | None]:
     if bad.any():
         rows = rows.copy()
         rows.loc[bad, "nonaffinity"] = np.nan
+    return rows, int(bad.sum())
+
+
+def mask_uncertified_tensions(rows: pd.DataFrame) -> tuple[pd.DataFrame, int | None]:
+    """Taut fractions NaN where the relaxed tensions are not certified to be t*.
+
+    A rigid row's ``frac_cables_taut`` and ``frac_struts_taut`` count the elements its relaxed
+    tensions engage. Where the relaxation has not converged (``energy_lower`` below
+    ``1 - ENERGY_GAP`` of ``energy``: near a sample's own threshold) those tensions need not be
+    t*, and engage more elements: at the paper scale's grid p_r nearest p_crit (p_t = 0.1,
+    compression, 2026-11-26) two such samples had 0.43 and 0.50 where the four certified ones
+    averaged 0.31. Their fractions become NaN and they are counted. Returns (rows, count); the
+    count is None when the rows have no ``energy_lower`` column.
+    """
+    if "energy_lower" not in rows:
+        return rows, None
+    energy = rows["energy"].to_numpy(dtype=float)
+    lower = rows["energy_lower"].to_numpy(dtype=float)
+    bad = rows["rigid"].to_numpy(dtype=bool) & ~(lower >= (1.0 - ENERGY_GAP) * energy)
+    if bad.any():
+        rows = rows.copy()
+        rows.loc[bad, ["frac_cables_taut", "frac_struts_taut"]] = np.nan
     return rows, int(bad.sum())
 
 
@@ -969,7 +998,8 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
                 "taut_cables_transition",
                 v,
                 e,
-                system + "; rigid samples at p_r nearest p_crit, mean over p_t = 0.1, 0.2, 0.3",
+                system + "; rigid samples with certified tensions at p_r nearest p_crit, mean over "
+                "p_t = 0.1, 0.2, 0.3",
             )
         )
     labels = tuple(f"p_t = {p:.1f}" for p in peaks["p_t"])
