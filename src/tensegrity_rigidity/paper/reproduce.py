@@ -26,7 +26,7 @@ EXPECTED = {
     "tiny": "about a minute",
     "quick": "8 min 33 s measured on 2026-11-26 from a clean clone at fe7943b, install included "
     "(estimated 8 minutes)",
-    "paper": "32 min 42 s measured on 2026-11-26 from a clean clone at 5a78b41 (estimated 33 "
+    "paper": "33 min 12 s measured on 2026-11-27 from a clean clone at ef3ed37 (estimated 33 "
     "minutes)",
     "fss": "97 minutes measured on 2026-11-26 in one run from a clean clone at 5a78b41 "
     "(estimated 109 minutes; resumable: re-run to continue)",
