@@ -45,7 +45,7 @@ from ..model.elements import place_elements
 from ..model.lattice import DEFAULT_DELTA
 from ..model.network import Instance
 from ..model.strain import NAMED_STRAINS, strain_tensor
-from ..solver.core import ENERGY_GAP, SolveResult, solve
+from ..solver.core import SolveResult, energy_certified, solve
 from .claims import Measurement
 
 PHI5 = [0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4, math.pi]
@@ -849,8 +849,9 @@ def mask_uncertified_tensions(rows: pd.DataFrame) -> tuple[pd.DataFrame, int | N
     """Taut fractions NaN where the relaxed tensions are not certified to be t*.
 
     A rigid row's ``frac_cables_taut`` and ``frac_struts_taut`` count the elements its relaxed
-    tensions engage. Where the relaxation has not converged (``energy_lower`` below
-    ``1 - ENERGY_GAP`` of ``energy``: near a sample's own threshold) those tensions need not be
+    tensions engage. Where the relaxation has not converged (not
+    :func:`~tensegrity_rigidity.solver.core.energy_certified`: near a sample's own threshold)
+    those tensions need not be
     t*, and engage more elements: at the paper scale's grid p_r nearest p_crit (p_t = 0.1,
     compression, 2026-11-26) two such samples had 0.43 and 0.50 where the four certified ones
     averaged 0.31. Their fractions become NaN and they are counted. Returns (rows, count); the
@@ -858,9 +859,10 @@ def mask_uncertified_tensions(rows: pd.DataFrame) -> tuple[pd.DataFrame, int | N
     """
     if "energy_lower" not in rows:
         return rows, None
-    energy = rows["energy"].to_numpy(dtype=float)
-    lower = rows["energy_lower"].to_numpy(dtype=float)
-    bad = rows["rigid"].to_numpy(dtype=bool) & ~(lower >= (1.0 - ENERGY_GAP) * energy)
+    certified = energy_certified(
+        rows["energy"].to_numpy(dtype=float), rows["energy_lower"].to_numpy(dtype=float)
+    )
+    bad = rows["rigid"].to_numpy(dtype=bool) & ~certified
     if bad.any():
         rows = rows.copy()
         rows.loc[bad, ["frac_cables_taut", "frac_struts_taut"]] = np.nan

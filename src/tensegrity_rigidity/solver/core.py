@@ -399,6 +399,23 @@ def decide(
 ENERGY_GAP = 1e-8
 
 
+def energy_certified(energy, energy_lower):
+    """Whether the relaxed energy is within :data:`ENERGY_GAP` of its certified lower bound.
+
+    Parameters
+    ----------
+    energy, energy_lower : float or (k,) float array
+        Relaxed energies and their lower bounds (``SolveResult.energy``, ``energy_lower``;
+        the sweep rows' columns of the same names).
+
+    Returns
+    -------
+    bool or (k,) bool array
+        True where the relaxed tensions are certified to be t* (False where either is NaN).
+    """
+    return energy_lower >= (1.0 - ENERGY_GAP) * energy
+
+
 #: (iterations, tolerance) of the relaxation's interior point (run when Newton stops with a
 #: force residual above 1e-10 relative): first the short run; then, only where that leaves the
 #: energy uncertified (:data:`ENERGY_GAP`), the relaxation again from its result with the long
@@ -586,18 +603,20 @@ def solve(
             iterations = s.iterations
         else:
             u_n, E_n, more, t_relaxed, t_n, E_lower = _relaxed(pe, s.u, opts, verdict.rigid)
-            if E_lower < (1.0 - ENERGY_GAP) * E_n:  # near the threshold: see RELAX_IPM
-                again = _relaxed(pe, u_n, opts, verdict.rigid, RELAX_IPM[1])
-                more += again[2]
-                if again[5] >= (1.0 - ENERGY_GAP) * again[1]:
-                    u_n, E_n, _, t_relaxed, t_n, E_lower = again
+            if not energy_certified(E_n, E_lower):  # near the threshold: see RELAX_IPM
+                u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = _relaxed(
+                    pe, u_n, opts, verdict.rigid, RELAX_IPM[1]
+                )
+                more += more_2
+                if energy_certified(E_2, E_lower_2):
+                    u_n, E_n, t_relaxed, t_n, E_lower = u_2, E_2, t_relaxed_2, t_n_2, E_lower_2
             iterations = s.iterations + more
         min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
         # the polyhedron of minimisers is built from the relaxed tensions: it is U* only when
         # they are t*, which the energy's lower bound certifies (see ENERGY_GAP)
-        energy_certified = verdict.status == "floppy" or E_lower >= (1.0 - ENERGY_GAP) * E_n
+        certified = verdict.status == "floppy" or energy_certified(E_n, E_lower)
         if opts.min_norm and p.sites.size and np.any(p.e0):
-            if not energy_certified:
+            if not certified:
                 message = _joined(
                     message,
                     "minimum-norm displacements not computed: the relaxed energy is not "
