@@ -246,3 +246,8 @@ def test_info_says_what_a_directory_holds(tmp_path, capsys):
     assert "not a results directory" in _one_error(capsys, main(["info", str(tmp_path)]))
     err = _one_error(capsys, main(["info", str(tmp_path / "absent")]))
     assert "no such results directory" in err
+    for rows in ("0", "-3"):
+        err = _one_error(capsys, main(["info", str(out), "--rows", rows]))
+        assert err == f"error: --rows must be at least 1, got {rows}"
+    assert main(["info", str(out), "--rows", "1"]) == 0
+    assert "... 3 more grid points" in capsys.readouterr().out

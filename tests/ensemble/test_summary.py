@@ -33,6 +33,9 @@ def test_grid_table_counts_undecided_apart():
     assert text[1].split()[-3:] == [f"{p:.3f}", f"[{lo:.3f},", f"{hi:.3f}]"]
     p, lo, hi = wilson(3, 3)
     assert text[2].split()[-3:] == ["1.000", f"[{lo:.3f},", "1.000]"] and lo < 0.5
+    # no grid point shown: the header and the count of the others, not a crash
+    lines = format_table(table, max_rows=0).splitlines()
+    assert lines[1:] == ["... 2 more grid points (load_results for all)"]
 
 
 def test_threshold_table_median_with_never_rigid():

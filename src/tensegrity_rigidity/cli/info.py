@@ -18,8 +18,11 @@ def add_parser(sub) -> None:
 def _run(args) -> int:
     from ..ensemble.summary import format_table, phi_name, probability_table
     from ..ensemble.sweep import describe, estimate
+    from ..errors import InputError
     from ..model.limits import format_bytes
 
+    if args.rows < 1:
+        raise InputError(f"--rows must be at least 1, got {args.rows}")
     d = describe(args.dir)
     spec = d["spec"]
 

@@ -111,7 +111,7 @@ def format_table(table: pd.DataFrame, max_rows: int = 40) -> str:
         cells.append(row)
     head = grid + ["N", "undecided"]
     head += ["rigid", "P [95% Wilson]"] if "P" in table else ["median p_r*", "never rigid"]
-    widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(head)]
+    widths = [max([len(h)] + [len(c[i]) for c in cells]) for i, h in enumerate(head)]
     lines = ["  ".join(h.rjust(w) for h, w in zip(head, widths, strict=True))]
     lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)) for row in cells]
     if len(table) > max_rows:
