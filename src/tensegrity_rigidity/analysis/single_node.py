@@ -9,9 +9,9 @@ A node of the triangular lattice with three of its six bonds occupied carries a 
 The node is rigid when the elements admit the pattern for one overall sign: rods take either
 sign, cables need t > 0, struts t < 0. Of the C(6, 3) = 20 triples of hexagonal directions, 2 are
 same-sign, 6 are mixed and 12 contain an opposite pair; with disorder the latter split evenly, so
-the class weights are 8/20 (same-sign) and 12/20 (mixed). Note (MODEL.md): the supplement's prose
-swaps the class labels; its table's column A is the *mixed* class (weight 3/5) and column B the
-same-sign class (weight 2/5). Everything here is computed, not typed in.
+the class weights are 8/20 (same-sign) and 12/20 (mixed). Note (docs/model.md): the supplement's
+prose swaps the class labels; its table's column A is the *mixed* class (weight 3/5) and column B
+the same-sign class (weight 2/5). Everything here is computed, not typed in.
 """
 
 from __future__ import annotations

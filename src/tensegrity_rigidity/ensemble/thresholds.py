@@ -2,7 +2,7 @@
 
 With the coupled site uniforms of :mod:`~tensegrity_rigidity.model.elements`, a path on which
 both ``p_r`` and ``p_r + p_t`` never decrease only ever adds elements or turns one-sided
-elements into rods, so a sample's rigidity is monotone along it (MODEL.md). The configuration
+elements into rods, so a sample's rigidity is monotone along it (docs/model.md). The configuration
 changes only at finitely many *events* (where ``p_r`` or ``p_r + p_t`` crosses a site's ``U``);
 configuration ``i`` is the one after the first ``i`` events.
 

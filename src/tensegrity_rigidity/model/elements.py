@@ -1,4 +1,4 @@
-"""Random placement of rods, cables and struts with the monotone coupling of MODEL.md.
+"""Random placement of rods, cables and struts with the monotone coupling of docs/model.md.
 
 Each bond site carries two uniforms ``U, V`` in [0, 1), drawn once per sample:
 

@@ -1,6 +1,6 @@
 """Linear mechanics of a strained periodic network: rigidity matrix, extensions, energy, tensions.
 
-Notation (MODEL.md): node displacements ``u`` (N, 2), flattened to 2N as
+Notation (docs/model.md): node displacements ``u`` (N, 2), flattened to 2N as
 ``(u_0x, u_0y, u_1x, ...)``.
 Bond extensions ``e = e0 + R u`` with ``R`` the (m, 2N) rigidity matrix (row b: ``-dhat_b`` at
 node i, ``+dhat_b`` at node j) and ``e0_b = dhat_b . eps . d_b`` the affine extension. The energy
@@ -67,7 +67,7 @@ def rigidity_matrix(network: PeriodicNetwork, sites: np.ndarray | None = None) -
 
 
 def affine_extensions(network: PeriodicNetwork, strain: np.ndarray) -> np.ndarray:
-    """Affine extensions ``e0_b = dhat_b . eps . d_b`` (MODEL.md: a scalar per bond).
+    """Affine extensions ``e0_b = dhat_b . eps . d_b`` (docs/model.md: a scalar per bond).
 
     Parameters
     ----------

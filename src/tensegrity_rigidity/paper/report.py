@@ -492,9 +492,9 @@ def write_report(
         + intervals
     )
     notes = (
-        f"Conventions (MODEL.md): node disorder delta = {DEFAULT_DELTA}; f_c is the cable fraction "
-        "(rods + cables is f_c = 1; the supplement's tables say 0.0); energies are totals at "
-        "gamma = 1, so the intercept beta depends on system size and is not compared; p_crit is "
+        f"Conventions (docs/model.md): node disorder delta = {DEFAULT_DELTA}; f_c is the cable "
+        "fraction (rods + cables is f_c = 1; the supplement's tables say 0.0); energies are totals "
+        "at gamma = 1, so the intercept beta depends on system size and is not compared; p_crit is "
         "the median per-sample threshold (P = 1/2) while the paper takes the first p_r with "
         "positive mean energy; the single-node class labels follow the table, not the prose."
     )

@@ -6,7 +6,7 @@ same for every element configuration of a sample), and displacements in the same
 (``u_n = u / s0``). The verdict does not depend on the strain magnitude, and nothing here can
 underflow or overflow with it.
 
-Certificates (MODEL.md, Farkas' lemma):
+Certificates (docs/model.md, Farkas' lemma):
 
 * **Floppy**: a displacement ``u`` whose extensions ``v = e0 + R u`` lie in the admissible set
   ``Z`` (rods unstretched, cables not stretched, struts not compressed). Its *violation* is

@@ -1,6 +1,6 @@
 """Independent, general-purpose formulations: the robust fallback and the test oracle.
 
-* :func:`lp_verdict` decides rigidity by the linear program of MODEL.md (Farkas): maximise the
+* :func:`lp_verdict` decides rigidity by the linear program of docs/model.md (Farkas): maximise the
   work ``t . e0`` over admissible self-stresses ``R^T t = 0``, ``t_cable >= 0``, ``t_strut <= 0``,
   ``|t| <= 1``, solved by HiGHS. A positive optimum means rigid, with ``t`` as certificate; a zero
   optimum means floppy, and the LP's dual (the multipliers of ``R^T t = 0``) is a displacement
