@@ -20,6 +20,21 @@ def test_sample_then_solve_json(tmp_path, capsys):
     assert data["rigid"] is True and data["energy"] > 0
 
 
+@pytest.mark.parametrize(
+    ("p_r", "status", "rejected"), [("0.9", "rigid", "violation"), ("0.3", "floppy", "work")]
+)
+def test_solve_text_marks_the_rejected_candidate(tmp_path, capsys, p_r, status, rejected):
+    out = tmp_path / "s.npz"
+    assert main(["sample", str(out), "--n", "6", "--p-r", p_r, "--phi", "dilation"]) == 0
+    capsys.readouterr()
+    assert main(["solve", str(out)]) == 0
+    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
+    assert lines["status"].split() == ["status", status]
+    assert lines[rejected].endswith("(best candidate, rejected)")
+    accepted = "work" if status == "rigid" else "violation"
+    assert not lines[accepted].endswith("rejected)")
+
+
 @pytest.mark.parametrize("cmd", [[], ["sample"], ["solve"]])
 def test_help_everywhere(cmd):
     proc = subprocess.run(

@@ -190,6 +190,15 @@ def test_a_floppy_verdict_reports_zero_energy_and_tension():
     assert floppy >= 3
 
 
+def test_the_message_says_when_the_displacements_were_not_asked_for():
+    inst = random_instance(np.random.default_rng(35), "lattice")
+    off = solve(inst, SolverOptions(min_norm=False))
+    assert not off.min_norm_ok and np.isnan(off.min_norm_residuals).all()
+    assert "not asked for (SolverOptions.min_norm)" in off.message
+    on = solve(inst)
+    assert on.min_norm_ok and "not asked for" not in on.message
+
+
 def test_the_projection_certifies_a_floppy_sample_at_n64_near_its_threshold():
     """n = 64, one event below its threshold (configuration (0.3, 1, dilation) of the
     near-threshold set, sample 0, event 12202), whose zero-energy displacements reach 1e6 times

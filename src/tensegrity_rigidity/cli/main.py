@@ -129,10 +129,17 @@ def _cmd_solve(args) -> int:
         }
         print(json.dumps(safe, indent=2, allow_nan=False))
     else:
+        # the other kind's best candidate failed its certificate: say so beside its numbers
+        rejected = {
+            "rigid": ("violation", "displacement_size"),
+            "floppy": ("work", "force_residual"),
+            "undecided": ("work", "force_residual", "violation", "displacement_size"),
+        }[result.status]
         width = max(map(len, summary))
         for key, value in summary.items():
             shown = f"{value:.6g}" if isinstance(value, float) else value
-            print(f"{key:<{width}}  {shown}")
+            note = "  (best candidate, rejected)" if key in rejected else ""
+            print(f"{key:<{width}}  {shown}{note}")
     if args.plot is not None:
         from ..paper.plotting import plot_solution
 

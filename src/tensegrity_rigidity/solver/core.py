@@ -184,7 +184,10 @@ class SolveResult:
     Attributes
     ----------
     energy : float
-        Minimum energy E* (exactly 0 on a floppy verdict).
+        Minimum energy E* = min_u 1/2 sum_b k_b h_b(e_b) e_b^2 (docs/model.md) in the instance's
+        units (stiffness x length^2); exactly 0 on a floppy verdict. On a rigid or undecided
+        verdict it is the relaxation's lowest energy, E* to within :data:`ENERGY_GAP` where
+        :func:`energy_certified` holds for it and ``energy_lower``.
     energy_lower : float
         A certified lower bound on E* (weak duality from the relaxed tensions purified onto a
         self-stress, or from the rigid certificate's self-stress, whichever is larger; E*
@@ -205,11 +208,14 @@ class SolveResult:
         Normalised work ``t . e0 / (|t|_1 max |e0|)`` of the best self-stress (the rigid
         certificate on a rigid verdict).
     force_residual : float
-        ``|R^T t|_1 / |t|_1`` of that self-stress.
+        ``|R^T t|_1 / |t|_1`` of that self-stress (``inf`` when the search met no self-stress,
+        as on most floppy verdicts, with ``work`` 0).
     violation : float
-        Largest violation of the best floppy candidate, in units of ``max |e0|``.
+        Largest violation of the best floppy candidate, in units of ``max |e0|`` (``inf``
+        when the search met none). On a rigid verdict this is a rejected candidate, often
+        ``u = 0`` (violation 1 when the largest affine extension is on a rod, size 0).
     displacement_size : float
-        ``max |u| / max |e0|`` of that candidate.
+        ``max |u| / max |e0|`` of that candidate (``inf`` when there is none).
     iterations : int
         Newton iterations.
     factorizations : int
@@ -220,14 +226,23 @@ class SolveResult:
         Whether the displacements are the minimum-norm minimiser, certified by its KKT
         residuals (:mod:`.displacements`) on the polyhedron of minimisers, itself certified by
         the energy's lower bound on a rigid or undecided verdict (:data:`ENERGY_GAP`).
-    min_norm_residuals : (3,) float
-        Those residuals: feasibility, stationarity (units of ``max |e0|``), dual (relative);
-        NaN when the displacements were not asked for or not computed (relaxed energy not
-        certified).
+    min_norm_residuals : tuple of 3 float
+        Those residuals: feasibility (the largest violation of the polyhedron of minimisers,
+        units of ``max |e0|``); stationarity (the larger of ``|u + R^T lam|_inf / |u|_inf``
+        and the relative duality gap, both dimensionless); dual (the largest wrong-signed
+        multiplier relative to ``|lam|_inf``). All NaN when the displacements were not asked
+        for (``SolverOptions.min_norm`` False) or not computed (relaxed energy not certified);
+        all 0 when nothing is strained or there is no element (``u = 0`` is exact).
     message : str
-        Why the sample is undecided, or why the minimum-norm displacements are unavailable.
+        Why the sample is undecided, and why the displacements are not certified minimum-norm
+        (not asked for, relaxed energy not certified, or the projection's residuals); empty
+        when there is nothing to say.
     seconds : float
         Wall time of the solve (reported only; nothing depends on it).
+
+    See Also
+    --------
+    status : "rigid", "floppy" or "undecided" (a property).
     """
 
     energy: float
@@ -643,6 +658,10 @@ def solve(
                     )
         elif opts.min_norm:  # nothing strained or no element: u = 0 is the minimum-norm minimiser
             u_n, min_norm_ok, kkt = np.zeros(p.n2), True, (0.0, 0.0, 0.0)
+        else:
+            message = _joined(
+                message, "minimum-norm displacements not asked for (SolverOptions.min_norm)"
+            )
     if not verdict.decided:
         warnings.warn(f"undecided sample: {verdict.message}", UndecidedWarning, stacklevel=2)
     # back to physical units
