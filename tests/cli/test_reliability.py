@@ -186,6 +186,35 @@ def test_empty_out_is_refused_everywhere(tmp_path, capsys, monkeypatch):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
 
 
+def test_workers_below_one_and_missing_evidence_are_refused_everywhere(tmp_path, capsys):
+    """0 workers is an error everywhere (it once meant every core in reproduce --estimate),
+    and --evidence must exist even when only estimating."""
+    spec = tmp_path / "s.toml"
+    spec.write_text(textwrap.dedent(SPEC))
+    out = str(tmp_path / "o")
+    for workers in ("0", "-2"):
+        expected = f"error: --workers must be at least 1, got {workers}"
+        for cmd in (
+            ["sweep", str(spec), "--out", out],
+            ["reproduce", "--scale", "tiny", "--out", out],
+            ["reproduce", "--scale", "tiny", "--estimate"],
+        ):
+            assert _one_error(capsys, main([*cmd, "--workers", workers])) == expected
+    absent = str(tmp_path / "absent")
+    err = _one_error(
+        capsys, main(["reproduce", "--scale", "quick", "--estimate", "--evidence", absent])
+    )
+    assert err == f"error: --evidence {absent}: no such directory"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+    from tensegrity_rigidity.ensemble.executors import local_workers, open_pool
+    from tensegrity_rigidity.errors import SpecError
+
+    with pytest.raises(SpecError, match="executor must be at least 1, got 0"):
+        with open_pool(0):
+            pass
+    assert local_workers(None) == (os.cpu_count() or 1) and local_workers(3) == 3
+
+
 def test_large_delta_warns_in_one_line(tmp_path, capsys):
     spec = tmp_path / "s.toml"
     spec.write_text(textwrap.dedent(SPEC).replace("n = 5", "n = 5\ndelta = 0.49"))

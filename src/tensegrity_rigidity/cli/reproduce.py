@@ -47,14 +47,10 @@ def add_parser(sub) -> None:
 
 
 def _estimate(args) -> int:
-    import os
-
-    from ..errors import InputError
+    from ..ensemble.executors import local_workers
     from ..paper.budget import describe, estimate, expected_errors
 
-    workers = args.workers or os.cpu_count() or 1
-    if workers < 1:
-        raise InputError(f"--workers must be at least 1, got {workers}")
+    workers = local_workers(args.workers, "--workers")
     est = estimate(args.scale, workers, out=args.out)
     print(describe(est, expected_errors(args.scale)))
     on_two = est if workers == 2 else estimate(args.scale, 2, out=args.out)
@@ -68,14 +64,20 @@ def _estimate(args) -> int:
 
 
 def _run(args) -> int:
+    from pathlib import Path
+
+    from ..ensemble.executors import local_workers
     from ..ensemble.sweep import SweepInterrupted
+    from ..errors import InputError
     from ..paper.reproduce import reproduce
 
+    if args.workers is not None:
+        local_workers(args.workers, "--workers")
+    if args.evidence is not None and not Path(args.evidence).is_dir():
+        raise InputError(f"--evidence {args.evidence}: no such directory")
     if args.estimate:
         return _estimate(args)
     if args.out is None:
-        from ..errors import InputError
-
         raise InputError("reproduce needs --out DIR (or --estimate, which runs nothing)")
     check_out(args.out)
     try:

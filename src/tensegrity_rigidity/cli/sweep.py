@@ -38,13 +38,14 @@ def add_parser(sub) -> None:
 
 
 def _run(args) -> int:
+    from ..ensemble.executors import local_workers
     from ..ensemble.summary import format_table, probability_table
     from ..ensemble.sweep import SweepInterrupted, load_results, run_sweep
     from ..errors import SpecError
 
     check_out(args.out)
-    if args.workers is not None and args.workers < 1:
-        raise SpecError(f"--workers must be at least 1, got {args.workers}")
+    if args.workers is not None:
+        local_workers(args.workers, "--workers")
     if not args.wait_workers >= 0:
         raise SpecError(f"--wait-workers must be a non-negative number, got {args.wait_workers}")
     try:

@@ -215,6 +215,33 @@ def connect(address: str, timeout: float = 5.0, wait_for_workers: float = 60.0):
     return client
 
 
+def local_workers(workers: int | None, option: str = "workers") -> int:
+    """The number of local worker processes: ``workers``, or every core when it is None.
+
+    Parameters
+    ----------
+    workers : int or None
+        Requested processes.
+    option : str
+        Its name in error messages ("--workers" on the command line).
+
+    Returns
+    -------
+    int
+        At least 1.
+
+    Raises
+    ------
+    SpecError
+        When ``workers`` is below 1 (0 does not mean "all cores": None does).
+    """
+    if workers is None:
+        return os.cpu_count() or 1
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise SpecError(f"{option} must be at least 1, got {workers!r}")
+    return workers
+
+
 @contextmanager
 def open_pool(executor: Any = None, scheduler: str | None = None, wait_for_workers: float = 60.0):
     """Yield a :class:`Pool` for ``executor`` (see module docstring) or a scheduler address.
@@ -224,7 +251,7 @@ def open_pool(executor: Any = None, scheduler: str | None = None, wait_for_worke
     if scheduler is not None:
         pool = _dask_pool(connect(scheduler, wait_for_workers=wait_for_workers), owned=True)
     elif executor is None or isinstance(executor, int):
-        workers = executor or os.cpu_count() or 1
+        workers = local_workers(executor, "executor")
         if workers == 1:
             pool = _serial_pool()
         else:

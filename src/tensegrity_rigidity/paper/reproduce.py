@@ -7,11 +7,11 @@ picks up where it stopped.
 
 from __future__ import annotations
 
-import os
 import sys
 import time
 from pathlib import Path
 
+from ..ensemble.executors import local_workers
 from ..errors import InputError
 from .budget import estimate
 from .figures import all_figures
@@ -144,7 +144,7 @@ def reproduce(
     found = read_evidence(evidence) if evidence is not None else None
     local = workers is None or workers == "serial" or isinstance(workers, int)
     if scheduler is None and local:
-        w = 1 if workers == "serial" else workers or os.cpu_count() or 1
+        w = 1 if workers == "serial" else local_workers(workers)
         est = estimate(sc, w, names)
         print(
             f"scale {scale}: estimated {est.wall_seconds / 60:.0f} min for all of it on {w} "
