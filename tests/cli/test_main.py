@@ -35,7 +35,7 @@ def test_solve_text_marks_the_rejected_candidate(tmp_path, capsys, p_r, status, 
     assert not lines[accepted].endswith("rejected)")
 
 
-@pytest.mark.parametrize("cmd", [[], ["sample"], ["solve"]])
+@pytest.mark.parametrize("cmd", [[], ["sample"], ["solve"], ["sweep"], ["reproduce"], ["info"]])
 def test_help_everywhere(cmd):
     proc = subprocess.run(
         [sys.executable, "-m", "tensegrity_rigidity", *cmd, "--help"],
@@ -43,3 +43,4 @@ def test_help_everywhere(cmd):
         text=True,
     )
     assert proc.returncode == 0 and "usage" in proc.stdout
+    assert "%%" not in proc.stdout  # argparse does not %-format descriptions

@@ -49,17 +49,28 @@ def _add_sample(sub) -> None:
     p.add_argument("--n", type=int, default=16, help="linear size: n x n nodes (default 16)")
     p.add_argument("--delta", type=float, default=None, help="node disorder (default 0.2)")
     p.add_argument("--p-r", type=float, required=True, help="rod probability")
-    p.add_argument("--p-t", type=float, default=0.0, help="one-sided element probability")
-    p.add_argument("--f-c", type=float, default=0.5, help="cable fraction of one-sided elements")
+    p.add_argument(
+        "--p-t", type=float, default=0.0, help="one-sided element probability (default 0)"
+    )
+    p.add_argument(
+        "--f-c", type=float, default=0.5, help="cable fraction of one-sided elements (default 0.5)"
+    )
     p.add_argument(
         "--phi",
         default="shear",
         help="strain type: angle or dilation|shear|compression (default shear)",
     )
-    p.add_argument("--theta", type=float, default=0.0, help="principal-axis angle (radians)")
+    p.add_argument(
+        "--theta", type=float, default=0.0, help="principal-axis angle in radians (default 0)"
+    )
     p.add_argument("--gamma", type=float, default=1.0, help="strain magnitude (default 1)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--lattice", default="triangular", choices=["triangular", "square"])
+    p.add_argument(
+        "--lattice",
+        default="triangular",
+        choices=["triangular", "square"],
+        help="lattice builder (default triangular)",
+    )
 
 
 def _add_solve(sub) -> None:

@@ -12,7 +12,7 @@ def add_parser(sub) -> None:
         "sweep",
         help="run a parameter sweep (TOML spec) into a Parquet dataset",
         description="Run every sample of a TOML spec, in chunks saved as they finish, and print "
-        "P with 95%% Wilson intervals per grid point. Re-running the same command resumes; a "
+        "P with 95% Wilson intervals per grid point. Re-running the same command resumes; a "
         "larger spec (more samples, more grid values) into the same directory computes only "
         "what is new. One sweep at a time may write a directory.",
     )
