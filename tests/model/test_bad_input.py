@@ -175,3 +175,18 @@ def test_positions_far_outside_the_box_are_refused(offset):
 def test_positions_a_few_cells_away_are_fine():
     net = triangular_lattice(4, 0.1, np.random.default_rng(0))
     PeriodicNetwork(net.box, net.positions + 1e3, net.bonds, net.shifts, net.kinds)
+
+
+def test_solve_and_decide_say_what_they_take(tmp_path):
+    from tensegrity_rigidity import solve
+    from tensegrity_rigidity.solver import decide
+
+    path = tmp_path / "s.npz"
+    save_instance(path, lattice_instance(4, 0.6, seed=1))
+    for fn in (solve, decide):
+        with pytest.raises(InputError, match=r"got str \(load a file with load_instance"):
+            fn(str(path))
+        with pytest.raises(InputError, match=r"expected an Instance, got PosixPath \("):
+            fn(path)
+        with pytest.raises(InputError, match=r"expected an Instance, got PeriodicNetwork$"):
+            fn(load_instance(path).network)

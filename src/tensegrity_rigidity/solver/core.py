@@ -27,6 +27,7 @@ translation removed (see :mod:`.displacements`).
 
 from __future__ import annotations
 
+import os
 import time
 import warnings
 from dataclasses import dataclass, field, fields
@@ -332,6 +333,10 @@ def _search(
     start: np.ndarray | None,
     start_tensions: np.ndarray | None = None,
 ):
+    if not isinstance(instance, Instance):
+        hint = " (load a file with load_instance(path) first)"
+        hint = hint if isinstance(instance, (str, os.PathLike)) else ""
+        raise InputError(f"expected an Instance, got {type(instance).__name__}{hint}")
     p = Problem(instance, opts.regularization, opts.factorization, unit_stiffness=True)
     _check_scale(p)
     u0 = t0 = None
