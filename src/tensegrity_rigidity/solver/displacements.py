@@ -62,6 +62,7 @@ import numpy as np
 import qdldl
 import scipy.sparse as sp
 
+from .ipm import step_to_boundary
 from .problem import Problem
 
 
@@ -302,13 +303,13 @@ def min_norm_minimizer(
             break
         residuals = (rd, re, ri)
         du, dy, dz, ds = kkt_system.newton(residuals, z * s, z, s)  # predictor (affine scaling)
-        a = min(_to_boundary(z, dz), _to_boundary(s, ds))
+        a = min(step_to_boundary(z, dz), step_to_boundary(s, ds))
         mu_aff = float((z + a * dz) @ (s + a * ds)) / max(mI, 1)
         centring = (mu_aff / mu) ** 3 if mu > 0 else 0.0
         du, dy, dz, ds = kkt_system.newton(  # corrector
             residuals, z * s + dz * ds - centring * mu, z, s
         )
-        a = 0.99 * min(_to_boundary(z, dz), _to_boundary(s, ds))
+        a = 0.99 * min(step_to_boundary(z, dz), step_to_boundary(s, ds))
         u += a * du
         y += a * dy
         z += a * dz
@@ -411,12 +412,6 @@ class _QuasiDefinite:
             ]
             sol = sol + self._solver.solve(rhs - applied)
         return sol[:n], sol[n : n + mE], sol[n + mE :]
-
-
-def _to_boundary(x: np.ndarray, dx: np.ndarray) -> float:
-    """The largest step in (0, 1] that keeps ``x + a dx >= 0``."""
-    neg = dx < 0
-    return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
 
 
 def _residuals(p, u, v, lam, eq, ineq, target):

@@ -88,21 +88,17 @@ def interior_point(
         ktil[os_] = k * ratio / D
         solver = p.factor(ktil)
 
-        def max_step(x, dx):
-            neg = dx < 0
-            return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
-
         # predictor (affine scaling), then the corrector with the same factorisation
         du, dw, dlam = _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, 0.0)
-        a_p, a_d = max_step(w, dw), max_step(lam, dlam)
+        a_p, a_d = step_to_boundary(w, dw), step_to_boundary(lam, dlam)
         mu_aff = float((w + a_p * dw) @ (lam + a_d * dlam)) / m_os if w.size else 0.0
         sigma_c = (mu_aff / mu) ** 3 if mu > 0 else 0.0
         # corrector
         du, dw, dlam = _direction(
             p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, sigma_c * mu - dw * dlam
         )
-        a_p = min(1.0, 0.99 * max_step(w, dw))
-        a_d = min(1.0, 0.99 * max_step(lam, dlam))
+        a_p = min(1.0, 0.99 * step_to_boundary(w, dw))
+        a_d = min(1.0, 0.99 * step_to_boundary(lam, dlam))
         # u and w move together (primal), lambda separately (dual)
         u = u + a_p * du
         w = w + a_p * dw
@@ -122,3 +118,9 @@ def _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, tau):
     dw = (q - sig * k * s[os_]) / D
     dlam = -lam + tau / w - ratio * dw
     return du, dw, dlam
+
+
+def step_to_boundary(x: np.ndarray, dx: np.ndarray) -> float:
+    """The largest step in (0, 1] that keeps ``x + a dx >= 0`` (``x`` > 0, both (k,))."""
+    neg = dx < 0
+    return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
