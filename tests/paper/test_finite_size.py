@@ -19,9 +19,14 @@ from tensegrity_rigidity.paper.reproduce import reproduce
 from .conftest import SERIAL, TINY
 
 KEYS = (
-    {"rods_only_pc"}
+    {"rods_only_pc", "taut_cables_transition"}
     | {k for k, _, _ in fs.LAMBDA_CLAIMS}
-    | {f"p_crit_{s}_{p}" for s in ("compression", "dilation") for p in fs.PT4}
+    | {
+        f"{c}_{s}_{p}"
+        for c in ("p_crit", "alpha")
+        for s in ("compression", "dilation")
+        for p in fs.PT4
+    }
 )
 
 
@@ -170,7 +175,9 @@ def test_the_two_studies_share_their_sweeps_where_they_meet():
     reads the first samples of the finite-size study's sweeps."""
     scale = studies.SCALES["fss"]
     shared = set(fs.fss_sweeps(scale)) & set(fs.delta_sweeps(scale))
-    assert shared == set(fs.headline_sweeps(scale.n_delta, 0.2, 1))
+    assert shared == set(fs.headline_sweeps(scale.n_delta, 0.2, 1)) | set(
+        fs.energy_sweeps(scale.n_delta, 0.2, 1)
+    )
     assert scale.samples_delta <= scale.fss_samples(scale.n_delta)
 
 
@@ -212,3 +219,49 @@ def test_the_rods_only_extrapolation_alone(runs, tmp_path):
     assert text.startswith("Only the rods-only P = 1/2 point")
     assert "The other claims are extrapolated" not in text
     assert "pc" in studies.SCALES and studies.SCALES["pc"].fss_sizes == ()
+
+
+def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():
+    """Synthetic grid rows with E = 2 (p_r - p_crit)^alpha above p_crit: alpha is recovered per
+    (strain, p_t); the taut fraction at the grid p_r nearest p_crit averages p_t = 0.1 to 0.3
+    under compression, leaving out a rigid row whose energy is not certified."""
+    crit, alpha, rows = {}, {}, []
+    for phi, strain in ((np.pi, "compression"), (0.0, "dilation")):
+        for p_t in fs.PT4:
+            pc = 0.6 - p_t / 4
+            crit[strain, p_t] = pc
+            alpha[strain, p_t] = 1.0 + p_t + (phi > 0) * 0.2
+            for p_r in fs.ENERGY_P_R:
+                for k in range(3):
+                    e = 2 * (p_r - pc) ** alpha[strain, p_t] if p_r > pc else 0.0
+                    taut = 0.3 + 0.1 * p_t if k < 2 else 0.9  # the third is not certified
+                    rows.append(
+                        {"phi": phi, "p_t": p_t, "p_r": p_r, "sample": k, "rigid": e > 0,
+                         "energy": e, "energy_lower": e if k < 2 else 0.0,
+                         "frac_cables_taut": taut if e > 0 else np.nan}
+                    )  # fmt: skip
+    got = {r["key"]: r for r in fs.energy_claims(pd.DataFrame(rows), crit)}
+    for (strain, p_t), a in alpha.items():
+        r = got[f"alpha_{strain}_{p_t}"]
+        assert abs(r["value"] - a) < 1e-9 and r["err"] < 1e-6  # an exact power law
+    taut = got["taut_cables_transition"]
+    assert abs(taut["value"] - np.mean([0.3 + 0.1 * p for p in (0.1, 0.2, 0.3)])) < 1e-12
+    assert taut["err"] == 0.0
+
+
+def test_energy_sweeps_share_the_threshold_samples_without_displacements():
+    sweeps = fs.energy_sweeps(64, 0.2, 400)
+    head = fs.headline_sweeps(64, 0.2, 400)["headline_n64_delta0.2_pcrit"]
+    assert len(sweeps) == len(fs.PT4)
+    for p_t, spec in zip(fs.PT4, sweeps.values(), strict=True):
+        assert (spec["seed"], spec["n"], spec["delta"]) == (head["seed"], 64, 0.2)
+        assert spec["solver"] == {"min_norm": False} and spec["f_c"] == 1.0
+        assert spec["samples"] == fs.ENERGY_SAMPLES and spec["p_t"] == p_t
+        assert max(spec["p_r"]) + p_t <= 1 + 1e-12 and min(spec["p_r"]) == 0.45
+
+
+def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
+    fss, delta, _ = runs
+    keys = {m.claim for m in fss.measured}
+    assert {"alpha_compression_0.1", "taut_cables_transition"} <= keys
+    assert {m.claim for m in delta.measured} >= {"alpha_dilation_0.3"}

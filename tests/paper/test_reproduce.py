@@ -93,10 +93,15 @@ def after_is_before(path, before) -> bool:
 
 
 def test_evidence_without_a_finished_fss_run_is_refused_before_anything_runs(tmp_path, capsys):
-    code = main(
-        ["reproduce", "--scale", "quick", "--out", str(tmp_path / "o"), "--no-progress"]
-        + ["--evidence", str(tmp_path / "nothing")]
-    )
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and "holds no finished finite-size run" in err[-1]
-    assert not (tmp_path / "o" / "studies").exists()
+    (tmp_path / "empty").mkdir()
+    for evidence, expected in (
+        ("empty", "holds no finished finite-size run"),
+        ("nothing", "no such directory"),
+    ):
+        code = main(
+            ["reproduce", "--scale", "quick", "--out", str(tmp_path / "o"), "--no-progress"]
+            + ["--evidence", str(tmp_path / evidence)]
+        )
+        err = capsys.readouterr().err.strip().splitlines()
+        assert code == 2 and expected in err[-1]
+        assert not (tmp_path / "o" / "studies").exists()

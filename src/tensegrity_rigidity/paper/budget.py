@@ -88,6 +88,12 @@ RODS_THRESHOLD_SECONDS = {8: 0.028, 16: 0.061, 32: 0.295, 64: 2.83, 128: 53.1}
 #   Beyond the measured sizes: N^1.3 (the factorisation) with N ~ n^2 unknowns.
 GRID_SECONDS = {12: 0.0071, 32: 0.0705}
 GRID_EXPONENT = 2.6
+# GRID_WITHOUT_DISPLACEMENTS: a grid row solved without the minimum-norm displacements
+#   (``solver.min_norm = false``, the energy sweeps of the finite-size study), relative to one
+#   with them: 0.67, the CPU time of the four energy sweeps at n = 32 (4 samples, 528 rows,
+#   both strains) without and with them, measured one after the other on 2026-11-27 (29.2 s
+#   against 43.4 s; with them 82 ms per row, the model above prices 70).
+GRID_WITHOUT_DISPLACEMENTS = 0.67
 # GRID_PT_FACTOR: cost relative to the reference p_t = 0.15, by p_t (linear in between, constant
 #   beyond), from the grid rows of a quick run (n = 12): means of Fig. 2 at p_t = 0, 0.1, 0.2,
 #   0.3: 4.4, 13.0, 16.2, 22.3 ms (reference: 14.6 ms between 0.1 and 0.2); Fig. 4 at p_t =
@@ -196,19 +202,21 @@ def row_seconds(mode: str, n: int, p_t: float) -> tuple[float, bool]:
     """(mean seconds of one row, extrapolated?) for a sweep of ``mode`` at size n and p_t.
 
     ``mode``: "threshold" (a threshold search), "grid" (an exact grid sample with its
-    minimum-norm displacements) or "paper" (a grid sample decided the paper's way).
+    minimum-norm displacements), "energy" (the same without them) or "paper" (a grid sample
+    decided the paper's way).
     """
     if mode == "threshold" and p_t == 0.0:
         return _power_law(RODS_THRESHOLD_SECONDS, n)
     if mode == "threshold":
         t, ext = _power_law(THRESHOLD_SECONDS, n)
         return t * _factor(THRESHOLD_PT_FACTOR, p_t), ext
-    if mode == "grid":
+    if mode in ("grid", "energy"):
         t, ext = _power_law(GRID_SECONDS, n, GRID_EXPONENT)
+        t *= GRID_WITHOUT_DISPLACEMENTS if mode == "energy" else 1.0
         return t * _factor(GRID_PT_FACTOR, p_t), ext
     if mode == "paper":
         return _power_law(PAPER_VERDICT_SECONDS, n)
-    raise InputError(f"unknown sweep mode {mode!r}; use 'threshold', 'grid' or 'paper'")
+    raise InputError(f"unknown sweep mode {mode!r}; use 'threshold', 'grid', 'energy' or 'paper'")
 
 
 def sigma_1(estimator: str, n: int) -> tuple[float, bool]:
@@ -312,7 +320,7 @@ class Estimate:
                         "study": study,
                         "n": n,
                         "thresholds": sum(s.new_rows for s in here if s.mode == "threshold"),
-                        "grid": sum(s.new_rows for s in here if s.mode == "grid"),
+                        "grid": sum(s.new_rows for s in here if s.mode in ("grid", "energy")),
                         "paper": sum(s.new_rows for s in here if s.mode == "paper"),
                         "cpu_min": (sum(s.cpu_seconds for s in here) + serial) / 60,
                         "wall_min": (sum(s.wall_seconds for s in here) + serial) / 60,
@@ -389,6 +397,8 @@ def estimate(
             chunks = plan_chunks(spec, done)
             mode = "threshold" if spec.mode == "threshold" else spec.verdict
             mode = "grid" if mode == "exact" else mode
+            if mode == "grid" and not spec.solver_options().min_norm:
+                mode = "energy"
             costs, ext = [], False
             for point, ks in chunks:
                 sec, e = row_seconds(mode, point.n, point.p_t)

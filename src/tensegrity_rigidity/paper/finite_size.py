@@ -7,7 +7,9 @@ n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
   one-sided elements at p_t = 0.3 with f_c = 0, 0.5, 1; rods + cables at p_t = 0.1, 0.2; see
   :func:`headline_sweeps`) under dilation, shear and compression, giving the headline claims
   at that size: the rods-only P = 1/2 point, S_t/S_r for f_c = 0.5 per strain and for the
-  one-sided systems, and p_crit of rods + cables per p_t.
+  one-sided systems, and p_crit of rods + cables per p_t. On the same samples, grid sweeps
+  of rods + cables (:func:`energy_sweeps`) give the energy exponents alpha per strain and p_t
+  and the fraction of taut cables at the transition, as Fig. 2 measures them at n = 32.
   Where the scale gives ``fss_pc``, the rods-only point comes instead from one-strain sweeps
   of its own (:func:`rods_pc_sweep`) with more samples and sizes up to 128: a rods-only
   threshold does not depend on the strain, and it is the one extrapolation with a literature
@@ -36,7 +38,16 @@ from ..analysis import estimators as an
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS, REFERENCES, Measurement
 from .comparison import z_score
-from .studies import FIG1C_PT, PT4, Scale, strain_name, sweep_rows
+from .studies import (
+    FIG1C_PT,
+    PT4,
+    Scale,
+    mask_uncertified_tensions,
+    p_r_grid,
+    strain_name,
+    sweep_rows,
+    taut_at_transition,
+)
 
 STRAINS3 = [0.0, math.pi / 2, math.pi]
 FC3 = [0.0, 0.5, 1.0]
@@ -99,8 +110,78 @@ def rods_pc_sweep(n: int, delta: float, samples: int) -> dict[str, dict]:
     return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
 
 
+#: p_r grid of the energy sweeps: every p_crit of rods + cables lies above 0.45 and the power
+#: law is fitted within 0.25 above it (``fit_energy_power_law``)
+ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
+#: most samples per point of the energy sweeps (the threshold sweeps have up to 400): the
+#: paper scale's count at n = 32, and what keeps the fss scale near its budget
+ENERGY_SAMPLES = 24
+
+
+def energy_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
+    """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
+
+    Per p_t of :data:`~tensegrity_rigidity.paper.studies.PT4`, f_c = 1 under dilation and
+    compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
+    fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
+    The same seed as :func:`headline_sweeps`, so sample k is the disorder whose thresholds give
+    p_crit (common random numbers). At most :data:`ENERGY_SAMPLES` samples; no minimum-norm
+    displacements (the energy and the tensions do not need them).
+    """
+    count = min(samples, ENERGY_SAMPLES)
+    base = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
+    base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
+    base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
+    return {
+        f"energy_n{n}_delta{delta:g}_pt{p_t:.1f}": base
+        | {"p_t": p_t, "p_r": [p for p in ENERGY_P_R if p + p_t <= 1 + 1e-12]}
+        for p_t in PT4
+    }
+
+
+def energy_claims(rows: pd.DataFrame, crit: dict[tuple[str, float], float]) -> list[dict]:
+    """alpha per (strain, p_t) and the taut-cable fraction at the transition from grid rows.
+
+    Parameters
+    ----------
+    rows : DataFrame
+        Decided grid rows of :func:`energy_sweeps` (every p_t, both strains).
+    crit : dict
+        (strain name, p_t) -> p_crit (the median threshold at the same size and delta).
+
+    Returns
+    -------
+    list of dict
+        Rows ``key``, ``value``, ``err``: ``alpha_<strain>_<p_t>`` (the power law of the mean
+        energy above p_crit, as in Fig. 2) and ``taut_cables_transition`` (mean over p_t = 0.1,
+        0.2, 0.3 under compression of the taut fraction of rigid samples with certified tensions
+        at the grid p_r nearest p_crit).
+    """
+    rows, _ = mask_uncertified_tensions(rows)
+    out, taut, crit_rows = [], [], []
+    for phi in (math.pi, 0.0):
+        strain = strain_name(phi)
+        for p_t in PT4:
+            pc = crit.get((strain, p_t), np.nan)
+            sub = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
+            curve = sub.groupby("p_r").energy.mean()
+            fit = an.fit_energy_power_law(curve.index.to_numpy(float), curve.to_numpy(), pc)
+            out.append({"key": f"alpha_{strain}_{p_t}", "value": fit.alpha, "err": fit.alpha_err})
+            crit_rows.append({"phi": phi, "p_t": p_t, "p_crit": pc})
+            rigid = sub[sub.rigid]
+            if len(rigid):
+                t = rigid.groupby("p_r").frac_cables_taut.agg(["mean", "sem", "size"])
+                taut.append(t.reset_index().assign(phi=phi, p_t=p_t))
+    if taut:
+        tr = taut_at_transition(pd.concat(taut, ignore_index=True), pd.DataFrame(crit_rows))
+        if tr is not None:
+            out.append({"key": "taut_cables_transition", "value": tr[0], "err": tr[1]})
+    return out
+
+
 def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
-    """The headline claims at one (n, delta) from the sweeps of :func:`headline_sweeps`.
+    """The headline claims at one (n, delta) from the sweeps of :func:`headline_sweeps`, and
+    the energy claims from those of :func:`energy_sweeps` (:func:`energy_claims`).
 
     Returns (frame with columns key, value, err; excluded counts).
     """
@@ -126,6 +207,7 @@ def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
         fit = an.fit_collapse(y, pr, pt, n_boot=n_boot)
         rows.append({"key": key, "value": fit.lam, "err": fit.lam_err})
     cables = pd.concat([pcrit, mixed[np.isclose(mixed.f_c, 1.0)]], ignore_index=True)
+    crit = {}
     for phi in (math.pi, 0.0):
         strain = strain_name(phi)
         for p_t in PT4:
@@ -133,6 +215,12 @@ def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
             t = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)].threshold_p_r
             v, e = an.critical_point(t.to_numpy())
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
+            crit[strain, p_t] = v
+    grids = []
+    for name, spec in energy_sweeps(n, delta, samples).items():
+        grid, excluded[name] = sweep_rows(out, name, spec, **kw)
+        grids.append(grid)
+    rows += energy_claims(pd.concat(grids, ignore_index=True), crit)
     return pd.DataFrame(rows), excluded
 
 
@@ -371,6 +459,7 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
     out: dict[str, dict] = {}
     for n in scale.fss_sizes:
         out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
+        out |= energy_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
     for n, samples in scale.fss_pc:
         out |= rods_pc_sweep(n, DEFAULT_DELTA, samples)
     return out
@@ -381,6 +470,7 @@ def delta_sweeps(scale: Scale) -> dict[str, dict]:
     out: dict[str, dict] = {}
     for delta in scale.deltas:
         out |= headline_sweeps(scale.n_delta, delta, scale.samples_delta)
+        out |= energy_sweeps(scale.n_delta, delta, scale.samples_delta)
     return out
 
 

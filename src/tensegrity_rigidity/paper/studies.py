@@ -169,11 +169,16 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #:   n^(-1/nu) (nu fitted) scattered by +-0.010 around the true p_c (60 draws): only n = 128
 #:   (fss-cluster, pc) narrows it. delta = 0.2 reads the first 24 samples of the fss sweeps at
 #:   n = 32.
+#:   The energy grids of alpha and the taut-cable fraction (2026-11-27, finite_size.energy_sweeps:
+#:   24 samples per point, 8 at n = 64, no minimum-norm displacements) add 12 CPU min, 7 min on 2
+#:   workers by the estimate: 115 in all. The budget is 118 min: the model errs long on this
+#:   scale (the threshold sweeps' estimate was 109 min, their clean run took 97, 2026-11-26), so
+#:   118 estimated stays inside the limit of 120 with that margin.
 #:
 #: fss-cluster: fss plus n = 128 (8 samples: one threshold search there is extrapolated to
-#:   30 min at p_t = 0.3; 60 CPU hours in all) and 32 samples at n = 64 (S_t/S_r +-0.0053,
-#:   p_crit +-0.0022); meant for a Dask cluster (--scheduler; --estimate --workers N gives the
-#:   wall time). Its sweeps extend those of fss in the same output directory.
+#:   30 min at p_t = 0.3; 61 CPU hours in all with the energy grids) and 32 samples at n = 64
+#:   (S_t/S_r +-0.0053, p_crit +-0.0022); meant for a Dask cluster (--scheduler; --estimate
+#:   --workers N gives the wall time). Its sweeps extend those of fss in the same output directory.
 #: (n, samples) of the rods-only thresholds of the p_c extrapolation at the fss scales: the
 #: median's error is about 1.25 x the spread of the thresholds / sqrt(S), spreads 0.037,
 #: 0.019, 0.010 and about 0.006 at n = 8 to 64 (the fss run), 0.003 expected at 128; these
@@ -208,7 +213,7 @@ SCALES = {
         fss_sizes=(8, 16, 32, 64), samples_fss=(400, 160, 64, 8),
         fss_pc=FSS_PC_NO_128,
         deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=24,
-        studies=("fss", "delta"), budget_minutes=110,
+        studies=("fss", "delta"), budget_minutes=118,
     ),
     "pc": Scale(
         "pc", 32, 32, 0, 0, 0, 0.025, 0, 200,
@@ -795,7 +800,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     peaks = _gamma_peaks(rows, crit, scale.bootstrap)
     at_pcrit = _at_transition(rows, crit)
     tails = tail_statistics(at_pcrit)
-    taut_tr = _taut_at_transition(taut, crit)
+    taut_tr = taut_at_transition(taut, crit)
     field_, excluded["fig2_field"], excluded["fig1a_field"] = _displacement_field(out, scale, **kw)
     return Fig2Result(
         curves=curves,
@@ -1029,13 +1034,13 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
     return tuple(out)
 
 
-def _taut_at_transition(taut: pd.DataFrame, crit: pd.DataFrame):
+def taut_at_transition(taut: pd.DataFrame, crit: pd.DataFrame):
     """Fraction of taut cables at the grid p_r nearest p_crit (compression), mean over p_t."""
     vals = []
     for p_t in (0.1, 0.2, 0.3):
         pc = crit[np.isclose(crit.phi, math.pi) & np.isclose(crit.p_t, p_t)].p_crit
         sub = taut[np.isclose(taut.phi, math.pi) & np.isclose(taut.p_t, p_t)]
-        if len(pc) and len(sub):
+        if len(pc) and len(sub) and np.isfinite(pc.iloc[0]):
             row = sub.iloc[int(np.argmin(np.abs(sub.p_r - float(pc.iloc[0]))))]
             vals.append((row["mean"], row["sem"], p_t, row.p_r))
     if not vals:
