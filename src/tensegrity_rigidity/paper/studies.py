@@ -1035,14 +1035,19 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
 
 
 def taut_at_transition(taut: pd.DataFrame, crit: pd.DataFrame):
-    """Fraction of taut cables at the grid p_r nearest p_crit (compression), mean over p_t."""
+    """Fraction of taut cables at the grid p_r nearest p_crit (compression), mean over p_t.
+
+    A p_t whose nearest grid point has no rigid sample with certified tensions (a NaN mean) is
+    left out; the returned list says which (p_t, p_r) were averaged.
+    """
     vals = []
     for p_t in (0.1, 0.2, 0.3):
         pc = crit[np.isclose(crit.phi, math.pi) & np.isclose(crit.p_t, p_t)].p_crit
         sub = taut[np.isclose(taut.phi, math.pi) & np.isclose(taut.p_t, p_t)]
         if len(pc) and len(sub) and np.isfinite(pc.iloc[0]):
             row = sub.iloc[int(np.argmin(np.abs(sub.p_r - float(pc.iloc[0]))))]
-            vals.append((row["mean"], row["sem"], p_t, row.p_r))
+            if np.isfinite(row["mean"]):
+                vals.append((row["mean"], row["sem"], p_t, row.p_r))
     if not vals:
         return None
     v = float(np.mean([x[0] for x in vals]))
