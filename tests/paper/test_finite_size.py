@@ -267,12 +267,15 @@ def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
     assert {m.claim for m in delta.measured} >= {"alpha_dilation_0.3"}
 
 
-def test_a_p_t_without_certified_tensions_at_p_crit_is_left_out_of_the_taut_fraction():
+def test_the_taut_fraction_uses_the_nearest_point_with_certified_tensions():
+    """p_t = 0.1: the point nearest p_crit has no certified rigid sample, the next one is
+    used; p_t = 0.2: none has, it is left out."""
     taut = pd.DataFrame(
-        {"phi": np.pi, "p_t": [0.1, 0.2, 0.3], "p_r": 0.5, "mean": [0.3, np.nan, 0.5],
-         "sem": [0.01, np.nan, 0.02], "size": [4, 2, 4]}
+        {"phi": np.pi, "p_t": [0.1, 0.1, 0.2, 0.3], "p_r": [0.5, 0.55, 0.5, 0.5],
+         "mean": [np.nan, 0.3, np.nan, 0.5], "sem": [np.nan, 0.01, np.nan, 0.02],
+         "size": [1, 4, 2, 4]}
     )  # fmt: skip
-    crit = pd.DataFrame({"phi": np.pi, "p_t": [0.1, 0.2, 0.3], "p_crit": 0.5})
+    crit = pd.DataFrame({"phi": np.pi, "p_t": [0.1, 0.2, 0.3], "p_crit": 0.51})
     value, err, used = studies.taut_at_transition(taut, crit)
-    assert value == 0.4 and used == [(0.1, 0.5), (0.3, 0.5)]
+    assert value == 0.4 and used == [(0.1, 0.55), (0.3, 0.5)]
     assert err == np.sqrt(0.01**2 + 0.02**2) / 2

@@ -1037,17 +1037,19 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
 def taut_at_transition(taut: pd.DataFrame, crit: pd.DataFrame):
     """Fraction of taut cables at the grid p_r nearest p_crit (compression), mean over p_t.
 
-    A p_t whose nearest grid point has no rigid sample with certified tensions (a NaN mean) is
-    left out; the returned list says which (p_t, p_r) were averaged.
+    Only grid points with a rigid sample whose tensions are certified (a finite mean) count:
+    at n = 64 the point just below p_crit can have no rigid sample of 8 (p_t = 0.1 in the fss
+    energy grids), and the next one is used. A p_t without such a point is left out; the
+    returned list says which (p_t, p_r) were averaged.
     """
     vals = []
     for p_t in (0.1, 0.2, 0.3):
         pc = crit[np.isclose(crit.phi, math.pi) & np.isclose(crit.p_t, p_t)].p_crit
         sub = taut[np.isclose(taut.phi, math.pi) & np.isclose(taut.p_t, p_t)]
+        sub = sub[np.isfinite(sub["mean"].to_numpy(float))]
         if len(pc) and len(sub) and np.isfinite(pc.iloc[0]):
             row = sub.iloc[int(np.argmin(np.abs(sub.p_r - float(pc.iloc[0]))))]
-            if np.isfinite(row["mean"]):
-                vals.append((row["mean"], row["sem"], p_t, row.p_r))
+            vals.append((row["mean"], row["sem"], p_t, row.p_r))
     if not vals:
         return None
     v = float(np.mean([x[0] for x in vals]))
