@@ -279,3 +279,10 @@ def test_the_taut_fraction_uses_the_nearest_point_with_certified_tensions():
     value, err, used = studies.taut_at_transition(taut, crit)
     assert value == 0.4 and used == [(0.1, 0.55), (0.3, 0.5)]
     assert err == np.sqrt(0.01**2 + 0.02**2) / 2
+
+
+def test_an_extrapolation_whose_form_does_not_fit_says_so():
+    assert fs.misfit(1.2, 2) == "" and fs.misfit(np.nan, 2) == "" and fs.misfit(30.0, 0) == ""
+    assert fs.misfit(92.6, 2) == " [chi-square 93 with 2 dof: the form does not fit these sizes]"
+    assert fs.misfit(9.0, 2) == ""  # p = 0.011
+    assert fs.misfit(9.3, 2) != ""  # p = 0.0096

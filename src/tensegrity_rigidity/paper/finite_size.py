@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
 from ..analysis import estimators as an
 from ..model.lattice import DEFAULT_DELTA
@@ -420,7 +421,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             row.y_inf_err,
             f"{_samples_text(scale)} samples per point",
             factor="finite size",
-            label=label,
+            label=label + misfit(row.chi2, row.dof),
         )
         for row in extrapolated.itertuples()
         if row.key in CLAIMS
@@ -444,6 +445,23 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_widths_nu_z=widths_nu_z,
         pc_by_smallest=pc_by_smallest_size(*series("rods_only_pc")),
     )
+
+
+#: a finite-size fit whose chi-square is less probable than this does not describe its sizes
+MISFIT_P = 0.01
+
+
+def misfit(chi2: float, dof: int) -> str:
+    """A clause for an extrapolation whose form does not fit its points ("" when it does).
+
+    With the per-size errors taken as right (:func:`~tensegrity_rigidity.analysis.estimators.
+    fit_finite_size`), a chi-square above its 99th percentile means the values do not follow
+    ``y_inf + a n^(-1/nu)`` (non-monotone in n, say), and ``y_inf`` and its error say little:
+    the comparison says so beside the extrapolated value.
+    """
+    if not (dof > 0 and np.isfinite(chi2)) or stats.chi2.sf(chi2, dof) >= MISFIT_P:
+        return ""
+    return f" [chi-square {chi2:.0f} with {dof} dof: the form does not fit these sizes]"
 
 
 def _samples_text(scale: Scale) -> str:

@@ -358,7 +358,8 @@ def fss_section(r) -> Section:
             else ""
         )
         + " z_paper is the comparison's statistic of the extrapolation against the "
-        "paper's value.",
+        "paper's value; where the chi-square is above its 99th percentile the form does not "
+        "fit the sizes, and the comparison says so beside the extrapolated value.",
     )
     wide = r.by_size.pivot_table(index="key", columns="n", values="value")
     err = r.by_size.pivot_table(index="key", columns="n", values="err")
@@ -367,6 +368,7 @@ def fss_section(r) -> Section:
     for n in wide.columns:
         table[f"n = {n}"] = [_fmt(v, e) for v, e in zip(wide[n], err[n], strict=True)]
     table["n -> infinity"] = [_fmt(ex.loc[k].y_inf, ex.loc[k].y_inf_err) for k in wide.index]
+    table["chi-square / dof"] = [f"{ex.loc[k].chi2:.1f} / {ex.loc[k].dof}" for k in wide.index]
     table["z_paper"] = [f"{ex.loc[k].z_paper:.2f}" for k in wide.index]
     return Section("Finite size", paragraphs, (table, *smallest_tables))
 
