@@ -264,6 +264,12 @@ def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
     fss, delta, _ = runs
     keys = {m.claim for m in fss.measured}
     assert {"alpha_compression_0.1", "taut_cables_transition"} <= keys
+    systems = {m.claim: m.system for m in fss.measured}
+    energy = [min(TINY.fss_samples(n), fs.ENERGY_SAMPLES) for n in TINY.fss_sizes]
+    assert systems["alpha_dilation_0.2"].startswith(
+        str(energy[0]) if len(set(energy)) == 1 else ", ".join(map(str, energy))
+    )
+    assert fs.ENERGY_KEYS == {k for k in KEYS if k.startswith(("alpha", "taut"))}
     assert {m.claim for m in delta.measured} >= {"alpha_dilation_0.3"}
 
 

@@ -140,6 +140,13 @@ def energy_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     }
 
 
+#: the claims :func:`energy_claims` measures
+ENERGY_KEYS = frozenset(
+    [f"alpha_{s}_{p_t}" for s in ("compression", "dilation") for p_t in PT4]
+    + ["taut_cables_transition"]
+)
+
+
 def energy_claims(rows: pd.DataFrame, crit: dict[tuple[str, float], float]) -> list[dict]:
     """alpha per (strain, p_t) and the taut-cable fraction at the transition from grid rows.
 
@@ -419,7 +426,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             row.key,
             row.y_inf,
             row.y_inf_err,
-            f"{_samples_text(scale)} samples per point",
+            f"{_samples_text(scale, energy=row.key in ENERGY_KEYS)} samples per point",
             factor="finite size",
             label=label + misfit(row.chi2, row.dof),
         )
@@ -464,9 +471,12 @@ def misfit(chi2: float, dof: int) -> str:
     return f" [chi-square {chi2:.0f} with {dof} dof: the form does not fit these sizes]"
 
 
-def _samples_text(scale: Scale) -> str:
-    """The sample counts per size: one number when they are equal, else one per size."""
+def _samples_text(scale: Scale, energy: bool = False) -> str:
+    """The sample counts per size (of the energy sweeps when ``energy``): one number when they
+    are equal, else one per size."""
     counts = [scale.fss_samples(n) for n in scale.fss_sizes]
+    if energy:
+        counts = [min(c, ENERGY_SAMPLES) for c in counts]
     if len(set(counts)) == 1:
         return str(counts[0])
     return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, scale.fss_sizes))})"
