@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -130,7 +131,7 @@ def energy_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     displacements (the energy and the tensions do not need them).
     """
     count = min(samples, ENERGY_SAMPLES)
-    base = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
+    base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
     base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
     base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
     return {
