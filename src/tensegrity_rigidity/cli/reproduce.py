@@ -71,12 +71,12 @@ def _run(args) -> int:
     from ..errors import InputError
     from ..paper.reproduce import reproduce
 
-    if args.workers is not None:
-        local_workers(args.workers, "--workers")
     if args.evidence is not None and not Path(args.evidence).is_dir():
         raise InputError(f"--evidence {args.evidence}: no such directory")
     if args.estimate:
-        return _estimate(args)
+        return _estimate(args)  # which checks --workers
+    if args.workers is not None:
+        local_workers(args.workers, "--workers")
     if args.out is None:
         raise InputError("reproduce needs --out DIR (or --estimate, which runs nothing)")
     check_out(args.out)

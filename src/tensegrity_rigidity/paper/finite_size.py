@@ -120,6 +120,12 @@ ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
 ENERGY_SAMPLES = 24
 
 
+def energy_samples(samples: int) -> int:
+    """Samples per point of the energy sweeps at a size whose threshold sweeps have
+    ``samples``: the first :data:`ENERGY_SAMPLES` of them at most."""
+    return min(samples, ENERGY_SAMPLES)
+
+
 def energy_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
 
@@ -130,7 +136,7 @@ def energy_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     p_crit (common random numbers). At most :data:`ENERGY_SAMPLES` samples; no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
-    count = min(samples, ENERGY_SAMPLES)
+    count = energy_samples(samples)
     base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
     base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
     base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
@@ -477,7 +483,7 @@ def _samples_text(scale: Scale, energy: bool = False) -> str:
     are equal, else one per size."""
     counts = [scale.fss_samples(n) for n in scale.fss_sizes]
     if energy:
-        counts = [min(c, ENERGY_SAMPLES) for c in counts]
+        counts = [energy_samples(c) for c in counts]
     if len(set(counts)) == 1:
         return str(counts[0])
     return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, scale.fss_sizes))})"
