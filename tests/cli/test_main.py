@@ -44,3 +44,28 @@ def test_help_everywhere(cmd):
     )
     assert proc.returncode == 0 and "usage" in proc.stdout
     assert "%%" not in proc.stdout  # argparse does not %-format descriptions
+
+
+def test_foreign_warnings_name_their_category_and_place():
+    """A NumPy warning relayed from a worker must say where it came from to be traceable; the
+    package's own warnings stay plain sentences."""
+    import io
+    import warnings
+
+    import numpy as np
+
+    from tensegrity_rigidity.cli.main import _one_line_warning
+    from tensegrity_rigidity.errors import UndecidedWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        np.array([1.0]) / np.array([0.0])
+    (w,) = caught
+    out = io.StringIO()
+    _one_line_warning(w.message, w.category, w.filename, w.lineno, file=out)
+    text = out.getvalue()
+    assert text.startswith("warning: divide by zero encountered in divide (RuntimeWarning at ")
+    assert f"test_main.py:{w.lineno})" in text and text.count("\n") == 1
+    out = io.StringIO()
+    _one_line_warning(UndecidedWarning("undecided sample: x"), UndecidedWarning, __file__, 1, out)
+    assert out.getvalue() == "warning: undecided sample: x\n"

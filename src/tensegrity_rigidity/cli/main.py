@@ -30,6 +30,7 @@ import sys
 import threading
 import warnings
 from collections.abc import Sequence
+from pathlib import Path
 
 from .. import interrupts
 from ..errors import TensegrityError
@@ -177,7 +178,16 @@ COMMANDS = {"sample": _cmd_sample, "solve": _cmd_solve}
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Print a warning on one line. The package's own warnings (``UserWarning``s) explain
+    themselves; any other (a NumPy ``RuntimeWarning``, say) also names its category and
+    where it was raised, so that it can be traced (forked workers print theirs the same way)."""
     text = " ".join(str(message).split())
+    if not issubclass(category, UserWarning):
+        where = Path(filename)
+        package = Path(__file__).resolve().parents[1]
+        if where.is_absolute() and where.resolve().is_relative_to(package):
+            where = where.resolve().relative_to(package.parent)
+        text = f"{text} ({category.__name__} at {where}:{lineno})"
     print(f"warning: {text}", file=sys.stderr if file is None else file)
 
 
