@@ -41,7 +41,7 @@ from .certificates import FloppyCertificate, Resolution, RigidCertificate
 from .displacements import project
 from .ipm import interior_point
 from .linalg import one_blas_thread
-from .newton import crossover, newton
+from .newton import CROSSOVER_TAUS, crossover, newton
 from .problem import Problem
 from .selfstress import purify
 from .stages import BALANCE, DEFAULT_STAGES, POLISH, STAGES, search
@@ -437,7 +437,7 @@ def energy_certified(energy, energy_lower):
 
 
 #: (iterations, tolerance) of the relaxation's interior point (run when Newton stops with a
-#: force residual above 1e-10 relative): first the short run; then, only where that leaves the
+#: force residual above :data:`STATIONARY`): first the short run; then, only where that leaves the
 #: energy uncertified (:data:`ENERGY_GAP`), the relaxation again from its result with the long
 #: run, whose result replaces it only if that certifies the energy. Near a sample's own
 #: threshold the energy keeps falling long after the scaled residuals stall (one n = 32 sample:
@@ -448,6 +448,16 @@ def energy_certified(energy, energy_lower):
 #: than the short run's (an at-threshold n = 32 sample whose energy 60 iterations certify ends
 #: 1e-4 higher, uncertified, after 200).
 RELAX_IPM = ((60, 1e-10), (200, 1e-14))
+
+#: Relative force residual ``|R^T t| / |t|`` of the tensions ``t = k (e0 + R u)`` below which
+#: Newton's end point is taken as the energy's minimiser and the relaxation's interior point
+#: is not run (about 1e5 times double-precision round-off).
+STATIONARY = 1e-10
+
+#: Engagement tolerance of the final crossover from the relaxed minimiser (an exact solve on
+#: the elements within ``1e-9`` of engaging), kept when it lowers the force residual without
+#: raising the energy by more than 1e-12 relative.
+FINAL_CROSSOVER_TAU = 1e-9
 
 
 def _relax(
@@ -462,9 +472,9 @@ def _relax(
         return float(np.linalg.norm(p.RT @ t)) / max(float(np.linalg.norm(t)), 1e-300)
 
     u, E, it = newton(p, u, opts.max_iter)
-    if E > 0 and residual(u) > 1e-10:
+    if E > 0 and residual(u) > STATIONARY:
         x, _, _, _ = interior_point(p, max_iter=ipm[0], tol=ipm[1])
-        for tau in (1e-7, 1e-5, 1e-3):
+        for tau in CROSSOVER_TAUS:  # the first that does not raise the energy
             y = crossover(p, x, tau=tau)
             if y is not None and p.energy(y) <= p.energy(x):
                 x = y
@@ -474,7 +484,7 @@ def _relax(
         if E_x < E:
             u, E = x, E_x
     if E > 0:
-        y = crossover(p, u, tau=1e-9)
+        y = crossover(p, u, tau=FINAL_CROSSOVER_TAU)
         if y is not None:
             E_y = p.energy(y)
             if E_y <= E * (1 + 1e-12) and residual(y) < residual(u):

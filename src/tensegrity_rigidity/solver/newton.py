@@ -155,6 +155,12 @@ def newton(
     return u, E, it
 
 
+#: Engagement tolerances (units of ``max |e0|``) tried in turn when crossing an approximate
+#: minimiser over to an exact one (:func:`crossover`): the verdict search's crossovers and the
+#: relaxation's after its interior point.
+CROSSOVER_TAUS = (1e-7, 1e-5, 1e-3)
+
+
 def crossover(p: Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 12):
     """Exact solve on a guessed active set, corrected by KKT signs (primal-dual active set).
 

@@ -29,6 +29,8 @@ def purify(
     refine: int = 6,
     hopeless: float = 1e-3,
     extended: int = 4,
+    rod_weight: float = 1e-6,
+    shift: float = 1e-14,
 ) -> np.ndarray:
     """An admissible self-stress near ``t`` (shape (m,), non-empty sites), up to round-off.
 
@@ -50,6 +52,13 @@ def purify(
     extended : int
         Final refinement steps with residuals in extended precision (the result is then a
         ``longdouble`` array whose residual can go below double-precision round-off).
+    rod_weight : float
+        Weight of every rod in the projection, relative to ``max t^2``: rods may take up
+        stress they did not carry in ``t`` (a one-sided element may not: its sign is not free).
+    shift : float
+        Regularisation of the projection's matrix ``R^T W R``, relative to ``max t^2``: keeps it
+        factorisable where the support has mechanisms, small enough not to limit the residual,
+        which the refinement steps reduce to round-off.
 
     Returns
     -------
@@ -64,9 +73,9 @@ def purify(
     t[np.abs(t) < support_tol * t_max] = 0.0
     t[p.sigma * t < 0] = 0.0
     w = t * t
-    w[p.rod] += 1e-6 * t_max**2  # rods may also take up stress they did not carry
+    w[p.rod] += rod_weight * t_max**2
     for _ in range(rounds):
-        solver = p.factor_values(p.values(w, 1e-14 * t_max**2))
+        solver = p.factor_values(p.values(w, shift * t_max**2))
         r_prev = np.inf
         for _ in range(refine):
             r = p.RT @ t

@@ -67,7 +67,7 @@ from ..errors import InputError
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
 from .displacements import min_norm_minimizer
 from .ipm import interior_point
-from .newton import crossover, newton
+from .newton import CROSSOVER_TAUS, crossover, newton
 from .problem import Problem
 from .selfstress import purify, rebalance
 
@@ -261,7 +261,7 @@ class Search:
         E = 0.5 * float(np.dot(t, e))
         return self.offer_u(u, stage, E) or (E > 0 and self.offer_t(t, stage))
 
-    def crossovers(self, u: np.ndarray, stage: str, taus=(1e-7, 1e-5, 1e-3)) -> bool:
+    def crossovers(self, u: np.ndarray, stage: str, taus=CROSSOVER_TAUS) -> bool:
         """Crossovers (:func:`~.newton.crossover`) from ``u`` (2N,) with the near-tight set
         guessed at the widening thresholds ``taus``; True once the search is decided."""
         for tau in taus:
