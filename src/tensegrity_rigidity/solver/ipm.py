@@ -50,7 +50,11 @@ def interior_point(
     multipliers each time
     the larger of the two measures first falls below the next of the decreasing
     ``checkpoints`` (the caller tries to finish exactly from there). ``anchored`` adds the
-    background stiffness ``p.mu`` to the objective (see the module docstring).
+    background stiffness ``p.mu`` to the objective (see the module docstring). It also stops,
+    at its last finite iterate, when a slack has underflowed so that the next Newton matrix
+    would not be finite (a ``tol`` below what the iterates resolve: the relaxation's long run
+    to 1e-14 on about one sample in 20,000 of the quick Fig. 4 sweeps); the iterate returned
+    was NaN before.
     """
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
     os_ = p.one_sided
@@ -82,7 +86,12 @@ def interior_point(
                 pending.pop(0)
             if callback is not None and callback(u * scale, lam * scale):
                 break
-        ratio = lam / w
+        with np.errstate(over="ignore"):
+            ratio = lam / w
+        if not np.all(np.isfinite(ratio)):
+            # a slack underflowed (a tolerance below what the iterates resolve, as 1e-14 can
+            # be): the next step would be NaN, so stop at this, the last finite, iterate
+            break
         D = k + ratio
         ktil = k_all.copy()
         ktil[os_] = k * ratio / D
@@ -123,4 +132,7 @@ def _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, tau):
 def step_to_boundary(x: np.ndarray, dx: np.ndarray) -> float:
     """The largest step in (0, 1] that keeps ``x + a dx >= 0`` (``x`` > 0, both (k,))."""
     neg = dx < 0
-    return min(1.0, float(np.min(-x[neg] / dx[neg]))) if neg.any() else 1.0
+    if not neg.any():
+        return 1.0
+    with np.errstate(over="ignore"):  # a tiny dx: the boundary is out of reach, inf is right
+        return min(1.0, float(np.min(-x[neg] / dx[neg])))
