@@ -10,7 +10,12 @@ from tensegrity_rigidity import Element, Instance, PeriodicNetwork, SolverOption
 from tensegrity_rigidity.analysis.observables import nonaffinity
 from tensegrity_rigidity.model.mechanics import affine_extensions, energy
 from tensegrity_rigidity.solver.reference import min_norm_minimizer
-from tests.instances import NEAR_THRESHOLD, near_threshold_sample, random_instance
+from tests.instances import (
+    NEAR_THRESHOLD,
+    near_threshold_instance,
+    near_threshold_sample,
+    random_instance,
+)
 
 
 def test_minimum_norm_displacements_match_an_independent_projection():
@@ -207,8 +212,8 @@ def test_the_long_relaxation_certifies_energies_the_short_one_leaves_uncertified
 def test_the_long_relaxation_never_replaces_a_certified_short_one():
     """At the rigid side of this n = 32 threshold (configuration 1 of the near-threshold set,
     sample 0) the short interior point certifies the energy. The long one alone ends 1e-4 higher
-    and uncertified (its last iterate is worse), so it runs only where the short one fails, and
-    its result is kept only if it certifies (``RELAX_IPM``)."""
+    and uncertified (its last iterate is worse), so it runs only where the short one fails
+    (``RELAX_IPM``)."""
     from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
 
     n, c = 32, 1
@@ -222,6 +227,28 @@ def test_the_long_relaxation_never_replaces_a_certified_short_one():
     res = solve(inst)
     assert res.decided and res.rigid
     assert res.min_norm_ok, (res.min_norm_residuals, res.message)
+
+
+def test_the_long_relaxation_resolves_near_mechanisms_below_the_default_shift():
+    """Three rigid n = 24 configurations, each the first rigid one of its threshold (samples of
+    the near-threshold set: configuration 5, samples 3 and 2, and configuration 3, sample 3),
+    whose energy the short interior point leaves uncertified (lower bound 0.52, 0.00065 and 0.33
+    of the energy). With the Newton matrix shifted by 1e-12, as in the short run, the long run
+    certifies none of them: the energy falls along near-mechanisms whose curvature is below the
+    shift. With ``RELAX_LONG_SHIFT`` (1e-15) it certifies all three, the second at an energy
+    870 times below the short run's, and the first and third get certified minimum-norm
+    displacements."""
+    from tensegrity_rigidity.solver.core import ENERGY_GAP
+
+    cases = (((5, 3), 1924, 1e-4, True), ((5, 2), 1916, 1e-7, False), ((3, 3), 2088, 1e-2, True))
+    for (c, k), event, energy_order, min_norm in cases:
+        p_t, f_c, phi = NEAR_THRESHOLD[c]
+        res = solve(near_threshold_instance(24, [24, c, k], phi, p_t, f_c, event))
+        assert res.decided and res.rigid
+        assert res.energy_lower >= (1 - ENERGY_GAP) * res.energy, (c, k, res.message)
+        assert energy_order < res.energy < 10 * energy_order, (c, k, res.energy)
+        if min_norm:
+            assert res.min_norm_ok, (c, k, res.min_norm_residuals, res.message)
 
 
 def test_the_augmented_lagrangian_projects_rigid_samples_like_the_interior_point():

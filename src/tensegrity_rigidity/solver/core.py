@@ -439,15 +439,26 @@ def energy_certified(energy, energy_lower):
 #: (iterations, tolerance) of the relaxation's interior point (run when Newton stops with a
 #: force residual above :data:`STATIONARY`): first the short run; then, only where that leaves the
 #: energy uncertified (:data:`ENERGY_GAP`), the relaxation again from its result with the long
-#: run, whose result replaces it only if that certifies the energy. Near a sample's own
+#: run, on a Newton matrix shifted by :data:`RELAX_LONG_SHIFT` only. Near a sample's own
 #: threshold the energy keeps falling long after the scaled residuals stall (one n = 32 sample:
-#: 1.97e-4, 1.77e-4, 1.71e-4 after 60, 100, 200 iterations). Measured (2026-11-27): 8 of the 16
-#: rigid paper-scale n = 32 samples the short run leaves uncertified are certified, for about
-#: 0.3 s of CPU each; none of the 5 such at-threshold n = 64 samples of the solver benchmark,
-#: for about 1.8 s each. The long run alone is not a replacement: its last iterate can be worse
-#: than the short run's (an at-threshold n = 32 sample whose energy 60 iterations certify ends
-#: 1e-4 higher, uncertified, after 200).
+#: 1.97e-4, 1.77e-4, 1.71e-4 after 60, 100, 200 iterations). The long run's result is kept
+#: where its energy is lower (the lower bound kept is the larger of the two runs'); the long run
+#: alone is not a replacement for the short one: its last iterate can be worse (an at-threshold
+#: n = 32 sample whose energy 60 iterations certify ends 1e-4 higher, uncertified, after 200).
 RELAX_IPM = ((60, 1e-10), (200, 1e-14))
+
+#: Diagonal shift of the Newton matrix ``R^T D R + mu I`` (relative to the mean stiffness) in
+#: the relaxation's long run, in place of ``SolverOptions.regularization`` (1e-12). Near a
+#: sample's own threshold the energy falls along near-mechanisms whose curvature is below
+#: 1e-12: a shift of 1e-12 cuts every step along them to that curvature over the shift, and the
+#: interior point crawls. Measured on the 24 rigid at-threshold samples (n = 24, 32, 64; the
+#: near-threshold set) whose energy the short run leaves uncertified, the long run certifies
+#: 4 with a shift of 1e-12, 5 with 1e-13, 11 with 1e-14, 14 with 1e-15 and 7 with 1e-16 (where
+#: 10 factorisations fail: the shift is then below the round-off of exact mechanisms' pivots).
+#: Its energy at 1e-15 is lower than the short run's on all 24 (by up to 870 times) and than
+#: the long run's at 1e-12 on 23 (scratch, 2026-11-27). Where the factorisation fails all the
+#: same, the long run is skipped.
+RELAX_LONG_SHIFT = 1e-15
 
 #: Relative force residual ``|R^T t| / |t|`` of the tensions ``t = k (e0 + R u)`` below which
 #: Newton's end point is taken as the energy's minimiser and the relaxation's interior point
@@ -624,6 +635,7 @@ def solve(
         # with one stiffness the verdict's unit-stiffness problem is the energy's too
         pe = p if uniform else Problem(instance, opts.regularization, opts.factorization)
         k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
+        extra_factorizations = 0
         if verdict.status == "floppy":
             u_n = np.asarray(s.floppy.u, dtype=float)
             t_relaxed = np.zeros(p.sites.size)
@@ -634,12 +646,20 @@ def solve(
         else:
             u_n, E_n, more, t_relaxed, t_n, E_lower = _relaxed(pe, s.u, opts, verdict.rigid)
             if not energy_certified(E_n, E_lower):  # near the threshold: see RELAX_IPM
-                u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = _relaxed(
-                    pe, u_n, opts, verdict.rigid, RELAX_IPM[1]
-                )
-                more += more_2
-                if energy_certified(E_2, E_lower_2):
-                    u_n, E_n, t_relaxed, t_n, E_lower = u_2, E_2, t_relaxed_2, t_n_2, E_lower_2
+                pl = Problem(instance, RELAX_LONG_SHIFT, opts.factorization, unit_stiffness=uniform)
+                try:
+                    u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = _relaxed(
+                        pl, u_n, opts, verdict.rigid, RELAX_IPM[1]
+                    )
+                except ArithmeticError:  # the shift is below the round-off of a pivot
+                    E_2 = np.inf
+                else:
+                    more += more_2
+                    E_lower = max(E_lower, E_lower_2)
+                extra_factorizations += pl.factorizations
+                if E_2 < E_n:
+                    u_n, E_n, t_relaxed, t_n = u_2, E_2, t_relaxed_2, t_n_2
+                E_lower = min(E_lower, E_n)  # both bound E* from below; E_n from above
             iterations = s.iterations + more
         min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
         # the polyhedron of minimisers is built from the relaxed tensions: it is U* only when
@@ -703,7 +723,9 @@ def solve(
         violation=fc.violation if fc is not None else np.inf,
         displacement_size=fc.size if fc is not None else np.inf,
         iterations=iterations,
-        factorizations=p.factorizations + (pe.factorizations if pe is not p else 0),
+        factorizations=p.factorizations
+        + (pe.factorizations if pe is not p else 0)
+        + extra_factorizations,
         method=verdict.stage or "undecided",
         min_norm_ok=min_norm_ok,
         min_norm_residuals=kkt,
