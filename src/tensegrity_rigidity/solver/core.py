@@ -68,7 +68,9 @@ class SolverOptions:
         Balance rigid candidates that narrowly fail to extended round-off after purification
         (:class:`~tensegrity_rigidity.solver.stages.Balance`).
     regularization : float
-        ``mu`` of the Newton matrix, relative to the mean stiffness.
+        ``mu`` of the Newton matrix, relative to the mean stiffness (the relaxation's long
+        run, where the short one leaves the energy uncertified, uses
+        :data:`RELAX_LONG_SHIFT` instead).
     max_iter : int
         Newton iterations when the energy is minimised for the relaxed state.
     min_norm : bool
