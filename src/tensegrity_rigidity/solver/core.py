@@ -535,6 +535,31 @@ def _relaxed(
     return u, E, more, t_relaxed, t_n, min(_energy_lower(p, t_n, certificate), E)
 
 
+def _long_relaxation(
+    instance: Instance,
+    opts: SolverOptions,
+    unit_stiffness: bool,
+    u: np.ndarray,
+    certificate: RigidCertificate | None,
+) -> tuple[tuple | None, int]:
+    """The relaxation's long run (``RELAX_IPM[1]``) from ``u`` (2N,), on a Newton matrix
+    shifted by :data:`RELAX_LONG_SHIFT`.
+
+    Returns
+    -------
+    result : tuple or None
+        What :func:`_relaxed` returns, or None where a factorisation failed (the shift is
+        below the round-off of a pivot).
+    factorizations : int
+        Numeric factorisations spent.
+    """
+    pl = Problem(instance, RELAX_LONG_SHIFT, opts.factorization, unit_stiffness=unit_stiffness)
+    try:
+        return _relaxed(pl, u, opts, certificate, RELAX_IPM[1]), pl.factorizations
+    except ArithmeticError:
+        return None, pl.factorizations
+
+
 def _balanced_tensions(p: Problem, t: np.ndarray) -> np.ndarray:
     """The minimiser's tensions, moved onto an exact self-stress when they are close to one.
 
@@ -648,20 +673,16 @@ def solve(
         else:
             u_n, E_n, more, t_relaxed, t_n, E_lower = _relaxed(pe, s.u, opts, verdict.rigid)
             if not energy_certified(E_n, E_lower):  # near the threshold: see RELAX_IPM
-                pl = Problem(instance, RELAX_LONG_SHIFT, opts.factorization, unit_stiffness=uniform)
-                try:
-                    u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = _relaxed(
-                        pl, u_n, opts, verdict.rigid, RELAX_IPM[1]
-                    )
-                except ArithmeticError:  # the shift is below the round-off of a pivot
-                    E_2 = np.inf
-                else:
+                long, extra_factorizations = _long_relaxation(
+                    instance, opts, uniform, u_n, verdict.rigid
+                )
+                if long is not None:
+                    u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = long
                     more += more_2
-                    E_lower = max(E_lower, E_lower_2)
-                extra_factorizations += pl.factorizations
-                if E_2 < E_n:
-                    u_n, E_n, t_relaxed, t_n = u_2, E_2, t_relaxed_2, t_n_2
-                E_lower = min(E_lower, E_n)  # both bound E* from below; E_n from above
+                    E_lower = max(E_lower, E_lower_2)  # both bound E* from below
+                    if E_2 < E_n:
+                        u_n, E_n, t_relaxed, t_n = u_2, E_2, t_relaxed_2, t_n_2
+                    E_lower = min(E_lower, E_n)  # and E_n bounds it from above
             iterations = s.iterations + more
         min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
         # the polyhedron of minimisers is built from the relaxed tensions: it is U* only when
