@@ -13,25 +13,27 @@ minimiser of ``E(u) + mu/2 |u|^2`` as ``mu -> 0`` (a vanishing background stiffn
 Method: a primal-dual interior-point method (Mehrotra's predictor-corrector) on the
 projection, a strongly convex QP (:func:`min_norm_minimizer`). With ``G = diag(sigma) R`` and
 ``h = -sigma e0`` on the inequalities, multipliers ``y`` (equalities) and ``z >= 0`` with
-slacks ``s >= 0`` (inequalities), each step solves the quasi-definite system
+slacks ``s >= 0`` (inequalities), each step solves the system
 
-    [ I    R_E^T   G^T        ] [du]
-    [ R_E  -d I    0          ] [dy] = rhs
-    [ G    0       -(S/Z + d) ] [dz]
+    [ I    R_E^T   G^T    ] [du]
+    [ R_E  0       0      ] [dy] = rhs
+    [ G    0       -S/Z   ] [dz]
 
-by a sparse LDL^T factorisation (QDLDL) in a pattern fixed for the whole solve, with a few
-steps of iterative refinement against the system without the regularisation ``d``. The
-identity block (the objective's Hessian) keeps the system well conditioned however
-near-floppy ``R`` is, which is where the minimum-norm displacements are large (near a
-sample's own threshold, ``|u|`` reaches ``1e5`` to ``1e7`` times the strain). The iteration
-starts from the minimiser the verdict found (a point of ``U*`` up to its tolerance) and keeps
-the iterate with the smallest KKT residual; the multipliers start on the scale of ``|u|``.
+regularised by ``d`` in its last two diagonal blocks and reduced to ``2N x 2N``: ``(d I +
+R_E^T R_E + G^T diag(d / (S/Z + d)) G) du = ...``, a matrix in the pattern of the verdict's own
+Newton matrix, factorised by its sparse Cholesky (:class:`_ReducedKKT`), with a few steps of
+iterative refinement against the unregularised, unreduced system. The identity block (the
+objective's Hessian) keeps the system regular however near-floppy ``R`` is, which is where the
+minimum-norm displacements are large (near a sample's own threshold, ``|u|`` reaches ``1e5`` to
+``1e7`` times the strain). The iteration starts from the minimiser the verdict found (a point
+of ``U*`` up to its tolerance) and keeps the iterate with the smallest KKT residual; the
+multipliers start on the scale of ``|u|``.
 
 Where the tensions are not zero (a rigid verdict) the projection is first tried by an augmented
 Lagrangian (:func:`augmented_lagrangian`) whose inner problems are solved by semismooth Newton
 steps on the solver's own ``2N x 2N`` pattern, ``R^T W R + I / rho`` with ``W`` the indicator of
 the equalities and of the violated or held inequalities (one sparse Cholesky factorisation per
-step, against one LDL^T of the ``(2N + m)``-sized system above per interior-point step). There
+step, as in each interior-point step, but with one solve against about eight). There
 the equalities fix most of ``u`` and few inequalities are held; measured on the phase-diagram
 instances of ``benchmarks/bench_solver.py`` (scratch, n = 64) it certifies all nine rigid ones
 in 4 to 10 steps, 27 to 108 ms against 175 to 300 ms for the interior point, while on floppy
@@ -59,10 +61,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import qdldl
 import scipy.sparse as sp
 
 from .ipm import step_to_boundary
+from .linalg import PatternFactor
 from .problem import Problem
 
 
@@ -250,7 +252,7 @@ def min_norm_minimizer(
     max_iterations : int
         Most interior-point iterations (each one numeric factorisation).
     regularization : float
-        ``d``, the diagonal regularisation of the quasi-definite system.
+        ``d``, the diagonal regularisation of the interior-point system (:class:`_ReducedKKT`).
     refinement : int
         Steps of iterative refinement per solve, against the unregularised system.
     stall : int, optional
@@ -267,7 +269,7 @@ def min_norm_minimizer(
         residual).
     """
     eq, ineq, c, E, In = _polyhedron(p, t)
-    kkt_system = _QuasiDefinite(p.R.tocsr(), E, In, p.sigma[In], regularization, refinement)
+    kkt_system = _ReducedKKT(p, E, In, p.sigma[In], regularization, refinement)
     RE, G, REt, Gt = kkt_system.RE, kkt_system.G, kkt_system.REt, kkt_system.Gt
     bE = (c - p.e0)[E]
     h = -(p.sigma * p.e0)[In]
@@ -299,7 +301,7 @@ def min_norm_minimizer(
             break  # certified with a margin of 10: further iterations change |u| by < 1e-9
         try:
             kkt_system.factor(s / z)
-        except RuntimeError:  # QDLDL: not quasi-definite to working precision; keep the best
+        except ArithmeticError:  # numerically singular: keep the best iterate
             break
         residuals = (rd, re, ri)
         du, dy, dz, ds = kkt_system.newton(residuals, z * s, z, s)  # predictor (affine scaling)
@@ -344,53 +346,65 @@ def _certificate(p, u, y, z, E, In, eq, ineq, c) -> tuple[float, float, float]:
     return _residuals(p, u, p.e0 + p.R @ u, lam, eq, ineq, c)
 
 
-class _QuasiDefinite:
-    """The interior-point system of the projection, factorised by QDLDL in one pattern.
+class _ReducedKKT:
+    """The interior-point system of the projection, reduced to ``2N x 2N`` on the problem's
+    own factorisation pattern.
 
-    ``[[I, R_E^T, G^T], [R_E, -d I, 0], [G, 0, -(D + d)]]`` with ``G = diag(sigma) R_I``; only
-    the diagonal ``D = S / Z`` of the last block changes between factorisations. Solves are
-    refined against the unregularised system (``d = 0``).
+    The step of :func:`min_norm_minimizer` solves
+
+        [ I    R_E^T   G^T        ] [du]   [r1]
+        [ R_E  0       0          ] [dy] = [r2]
+        [ G    0       -D         ] [dz]   [r3]
+
+    with ``G = diag(sigma) R_I`` and the diagonal ``D = S / Z``. Regularised by ``d`` (``-d I``
+    in the second block, ``-(D + d)`` in the third), ``dy`` and ``dz`` are eliminated:
+
+        (d I + R_E^T R_E + G^T diag(d / (D + d)) G) du = d r1 + R_E^T r2 + G^T (d r3 / (D + d)),
+        dy = (R_E du - r2) / d,   dz = (G du - r3) / (D + d),
+
+    a matrix ``R^T W R + d I`` in the pattern of the verdict's Newton matrix, factorised by the
+    problem's sparse Cholesky (CHOLMOD; :meth:`Problem.factor_shifted`). Each solve is refined
+    against the unregularised system. The elimination loses accuracy along the mechanisms of
+    ``R_E`` (relative errors of order ``eps / d`` per solve), which the refinement removes at
+    a factor of about 100 a step. Against a QDLDL factorisation of the full ``(2N + m)``-sized
+    system, with the same three refinement steps, on the interior-point projections of
+    ``benchmarks/bench_solver.py``'s instances (scratch, 2026-11-27; BENCHMARKS.md): the same
+    certificates on the phase diagrams (n = 16 to 64) and at the threshold at n = 16 and 32,
+    one more at n = 64 (3 of 8 against 2), in 0.6 to 0.9 times the time (0.5 at the n = 64
+    threshold). One refinement step, or one until the KKT residual falls below ``1e-4`` or
+    ``1e-6``, lost a certificate at the n = 32 threshold; four steps lost the n = 64 one.
     """
 
-    def __init__(self, R, E, In, sigma_in, d: float, refinement: int):
+    def __init__(self, p: Problem, E, In, sigma_in, d: float, refinement: int):
+        R = p.R.tocsr()
+        self.p, self.In = p, In
         self.RE = R[E]
         self.G = (sp.diags(sigma_in) @ R[In]).tocsr()
-        # the transposes once (``.T`` builds a new matrix object on every call: a third of the
-        # projection's time at n = 12 went there)
-        self.REt, self.Gt = self.RE.T, self.G.T
+        # the transposes once (``.T`` builds a new matrix object on every call)
+        self.REt, self.Gt = self.RE.T.tocsr(), self.G.T.tocsr()
+        # both constraint blocks stacked, so that each product is one sparse product
+        self.B = sp.vstack([self.RE, self.G], format="csr")
+        self.Bt = self.B.T.tocsr()
         self.n, self.mE, self.mI = R.shape[1], E.size, In.size
         self.d, self.refinement = d, refinement
-        # QDLDL reads only the upper triangle: hand it that, so that it does not extract it
-        # from the full matrix at every refactorisation
-        K = sp.triu(
-            sp.bmat(
-                [
-                    [sp.eye(self.n), self.REt, self.Gt],
-                    [self.RE, -d * sp.eye(self.mE), None],
-                    [self.G, None, -sp.eye(self.mI)],
-                ],
-                format="csc",
-            ),
-            format="csc",
-        )
-        K.sort_indices()
-        self.K = K
-        # positions of the last block's diagonal in K.data (every column holds its diagonal)
-        cols = np.arange(self.n + self.mE, self.n + self.mE + self.mI)
-        rows = np.repeat(np.arange(K.shape[1]), np.diff(K.indptr))
-        on_diag = np.flatnonzero(K.indices == rows)
-        self._diag = on_diag[np.searchsorted(rows[on_diag], cols)]
-        self._solver: qdldl.Solver | None = None
         self.D = np.ones(self.mI)
+        self._lower = np.zeros(self.mE + self.mI)  # the lower diagonal blocks: 0 and -D
+        self._inverse = np.full(self.mE + self.mI, 1.0 / d)  # 1 / (regularised blocks)
+        self._factor: PatternFactor | None = None
+        self._weights = np.zeros(p.sites.size)
+        self._weights[E] = 1.0
 
     def factor(self, D: np.ndarray) -> None:
-        """Factorise with the last block's diagonal ``-(D + d)``."""
+        """Factorise with the third block's diagonal ``D``; raises ArithmeticError when the
+        reduced matrix is numerically singular."""
         self.D = D
-        self.K.data[self._diag] = -(D + self.d)
-        if self._solver is None:
-            self._solver = qdldl.Solver(self.K, upper=True)
-        else:
-            self._solver.update(self.K, upper=True)
+        self._lower[self.mE :] = D
+        self._inverse[self.mE :] = 1.0 / (D + self.d)
+        self._weights[self.In] = self.d * self._inverse[self.mE :]
+        f = self.p.factor_shifted(self._weights, [self.d])
+        if f is None:
+            raise ArithmeticError("the projection's reduced system is numerically singular")
+        self._factor = f
 
     def newton(self, residuals, rc, z, s):
         """(du, dy, dz, ds) of the interior-point step for the residuals ``(rd, re, ri)`` and
@@ -399,19 +413,23 @@ class _QuasiDefinite:
         du, dy, dz = self.solve(-rd, -re, -ri + rc / z)
         return du, dy, dz, -(rc + s * dz) / z
 
+    def _regularised(self, r1, r2):
+        """(du, dw) of the regularised system with right-hand side ``(r1, r2)``, ``r2`` and
+        ``dw = (dy, dz)`` stacked."""
+        assert self._factor is not None
+        du = self._factor.solve(self.d * (r1 + self.Bt @ (self._inverse * r2)))
+        return du, (self.B @ du - r2) * self._inverse
+
     def solve(self, r1, r2, r3):
         """(du, dy, dz) of the unregularised system with right-hand side (r1, r2, r3)."""
-        assert self._solver is not None
-        n, mE = self.n, self.mE
-        rhs = np.r_[r1, r2, r3]
-        sol = self._solver.solve(rhs)
+        r23 = np.concatenate([r2, r3])
+        du, dw = self._regularised(r1, r23)
         for _ in range(self.refinement):
-            du, dy, dz = sol[:n], sol[n : n + mE], sol[n + mE :]
-            applied = np.r_[
-                du + self.REt @ dy + self.Gt @ dz, self.RE @ du, self.G @ du - self.D * dz
-            ]
-            sol = sol + self._solver.solve(rhs - applied)
-        return sol[:n], sol[n : n + mE], sol[n + mE :]
+            c, cw = self._regularised(
+                r1 - (du + self.Bt @ dw), r23 - (self.B @ du - self._lower * dw)
+            )
+            du, dw = du + c, dw + cw
+        return du, dw[: self.mE], dw[self.mE :]
 
 
 def _residuals(p, u, v, lam, eq, ineq, target):
