@@ -18,10 +18,12 @@ Methods (all on the same instances, in one run):
   clarabel    generic interior-point QP (reference.qp_solve), n <= --max-baseline
   highs-lp    verdict LP (reference.lp_verdict), n <= --max-baseline
   l-bfgs-b    SciPy L-BFGS-B on E(u) from u = 0 with the exact gradient, verdict
-              "E > 1e-10 E_aff"; its wrong verdicts are counted against the LP
+              "E > 1e-10 E_aff"; its wrong verdicts are counted against the LP;
+              n <= --lbfgs-max (default: --max-baseline)
   refactor    one numeric sparse Cholesky (CHOLMOD) of R^T R + mu I over the non-empty sites
 
 Run: python benchmarks/bench_solver.py [--sizes 16 32 64 128] [--max-baseline 64] [--lp-max 64]
+[--lbfgs-max N]
 """
 
 from __future__ import annotations
@@ -118,7 +120,15 @@ def main():
         help="largest n at which the HiGHS verdict LP runs (the reference of the 'wrong' "
         "columns; it has no time limit and can take tens of minutes at a threshold)",
     )
+    ap.add_argument(
+        "--lbfgs-max",
+        type=int,
+        default=None,
+        help="largest n at which L-BFGS-B runs (default: --max-baseline; it takes minutes per "
+        "instance at n = 128)",
+    )
     args = ap.parse_args()
+    lbfgs_max = args.max_baseline if args.lbfgs_max is None else args.lbfgs_max
     warnings.simplefilter("ignore", UndecidedWarning)
     rows, agree_rows = [], []
     for n in args.sizes:
@@ -168,7 +178,10 @@ def main():
                 with_lp = n <= args.lp_max
                 if with_lp:
                     wrong["ours"] = int(np.sum((ours != lp) & decided & known))
-                for name, fn in (("clarabel", lambda i: qp_solve(i).rigid), ("l-bfgs-b", lbfgs)):
+                baselines = [("clarabel", lambda i: qp_solve(i).rigid)]
+                if n <= lbfgs_max:
+                    baselines.append(("l-bfgs-b", lbfgs))
+                for name, fn in baselines:
                     got = []
                     for _, inst in cases:
                         res, t = timed(fn, inst)
