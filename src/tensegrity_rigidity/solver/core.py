@@ -222,7 +222,8 @@ class SolveResult:
     iterations : int
         Newton iterations.
     factorizations : int
-        Numeric factorisations of the Newton (or interior-point) matrix.
+        Numeric factorisations of the solver's ``2N x 2N`` matrix: the verdict's, the
+        relaxation's and the minimum-norm projection's.
     method : str
         The stage whose certificate decided ("newton", "ipm", ...), or "undecided".
     min_norm_ok : bool
