@@ -385,11 +385,10 @@ class _ReducedKKT:
         # both constraint blocks stacked, so that each product is one sparse product
         self.B = sp.vstack([self.RE, self.G], format="csr")
         self.Bt = self.B.T.tocsr()
-        self.n, self.mE, self.mI = R.shape[1], E.size, In.size
+        self.mE = E.size
         self.d, self.refinement = d, refinement
-        self.D = np.ones(self.mI)
-        self._lower = np.zeros(self.mE + self.mI)  # the lower diagonal blocks: 0 and -D
-        self._inverse = np.full(self.mE + self.mI, 1.0 / d)  # 1 / (regularised blocks)
+        self._lower = np.zeros(E.size + In.size)  # the lower diagonal blocks: 0 and -D
+        self._inverse = np.full(E.size + In.size, 1.0 / d)  # 1 / (regularised blocks)
         self._factor: PatternFactor | None = None
         self._weights = np.zeros(p.sites.size)
         self._weights[E] = 1.0
@@ -397,7 +396,6 @@ class _ReducedKKT:
     def factor(self, D: np.ndarray) -> None:
         """Factorise with the third block's diagonal ``D``; raises ArithmeticError when the
         reduced matrix is numerically singular."""
-        self.D = D
         self._lower[self.mE :] = D
         self._inverse[self.mE :] = 1.0 / (D + self.d)
         self._weights[self.In] = self.d * self._inverse[self.mE :]
