@@ -69,7 +69,10 @@ FORMAT = 2
 #: minimum-norm projection's interior point solves its steps through a reduced system
 #: (``displacements._ReducedKKT``): its displacements change in their last digits, and a
 #: projection near a sample's own threshold can be certified where it was not (or the reverse).
-ROWS_REVISION = {"grid": 5, "threshold": 2}
+#: 6 (grid) -- rigid samples' projection is first tried by a primal-dual active set
+#: (``displacements.active_set``) instead of an augmented Lagrangian: their displacements change
+#: in their last digits.
+ROWS_REVISION = {"grid": 6, "threshold": 2}
 
 
 def rows_revision(spec: Spec) -> int:

@@ -29,21 +29,19 @@ minimum-norm displacements are large (near a sample's own threshold, ``|u|`` rea
 of ``U*`` up to its tolerance) and keeps the iterate with the smallest KKT residual; the
 multipliers start on the scale of ``|u|``.
 
-Where the tensions are not zero (a rigid verdict) the projection is first tried by an augmented
-Lagrangian (:func:`augmented_lagrangian`) whose inner problems are solved by semismooth Newton
-steps on the solver's own ``2N x 2N`` pattern, ``R^T W R + I / rho`` with ``W`` the indicator of
-the equalities and of the violated or held inequalities (one sparse Cholesky factorisation per
-step, as in each interior-point step, but with one solve against about eight). There
-the equalities fix most of ``u`` and few inequalities are held; measured on the phase-diagram
-instances of ``benchmarks/bench_solver.py`` (scratch, n = 64) it certifies all nine rigid ones
-in 4 to 10 steps, 27 to 108 ms against 175 to 300 ms for the interior point, while on floppy
-instances (``t* = 0``: every one-sided element an inequality, many of them held) it certified
-2 of 9 within 15 steps and near the transition none, so floppy verdicts go straight to the
-interior point, and a rigid one goes there when the augmented Lagrangian is not certified
-within its budget (:func:`project`). Started from the origin instead, it certifies 5 of the
-9 floppy ones in 5 to 14 steps (18 to 62 ms against about 100 ms), but the 4 others and the 9
-near the transition then pay for their 12 steps before the interior point: 8.52 s in all
-against 8.51 s with floppy verdicts sent straight to the interior point (scratch, same day).
+Where the tensions are not zero (a rigid verdict) the projection is first tried by a primal-dual
+active set (:func:`active_set`): each iteration solves the projection onto the equalities and
+the held inequalities as one equality-constrained system, with the same ``2N x 2N`` reduction
+(one factorisation and four solves, half an interior-point step), and a rigid sample's
+equalities (rods and stressed one-sided elements outnumber the ``2N`` displacements) leave
+few inequalities to guess. On the phase-diagram instances of ``benchmarks/bench_solver.py``
+it certifies every rigid projection at n = 64 and 128 in 1 to 4 iterations (scratch,
+2026-11-27): with the interior point as fallback the rigid projections took 164 ms against
+384 ms at n = 64 and 1.6 s against 7.8 s at n = 128 for the augmented Lagrangian with
+semismooth Newton steps it replaced (which certified 4 of the 9 at n = 128 within its 12
+steps; the same at n = 16 and 32 within the noise). Floppy verdicts go straight to the
+interior point: there every one-sided element is an inequality, many are held, and the
+active set's stationarity stalls at ``1e-7`` (none of 9 certified at n = 64).
 
 Certificate (KKT of the projection): primal feasibility (largest violation of ``U*``, units of
 ``max |e0|``), stationarity ``|u + R^T lam| / |u|`` and complementarity as the relative
@@ -117,37 +115,51 @@ def project(p: Problem, t: np.ndarray, u_start: np.ndarray | None = None) -> Min
     MinNormResult
         The first certified result, else the interior point's.
     """
-    if np.any(t):
-        first = augmented_lagrangian(p, t, u_start)
+    if np.any(t) and u_start is not None:
+        first = active_set(p, t, u_start)
         if first.ok:
             return first
     return min_norm_minimizer(p, t, u_start)
 
 
-def augmented_lagrangian(
+def active_set(
     p: Problem,
     t: np.ndarray,
-    u_start: np.ndarray | None = None,
+    u_start: np.ndarray,
     tol: float = 1e-8,
-    rho: float = 1e6,
-    max_newton: int = 12,
+    max_iterations: int = 5,
+    regularization: float = 1e-14,
+    refinement: int = 3,
+    corrections: int = 4,
 ) -> MinNormResult:
-    """Projection of the origin onto ``U*`` by the method of multipliers, its inner problems by
-    semismooth Newton on the problem's sparse Cholesky pattern.
+    """Projection of the origin onto ``U*`` by a primal-dual active set: each iteration solves
+    the projection onto the equalities and the held inequalities, all as equalities.
 
-    With ``v = e0 + R u``, multipliers ``lam`` (free on the equalities ``v_b = c_b``,
-    ``sigma_b lam_b >= 0`` on the inequalities ``sigma_b v_b <= 0``), each inner problem
-    minimises the augmented Lagrangian
+    The held set starts as the inequalities the start touches (``sigma_b v_b >= -1e-9
+    max(1, |u_start|_inf)``). Each iteration solves
 
-        L(u) = |u|^2 / 2 + sum_E [lam_b g_b + rho g_b^2 / 2]
-               + sum_I [max(sigma_b lam_b + rho sigma_b v_b, 0)^2 - lam_b^2] / (2 rho),
+        [ I    B_H^T ] [u + du]   [0  ]
+        [ B_H  0     ] [lam_H ] = [b_H],   B_H = [R_E; G_H],
 
-    ``g = v - c``, a convex piecewise quadratic: a Newton step solves
-    ``(R^T W R + I / rho) d = -grad L / rho`` with ``W`` the indicator of the equalities and of
-    the inequalities with ``sigma lam + rho sigma v > 0``, followed by a backtracking line
-    search; the inner problem is solved once a full step leaves that set unchanged. The
-    multipliers are then updated (``lam_E += rho g_E``, ``sigma lam_I = max(sigma lam_I + rho
-    sigma v_I, 0)``) and the KKT residuals of :func:`min_norm_minimizer` checked.
+    from ``u_start`` by one step of :class:`_ReducedKKT` (its third block's diagonal zero: a
+    ``2N x 2N`` sparse Cholesky factorisation in the verdict's pattern and four solves), and
+    checks the KKT residuals of :func:`min_norm_minimizer` with the multipliers ``lam_H``.
+    Where they are not certified, the next held set is the held inequalities whose multiplier
+    has the right sign and the others that the new point violates (``sigma_b v_b > 1e-12
+    max(1, |u|_inf)``); an unchanged held set, a singular system or ``max_iterations`` end it.
+
+    Rigid verdicts are where it applies (:func:`project`): the equalities (rods and stressed
+    one-sided elements) outnumber the ``2N`` displacements and fix all but a few mechanisms,
+    and few inequalities are held. On the phase-diagram instances of
+    ``benchmarks/bench_solver.py`` it certifies every rigid projection the augmented
+    Lagrangian it replaced did (n = 16, 32: 9 of 13 each; n = 64: 9 of 9) and all 9 at
+    n = 128 (that one 4), in 1 to 4 iterations; projections with the interior point as
+    fallback took 164 ms against 384 ms at n = 64 and 1.6 s against 7.8 s at n = 128
+    (scratch, 2026-11-27, BENCHMARKS.md). Near a sample's own threshold it rarely certifies
+    (4 of 12 rigid projections at n = 16, none at n = 32 and 64) and the interior point does
+    the work. On floppy verdicts (every one-sided element an inequality, many held, the
+    equalities short of ``2N``) three refinement steps leave stationarity at ``1e-7`` to
+    ``1e-6`` and it certifies none of them at n = 64, so those go to the interior point.
 
     Parameters
     ----------
@@ -155,76 +167,75 @@ def augmented_lagrangian(
         The problem (its stiffnesses define ``t* / k``).
     t : (m,) float
         The unique tensions ``t*`` on the non-empty sites.
-    u_start : (2N,) float, optional
-        A minimiser to start from (else ``u = 0``).
+    u_start : (2N,) float
+        A minimiser (the verdict's): each iteration's step starts there.
     tol : float
         Tolerance of the feasibility and stationarity residuals (units of ``max |e0|``).
-    rho : float
-        Penalty. Larger ones meet the constraints in fewer updates but compute the
-        multipliers ``rho g`` from round-off: at ``1e8`` and ``1e10`` the stationarity residual
-        no longer reached ``tol`` on the n = 32 phase-diagram instances (scratch).
-    max_newton : int
-        Most Newton steps (each one numeric factorisation) over all the updates.
+    max_iterations : int
+        Most iterations (each one numeric factorisation).
+    regularization : float
+        ``d`` of :class:`_ReducedKKT`.
+    refinement : int
+        Steps of iterative refinement per solve, against the unregularised system.
+    corrections : int
+        Most further solves with the same factorisation, from the point reached, where the
+        held set did not change but the residuals are not certified (they stop once they no
+        longer halve the residuals). On the rigid verdicts of 150 random small instances (the
+        test's), one solve left stationarity at ``1e-8`` to ``1e-2`` on 17 of 84, where the
+        start lay far from ``U*``'s lowest point along the held rows' mechanisms (``|u|`` up to
+        1000 times the minimum); with the corrections all 84 are certified.
 
     Returns
     -------
     MinNormResult
-        The iterate with the smallest KKT residual met (``rounds``: the Newton steps).
+        The last iterate (``rounds``: the iterations, each one factorisation).
     """
     eq, ineq, c, E, In = _polyhedron(p, t)
+    u0 = np.asarray(u_start, dtype=float)
     sig = p.sigma[In]
-    u = np.zeros(p.n2) if u_start is None else np.array(u_start, float)
-    lam = np.zeros(p.sites.size)
-
-    def forces(v):
-        """``q`` with ``grad L = u + R^T q``, the held set, and ``L - |u|^2 / 2``."""
-        q = np.zeros_like(v)
-        g = v[E] - c[E]
-        q[E] = lam[E] + rho * g
-        z = np.maximum(sig * lam[In] + rho * sig * v[In], 0.0)
-        q[In] = sig * z
-        held = eq.copy()
-        held[In] = z > 0
-        value = lam[E] @ g + 0.5 * rho * g @ g + (z @ z - lam[In] @ lam[In]) / (2 * rho)
-        return q, held, value
-
-    best: tuple | None = None
-    newton = 0
-    while newton < max_newton:
-        v = p.e0 + p.R @ u
-        q, held, value = forces(v)
-        while newton < max_newton:
-            grad = u + p.RT @ q
-            solver = p.factor_shifted(held.astype(float), [1.0 / rho])
-            newton += 1
-            if solver is None:
-                newton = max_newton
-                break
-            d = -solver.solve(grad / rho)
-            Rd = p.R @ d
-            L0, slope, a = 0.5 * u @ u + value, float(grad @ d), 1.0
-            while True:
-                q_a, held_a, value_a = forces(v + a * Rd)
-                u_a = u + a * d
-                if 0.5 * u_a @ u_a + value_a <= L0 + 1e-4 * a * slope or a < 1e-8:
-                    break
-                a *= 0.5
-            u, v, q, value = u_a, v + a * Rd, q_a, value_a
-            unchanged = bool(np.array_equal(held, held_a))
-            held = held_a
-            if a == 1.0 and unchanged:
-                break  # a full step on an unchanged held set: the inner problem's minimiser
-        lam = q  # the multiplier update
-        feas, stat, dual = _certificate(p, u, lam[E], sig * lam[In], E, In, eq, ineq, c)
-        if best is None or max(feas, stat) < best[0]:
-            best = (max(feas, stat), u.copy(), feas, stat, dual)
-        if feas <= tol and stat <= tol and dual <= 1e-9:
-            return MinNormResult(u, feas, stat, dual, newton, True)
-    if best is None:
-        feas, stat, dual = _certificate(p, u, lam[E], sig * lam[In], E, In, eq, ineq, c)
-        return MinNormResult(u, feas, stat, dual, newton, False)
-    _, u, feas, stat, dual = best
-    return MinNormResult(u, feas, stat, dual, newton, False)
+    v = p.e0 + p.R @ u0
+    held = sig * v[In] >= -1e-9 * max(1.0, float(np.abs(u0).max(initial=0.0)))
+    bE = (c - p.e0)[E]
+    u, residuals = u0, (np.inf, np.inf, np.inf)
+    it = 0
+    for it in range(1, max_iterations + 1):
+        H = In[held]
+        kkt_system = _ReducedKKT(p, E, H, sig[held], regularization, refinement)
+        try:
+            kkt_system.factor(np.zeros(H.size))
+        except ArithmeticError:
+            break
+        h = -(p.sigma * p.e0)[H]
+        u, y, z = u0.copy(), np.zeros(E.size), np.zeros(H.size)
+        previous = np.inf
+        for correction in range(1 + corrections):
+            # the step from (u0, 0, 0), then corrections from the point it reached (the same
+            # linear system, so the same factorisation: more refinement, where the start was
+            # far from U*'s lowest point along the mechanisms of the held rows)
+            du, dy, dz = kkt_system.solve(
+                -(u + kkt_system.REt @ y + kkt_system.Gt @ z),
+                bE - kkt_system.RE @ u,
+                h - kkt_system.G @ u,
+            )
+            u, y, z = u + du, y + dy, z + dz
+            residuals = _certificate(p, u, y, z, E, H, eq, ineq, c)
+            if _certified(*residuals, tol):
+                return MinNormResult(u, *residuals, it, True)
+            if correction == 0:
+                v = p.e0 + p.R @ u
+                z_all = np.zeros(In.size)
+                z_all[held] = z
+                violated = sig * v[In] > 1e-12 * max(1.0, float(np.abs(u).max(initial=0.0)))
+                new = violated | (held & (z_all >= 0))
+                if not np.array_equal(new, held):
+                    break  # a new held set: no corrections on this one
+            elif max(residuals[:2]) >= 0.5 * previous:
+                return MinNormResult(u, *residuals, it, False)  # they no longer help
+            previous = max(residuals[:2])
+        else:
+            return MinNormResult(u, *residuals, it, False)
+        held = new
+    return MinNormResult(u, *residuals, it, False)
 
 
 def min_norm_minimizer(
@@ -322,8 +333,7 @@ def min_norm_minimizer(
     assert best is not None
     _, u, y, z, _ = best
     feas, stat, dual = _certificate(p, u, y, z, E, In, eq, ineq, c)
-    ok = feas <= tol and stat <= tol and dual <= 1e-9
-    return MinNormResult(u, feas, stat, dual, it, ok)
+    return MinNormResult(u, feas, stat, dual, it, _certified(feas, stat, dual, tol))
 
 
 def _polyhedron(p: Problem, t: np.ndarray):
@@ -336,6 +346,11 @@ def _polyhedron(p: Problem, t: np.ndarray):
     ineq = p.one_sided & ~stressed
     c = np.where(eq, t / p.k, 0.0)
     return eq, ineq, c, np.flatnonzero(eq), np.flatnonzero(ineq)
+
+
+def _certified(feasibility: float, stationarity: float, dual: float, tol: float) -> bool:
+    """The KKT residuals within their tolerances (``dual``: ``1e-9``)."""
+    return feasibility <= tol and stationarity <= tol and dual <= 1e-9
 
 
 def _certificate(p, u, y, z, E, In, eq, ineq, c) -> tuple[float, float, float]:
