@@ -36,12 +36,12 @@ the held inequalities as one equality-constrained system, with the same ``2N x 2
 equalities (rods and stressed one-sided elements outnumber the ``2N`` displacements) leave
 few inequalities to guess. On the phase-diagram instances of ``benchmarks/bench_solver.py``
 it certifies every rigid projection at n = 64 and 128 in 1 to 4 iterations (scratch,
-2026-11-27): with the interior point as fallback the rigid projections took 164 ms against
-384 ms at n = 64 and 1.6 s against 7.8 s at n = 128 for the augmented Lagrangian with
+2026-11-27): with the interior point as fallback the rigid projections took 163 ms against
+391 ms at n = 64 and 1.75 s against 8.38 s at n = 128 for the augmented Lagrangian with
 semismooth Newton steps it replaced (which certified 4 of the 9 at n = 128 within its 12
 steps; the same at n = 16 and 32 within the noise). Floppy verdicts go straight to the
 interior point: there every one-sided element is an inequality, many are held, and the
-active set's stationarity stalls at ``1e-7`` (none of 9 certified at n = 64).
+active set's stationarity stalls at ``4e-8`` to ``9e-7`` (none of 9 certified at n = 64).
 
 Certificate (KKT of the projection): primal feasibility (largest violation of ``U*``, units of
 ``max |e0|``), stationarity ``|u + R^T lam| / |u|`` and complementarity as the relative
@@ -84,7 +84,7 @@ class MinNormResult:
     dual : float
         Largest wrong-signed multiplier of an inequality, relative to ``max |lam|``.
     rounds : int
-        Interior-point iterations.
+        Iterations (each one numeric factorisation).
     ok : bool
         All three residuals below their tolerances.
     """
@@ -98,8 +98,9 @@ class MinNormResult:
 
 
 def project(p: Problem, t: np.ndarray, u_start: np.ndarray | None = None) -> MinNormResult:
-    """The minimum-norm minimiser: :func:`augmented_lagrangian` where ``t`` is not zero, then,
-    unless that is certified, :func:`min_norm_minimizer` (see the module docstring).
+    """The minimum-norm minimiser: :func:`active_set` where ``t`` is not zero and a start is
+    given, then, unless that is certified, :func:`min_norm_minimizer` (see the module
+    docstring).
 
     Parameters
     ----------
@@ -146,20 +147,24 @@ def active_set(
     checks the KKT residuals of :func:`min_norm_minimizer` with the multipliers ``lam_H``.
     Where they are not certified, the next held set is the held inequalities whose multiplier
     has the right sign and the others that the new point violates (``sigma_b v_b > 1e-12
-    max(1, |u|_inf)``); an unchanged held set, a singular system or ``max_iterations`` end it.
+    max(1, |u|_inf)``). Where that leaves the held set as it was, up to ``corrections``
+    further steps from the point reached (the same system, so the same factorisation) run
+    while each halves the feasibility and stationarity residuals; then it stops, as on a
+    singular system or after ``max_iterations``.
 
     Rigid verdicts are where it applies (:func:`project`): the equalities (rods and stressed
     one-sided elements) outnumber the ``2N`` displacements and fix all but a few mechanisms,
-    and few inequalities are held. On the phase-diagram instances of
-    ``benchmarks/bench_solver.py`` it certifies every rigid projection the augmented
-    Lagrangian it replaced did (n = 16, 32: 9 of 13 each; n = 64: 9 of 9) and all 9 at
-    n = 128 (that one 4), in 1 to 4 iterations; projections with the interior point as
-    fallback took 164 ms against 384 ms at n = 64 and 1.6 s against 7.8 s at n = 128
-    (scratch, 2026-11-27, BENCHMARKS.md). Near a sample's own threshold it rarely certifies
-    (4 of 12 rigid projections at n = 16, none at n = 32 and 64) and the interior point does
-    the work. On floppy verdicts (every one-sided element an inequality, many held, the
-    equalities short of ``2N``) three refinement steps leave stationarity at ``1e-7`` to
-    ``1e-6`` and it certifies none of them at n = 64, so those go to the interior point.
+    and few inequalities are held. On the rigid projections of ``benchmarks/bench_solver.py``'s
+    phase-diagram instances it certifies every one the augmented Lagrangian it replaced did
+    (n = 16 and 32: 9 of 13 each; n = 64: 9 of 9) and all 9 at n = 128 (the augmented
+    Lagrangian 4), in 1 to 4 iterations; with the interior point as fallback these
+    projections took 163 ms against 391 ms at n = 64 and 1.75 s against 8.38 s at n = 128,
+    the same within the noise at n = 16 and 32 (scratch, 2026-11-27; BENCHMARKS.md). Near a
+    sample's own threshold it rarely certifies (3 of 12 rigid projections at n = 16, none of
+    11 at n = 32 and of 2 at n = 64) and the interior point does the work. On floppy verdicts
+    (every one-sided element an inequality, many held, the equalities short of ``2N``) three
+    refinement steps leave stationarity at ``4e-8`` to ``9e-7`` and it certifies none of the 9
+    easy floppy ones at n = 64, so those go to the interior point.
 
     Parameters
     ----------
@@ -193,49 +198,62 @@ def active_set(
     eq, ineq, c, E, In = _polyhedron(p, t)
     u0 = np.asarray(u_start, dtype=float)
     sig = p.sigma[In]
+
+    def scale(u):
+        return max(1.0, float(np.abs(u).max(initial=0.0)))
+
     v = p.e0 + p.R @ u0
-    held = sig * v[In] >= -1e-9 * max(1.0, float(np.abs(u0).max(initial=0.0)))
+    held = sig * v[In] >= -1e-9 * scale(u0)  # touched by the start
     bE = (c - p.e0)[E]
-    u, residuals = u0, (np.inf, np.inf, np.inf)
+    u = u0
+    residuals: tuple[float, float, float] = (np.inf, np.inf, np.inf)
     it = 0
     for it in range(1, max_iterations + 1):
         H = In[held]
         kkt_system = _ReducedKKT(p, E, H, sig[held], regularization, refinement)
         try:
-            kkt_system.factor(np.zeros(H.size))
+            kkt_system.factor(np.zeros(H.size))  # the held rows as equalities
         except ArithmeticError:
             break
         h = -(p.sigma * p.e0)[H]
-        u, y, z = u0.copy(), np.zeros(E.size), np.zeros(H.size)
-        previous = np.inf
-        for correction in range(1 + corrections):
-            # the step from (u0, 0, 0), then corrections from the point it reached (the same
-            # linear system, so the same factorisation: more refinement, where the start was
-            # far from U*'s lowest point along the mechanisms of the held rows)
-            du, dy, dz = kkt_system.solve(
-                -(u + kkt_system.REt @ y + kkt_system.Gt @ z),
-                bE - kkt_system.RE @ u,
-                h - kkt_system.G @ u,
-            )
-            u, y, z = u + du, y + dy, z + dz
-            residuals = _certificate(p, u, y, z, E, H, eq, ineq, c)
+        polyhedron = (E, H, eq, ineq, c)
+        start = (u0, np.zeros(E.size), np.zeros(H.size))
+        u, y, z, residuals = _equality_step(p, kkt_system, bE, h, start, polyhedron)
+        if _certified(*residuals, tol):
+            return MinNormResult(u, *residuals, it, True)
+        v = p.e0 + p.R @ u
+        z_all = np.zeros(In.size)
+        z_all[held] = z
+        new = (sig * v[In] > 1e-12 * scale(u)) | (held & (z_all >= 0))  # violated, or right sign
+        if not np.array_equal(new, held):
+            held = new
+            continue
+        # the held set stands, the residuals do not: correct on the same factorisation while
+        # that halves the feasibility and stationarity residuals
+        for _ in range(corrections):
+            previous = max(residuals[:2])
+            u, y, z, residuals = _equality_step(p, kkt_system, bE, h, (u, y, z), polyhedron)
             if _certified(*residuals, tol):
                 return MinNormResult(u, *residuals, it, True)
-            if correction == 0:
-                v = p.e0 + p.R @ u
-                z_all = np.zeros(In.size)
-                z_all[held] = z
-                violated = sig * v[In] > 1e-12 * max(1.0, float(np.abs(u).max(initial=0.0)))
-                new = violated | (held & (z_all >= 0))
-                if not np.array_equal(new, held):
-                    break  # a new held set: no corrections on this one
-            elif max(residuals[:2]) >= 0.5 * previous:
-                return MinNormResult(u, *residuals, it, False)  # they no longer help
-            previous = max(residuals[:2])
-        else:
-            return MinNormResult(u, *residuals, it, False)
-        held = new
+            if max(residuals[:2]) >= 0.5 * previous:
+                break
+        break
     return MinNormResult(u, *residuals, it, False)
+
+
+def _equality_step(
+    p: Problem, kkt_system: _ReducedKKT, bE, h, point, polyhedron
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[float, float, float]]:
+    """The Newton step of :func:`active_set`'s equality-constrained projection from ``point =
+    (u, y, z)`` (a step from a point it reached is a correction: the same linear system), and
+    the KKT residuals where it ends; ``polyhedron`` is ``(E, H, eq, ineq, c)``."""
+    u, y, z = point
+    du, dy, dz = kkt_system.solve(
+        -(u + kkt_system.REt @ y + kkt_system.Gt @ z), bE - kkt_system.RE @ u, h - kkt_system.G @ u
+    )
+    u, y, z = u + du, y + dy, z + dz
+    E, H, eq, ineq, c = polyhedron
+    return u, y, z, _certificate(p, u, y, z, E, H, eq, ineq, c)
 
 
 def min_norm_minimizer(
@@ -365,7 +383,7 @@ class _ReducedKKT:
     """The interior-point system of the projection, reduced to ``2N x 2N`` on the problem's
     own factorisation pattern.
 
-    The step of :func:`min_norm_minimizer` solves
+    The step of :func:`min_norm_minimizer` (and, with ``D = 0``, of :func:`active_set`) solves
 
         [ I    R_E^T   G^T        ] [du]   [r1]
         [ R_E  0       0          ] [dy] = [r2]
