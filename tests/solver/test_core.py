@@ -564,3 +564,53 @@ def test_the_lp_stage_offers_the_interior_point_when_the_crossover_clean_up_runs
     LinearProgram(simplex_iterations_per_site=0).run(s)
     assert s.decided and s.rigid_verdict and s.stage == "lp"
     assert s.rigid is not None and s.rigid.work > 1e3 * Resolution().violation
+
+
+def test_a_support_tolerance_that_drops_nothing_new_is_not_purified_again():
+    """Offering tensions as a rigid candidate purifies them at each of ``SUPPORT_TOLS``, except
+    where a tolerance keeps the same entries as the one before: purification would see the
+    same input. On the affine tensions of random small instances the search spends one
+    purification's factorisations where the two tolerances keep the same entries (all of
+    them here) and both purifications' where they do not (the same tensions with one entry
+    moved between the tolerances), and decides as the purifications' certificates say."""
+    rng = np.random.default_rng(5)
+    same = different = 0
+    for _ in range(60):
+        p = Problem(random_instance(rng, "lattice"), unit_stiffness=True)
+        _, _, t_affine = p.state(np.zeros(p.n2))
+        if not np.any(t_affine):
+            continue
+        t_moved = t_affine.copy()
+        b = int(np.flatnonzero(t_affine)[0])
+        t_moved[b] = 1e-7 * np.abs(t_affine).max() * np.sign(t_affine[b])
+        for t in (t_affine, t_moved):
+            outcome = _purifications_of_an_offer(p, t)
+            same += outcome == "same"
+            different += outcome == "different"
+    assert same >= 10 and different >= 10, (same, different)
+
+
+def _purifications_of_an_offer(p, t):
+    """Check what ``Search.offer_t(t)`` spends against ``purify`` at each support tolerance;
+    "decided" (at the first tolerance), "same" or "different" (the tolerances' kept entries)."""
+    from tensegrity_rigidity.solver.selfstress import kept, purify
+    from tensegrity_rigidity.solver.stages import SUPPORT_TOLS
+
+    s = Search(p, Resolution())
+    before = p.factorizations
+    s.offer_t(t, "test")
+    spent = p.factorizations - before
+    costs, certificates = [], []
+    for tol in SUPPORT_TOLS:
+        before = p.factorizations
+        certificates.append(p.exact.rigid(purify(p, t, support_tol=tol), Resolution()))
+        costs.append(p.factorizations - before)
+    if certificates[0].accepted:
+        assert s.decided and spent == costs[0]
+        return "decided"
+    assert s.decided == certificates[1].accepted
+    if np.array_equal(kept(t, SUPPORT_TOLS[0]), kept(t, SUPPORT_TOLS[1])):
+        assert spent == costs[0]
+        return "same"
+    assert spent == sum(costs)
+    return "different"

@@ -70,7 +70,7 @@ def purify(
     t_max = float(np.abs(t).max(initial=0.0))
     if t_max == 0.0 or not np.isfinite(t_max):
         return np.zeros_like(t)
-    t[np.abs(t) < support_tol * t_max] = 0.0
+    t[~kept(t, support_tol)] = 0.0
     t[p.sigma * t < 0] = 0.0
     w = t * t
     w[p.rod] += rod_weight * t_max**2
@@ -94,6 +94,14 @@ def purify(
     if extended and not np.any(p.sigma * t < 0):
         t = _refine_extended(p, t, w, solver, extended)
     return t
+
+
+def kept(t: np.ndarray, support_tol: float) -> np.ndarray:
+    """The entries of ``t`` ((m,) float) that :func:`purify` keeps at ``support_tol`` (before it
+    drops wrong signs, which does not depend on the tolerance): ``|t_b| >= support_tol max |t|``.
+    Two tolerances with the same mask give :func:`purify` the same input, hence the same
+    result."""
+    return ~(np.abs(t) < support_tol * float(np.abs(t).max(initial=0.0)))
 
 
 def _refine_extended(p: Problem, t: np.ndarray, w: np.ndarray, solver, steps: int):
