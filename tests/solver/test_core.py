@@ -614,3 +614,44 @@ def _purifications_of_an_offer(p, t):
         return "same"
     assert spent == sum(costs)
     return "different"
+
+
+def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
+    """``_balanced_tensions`` purifies the minimiser's tensions once and returns both the
+    balanced tensions and the weak-duality bound they give, which is the bound of the same
+    purification checked on its own (exact force residual); where it is not 0 (on rigid
+    samples away from their threshold) it is the relaxed energy to 1e-9; and it costs the
+    factorisations of one purification, the energy's lower bound included."""
+    from tensegrity_rigidity.solver.core import (
+        _balanced_tensions,
+        _energy_lower,
+        _relax,
+        _self_stress_bound,
+    )
+    from tensegrity_rigidity.solver.selfstress import purify
+
+    rng = np.random.default_rng(11)
+    opts = SolverOptions()
+    checked = 0
+    for _ in range(60):
+        inst = random_instance(rng, "lattice")
+        p = Problem(inst, unit_stiffness=True)
+        if not decide(inst).rigid:
+            continue
+        u, E, _ = _relax(p, np.zeros(p.n2), opts)
+        _, _, t = p.state(u)
+        if not np.any(t):
+            continue
+        before = p.factorizations
+        t_n, bound = _balanced_tensions(p, t)
+        lower = _energy_lower(p, bound)
+        spent = p.factorizations - before
+        before = p.factorizations
+        tp = purify(p, t)
+        assert spent == p.factorizations - before
+        residual = float(np.abs(p.exact.forces(tp)).sum()) / float(np.abs(tp).sum())
+        assert lower == bound == _self_stress_bound(p, tp, residual)
+        if bound > 0:  # not near the threshold, where the tensions cancel to round-off
+            assert abs(bound - E) <= 1e-9 * E, (bound, E)
+            checked += 1
+    assert checked >= 10, checked

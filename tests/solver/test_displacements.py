@@ -280,7 +280,7 @@ def test_the_active_set_projects_rigid_samples_like_the_interior_point():
             continue
         u, _, _ = _relax(p, s.u, opts)
         _, _, t_relaxed = p.state(u)
-        t_n = _balanced_tensions(p, t_relaxed)
+        t_n, _ = _balanced_tensions(p, t_relaxed)
         targets = np.where(p.rod | (t_n != 0), t_relaxed, 0.0)
         ipm = interior_point(p, targets, u)
         if not ipm.ok or not np.any(targets):

@@ -532,8 +532,8 @@ def _relaxed(
     """
     u, E, more = _relax(p, u, opts, ipm)
     _, _, t_relaxed = p.state(u)
-    t_n = _balanced_tensions(p, t_relaxed)
-    return u, E, more, t_relaxed, t_n, min(_energy_lower(p, t_n, certificate), E)
+    t_n, tensions_bound = _balanced_tensions(p, t_relaxed)
+    return u, E, more, t_relaxed, t_n, min(_energy_lower(p, tensions_bound, certificate), E)
 
 
 def _long_relaxation(
@@ -561,24 +561,38 @@ def _long_relaxation(
         return None, pl.factorizations
 
 
-def _balanced_tensions(p: Problem, t: np.ndarray) -> np.ndarray:
-    """The minimiser's tensions, moved onto an exact self-stress when they are close to one.
+def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
+    """The minimiser's tensions, moved onto an exact self-stress when they are close to one,
+    and the lower bound on E* that self-stress gives.
 
     Tensions read off displacements as ``k (e0 + R u)`` lose digits to cancellation when they
     are small; purification (:func:`~.selfstress.purify`) balances them to round-off with a
     relative change of the order of their force residual. Kept only if it balances them
     better than 1e-13 relative, else the tensions are returned as they were.
+
+    Returns
+    -------
+    t_n : (m,) float or longdouble
+        The purified tensions where kept, else ``t``.
+    bound : float
+        :func:`_self_stress_bound` of the purified tensions with their exact force residual
+        (0 where purification fails). One purification serves both: the bound used to come
+        from purifying ``t_n`` again, about 9 ms of a rigid sample's 127 ms ``solve()`` at
+        n = 64 (median of the 9 rigid phase-diagram instances of ``bench_solver.py``,
+        scratch, 2026-11-27).
     """
     if not np.any(t):
-        return t
+        return t, 0.0
     try:
         tp = purify(p, t)
     except ArithmeticError:
-        return t
-    resid = float(np.abs(p.RT @ tp).sum())
-    if resid <= 1e-13 * float(np.abs(tp).sum()):
-        return tp
-    return t
+        return t, 0.0
+    size = float(np.abs(tp).sum())
+    exact = float(np.abs(p.exact.forces(tp)).sum()) / max(size, 1e-300)
+    bound = _self_stress_bound(p, tp, exact)
+    if float(np.abs(p.RT @ tp).sum()) <= 1e-13 * size:
+        return tp, bound
+    return t, bound
 
 
 def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
@@ -595,9 +609,12 @@ def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
     return work**2 / (2.0 * float(np.dot(t, t / p.k)))
 
 
-def _energy_lower(p: Problem, t: np.ndarray, certificate: RigidCertificate | None = None) -> float:
-    """Lower bound on E*: the larger of the bounds from the minimiser's tensions ``t`` (m,)
-    purified onto a self-stress, and from the rigid certificate's self-stress.
+def _energy_lower(
+    p: Problem, tensions_bound: float, certificate: RigidCertificate | None = None
+) -> float:
+    """Lower bound on E*: the larger of ``tensions_bound`` (the bound from the minimiser's
+    tensions purified onto a self-stress, :func:`_balanced_tensions`) and the bound from the
+    rigid certificate's self-stress.
 
     Where the relaxation has converged the first equals E to round-off; where it has not
     (near a sample's own threshold) it is 0 and the certificate's bound is what is left: 0.20
@@ -609,14 +626,7 @@ def _energy_lower(p: Problem, t: np.ndarray, certificate: RigidCertificate | Non
     if certificate is not None:
         tc = np.asarray(certificate.t, dtype=float)
         bound = _self_stress_bound(p, tc, certificate.residual)
-    if not np.any(t):
-        return bound
-    try:
-        tp = purify(p, t)
-    except ArithmeticError:
-        return bound
-    resid = float(np.abs(p.exact.forces(tp)).sum()) / max(float(np.abs(tp).sum()), 1e-300)
-    return max(bound, _self_stress_bound(p, tp, resid))
+    return max(bound, tensions_bound)
 
 
 def _joined(message: str, more: str) -> str:
