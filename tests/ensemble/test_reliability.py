@@ -207,14 +207,15 @@ def test_rows_of_another_revision_are_not_resumed(tmp_path):
 
 def test_threshold_rows_keep_their_revision_when_grid_rows_change(tmp_path):
     """Threshold rows hold only verdicts, so a threshold directory written under revision 2
-    (before grid rows went to revisions 3 to 6 with the relaxation's longer interior point, its
-    smaller shift, the projection's reduced system and its active set) resumes rather than
-    being refused, while a grid directory of revision 2 is refused."""
+    (before grid rows went to revisions 3 to 7 with the relaxation's longer interior point, its
+    smaller shift, the projection's reduced system, its active set and its stop at the first
+    certified iterate) resumes rather than being refused, while a grid directory of revision
+    2 is refused."""
     import json
 
     from tensegrity_rigidity.ensemble.store import ROWS_REVISION
 
-    assert ROWS_REVISION == {"grid": 6, "threshold": 2}
+    assert ROWS_REVISION == {"grid": 7, "threshold": 2}
     threshold = SMALL.replace("p_r = [0.55, 0.7]\n", "").replace(
         "[output]", '[threshold]\npath = "p_r"\n[output]'
     )
