@@ -101,6 +101,7 @@ def kept(t: np.ndarray, support_tol: float) -> np.ndarray:
     drops wrong signs, which does not depend on the tolerance): ``|t_b| >= support_tol max |t|``.
     Two tolerances with the same mask give :func:`purify` the same input, hence the same
     result."""
+    t = np.asarray(t, dtype=float)  # as purify sees it
     return ~(np.abs(t) < support_tol * float(np.abs(t).max(initial=0.0)))
 
 
