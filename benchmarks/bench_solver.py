@@ -10,8 +10,9 @@ Instances per size:
   and the last certified floppy one below it (the two configurations a threshold search
   decides between; an interval's ends when probes in between were undecided).
 
-Methods (all on the same instances, in one run; each method's time on an instance is the
-median of three runs where one takes less than ``REPEAT_BELOW``, 1 s, else one run):
+Methods (all on the same instances, in one run; every method's time on an instance is the
+median of three runs where the first ``decide`` took less than ``REPEAT_BELOW``, 1 s, else
+one run):
 
   decide      tensegrity_rigidity.decide: the certified verdict only
   solve       solve(min_norm=False): the verdict and the relaxed state (E*, t*)
@@ -103,22 +104,22 @@ def refactor_seconds(inst):
     return time.perf_counter() - t0
 
 
-#: A method whose first run on an instance took less than this (seconds) is run twice more
-#: and timed by the median of the three (every method alike): single timings of the fast
-#: instances moved the 'u cost' column by tens of per cent between runs.
+#: Every method runs three times on an instance whose first ``decide`` took less than this
+#: (seconds), and is timed by the median of the three; once elsewhere. Single timings of the
+#: fast instances moved the 'u cost' column (solve+u minus solve, per instance) by tens of per
+#: cent between runs; one count per instance keeps that difference and the Clarabel ratio
+#: between like timings.
 REPEAT_BELOW = 1.0
 
 
-def timed(fn, *a):
-    """``fn(*a)`` and its time: one run, or the median of three where one takes less than
-    :data:`REPEAT_BELOW`. Every solver here is deterministic, so the runs return the same."""
+def timed(fn, *a, runs=1):
+    """``fn(*a)`` and the median time of ``runs`` runs (every solver here is deterministic, so
+    the runs return the same)."""
     times = []
-    for _ in range(3):
+    for _ in range(runs):
         t0 = time.perf_counter()
         out = fn(*a)
         times.append(time.perf_counter() - t0)
-        if times[0] >= REPEAT_BELOW:
-            break
     return out, float(np.median(times))
 
 
@@ -154,17 +155,21 @@ def main():
             ref = [refactor_seconds(inst) for _, inst in cases]
             verdicts, stages, facts, min_norm_ok = [], [], [], 0
             no_energy = no_projection = 0  # why the others lack minimum-norm displacements
+            runs = []  # per instance, for every method (REPEAT_BELOW)
             for key, inst in cases:
                 v, t = timed(decide, inst)
+                runs.append(3 if t < REPEAT_BELOW else 1)
+                if runs[-1] > 1:
+                    v, t = timed(decide, inst, runs=runs[-1])
                 T["decide"].append(t)
                 verdicts.append(v.status)
                 stages.append(v.stage or "undecided")
                 facts.append(v.factorizations)
                 print(n, block, key, v.status, v.stage, f"{t:.3f} s", flush=True)
-            for _, inst in cases:
-                T["solve"].append(timed(solve, inst, SolverOptions(min_norm=False))[1])
-            for _, inst in cases:
-                r, t = timed(solve, inst)
+            for (_, inst), k in zip(cases, runs, strict=True):
+                T["solve"].append(timed(solve, inst, SolverOptions(min_norm=False), runs=k)[1])
+            for (_, inst), k in zip(cases, runs, strict=True):
+                r, t = timed(solve, inst, runs=k)
                 T["solve+u"].append(t)
                 min_norm_ok += r.min_norm_ok
                 if not r.min_norm_ok:  # projection skipped (NaN residuals) or not converged
@@ -176,9 +181,9 @@ def main():
             lp_failed = 0
             if n <= args.max_baseline:
                 lp = []
-                for _, inst in cases if n <= args.lp_max else []:
+                for (_, inst), k in zip(cases, runs, strict=True) if n <= args.lp_max else []:
                     try:
-                        res, t = timed(lp_verdict, inst)
+                        res, t = timed(lp_verdict, inst, runs=k)
                     except RuntimeError:  # HiGHS failed: no reference for this sample
                         lp_failed += 1
                         lp.append(np.nan)
@@ -197,8 +202,8 @@ def main():
                     baselines.append(("l-bfgs-b", lbfgs))
                 for name, fn in baselines:
                     got = []
-                    for _, inst in cases:
-                        res, t = timed(fn, inst)
+                    for (_, inst), k in zip(cases, runs, strict=True):
+                        res, t = timed(fn, inst, runs=k)
                         T[name].append(t)
                         got.append(res)
                     if with_lp:
@@ -229,8 +234,8 @@ def main():
 
 def _write(rows, agree_rows) -> None:
     body = (
-        f"Machine: {machine()}. Times in ms, per instance the median of three runs where "
-        f"one takes less than {REPEAT_BELOW:g} s (any method), else one run; "
+        f"Machine: {machine()}. Times in ms: every method's median of three runs on an "
+        f"instance whose first verdict took less than {REPEAT_BELOW:g} s, else one run; "
         "'refactorisations' is the median time over one numeric refactorisation of the same "
         "instances' matrix.\n\n"
         + table(
