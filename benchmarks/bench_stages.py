@@ -13,6 +13,11 @@ other: must be 0), and the stages that decided the probes.
 
 Run: python benchmarks/bench_stages.py [--sizes 32 64] [--samples 12 6]
      [--designs affine,newton,crossover,ipm,lp affine,newton,crossover,ipm,project,lp ...]
+     [--configs 1 0 2]
+
+``--configs`` keeps only the samples of the given configurations (the first ``--samples`` of
+the set, cycled, filtered): at n = 128, where one threshold takes minutes to most of an hour,
+``--sizes 128 --samples 3 --configs 1`` searches configuration 1 alone.
 """
 
 from __future__ import annotations
@@ -87,6 +92,13 @@ def main() -> None:
     ap.add_argument("--samples", type=int, nargs="+", default=[12, 6])
     ap.add_argument("--designs", nargs="+", default=DEFAULT_DESIGNS)
     ap.add_argument(
+        "--configs",
+        type=int,
+        nargs="+",
+        default=None,
+        help="only the samples of these configurations (indices into the set)",
+    )
+    ap.add_argument(
         "--rods-only",
         action="store_true",
         help="the rods-only thresholds of the p_c extrapolation instead of the issue-13 set",
@@ -113,6 +125,8 @@ def run(args, designs, decided_by: Counter) -> None:
     rows, detail = [], []
     for n, count in zip(args.sizes, args.samples, strict=True):
         insts = list(samples(n, count, RODS_ONLY if args.rods_only else CONFIGS))
+        if args.configs is not None:
+            insts = [x for x in insts if x[0] in args.configs]
         first: dict[tuple[int, int], tuple[float, float]] = {}
         for stages, options in designs:
             opts = SolverOptions(min_norm=False, stages=stages, **options)
