@@ -104,6 +104,13 @@ def main() -> None:
         help="the rods-only thresholds of the p_c extrapolation instead of the issue-13 set",
     )
     args = ap.parse_args()
+    if args.configs is not None:
+        count = len(RODS_ONLY if args.rods_only else CONFIGS)
+        bad = [c for c in args.configs if not 0 <= c < count]
+        if bad:
+            ap.error(f"--configs {bad[0]}: the set has configurations 0 to {count - 1}")
+        if any(not set(args.configs) & set(range(min(k, count))) for k in args.samples):
+            ap.error("--configs selects no sample: raise --samples to reach those configurations")
     designs = [design(d) for d in args.designs]
     decided_by: Counter = Counter()
     original_decide = thresholds.decide
