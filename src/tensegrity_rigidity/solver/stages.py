@@ -685,14 +685,14 @@ class LinearProgram:
     rounds gains that factor; its tensions, with the wrong-signed ones (``~1e-15`` after one
     round) set to zero, are offered as they are, its duals as displacements.
 
-    Then, if nothing was accepted, the feasibility LP for a zero-energy displacement by the dual
-    simplex, and by the primal when the dual stops with status "Unknown"
-    (``feasibility_simplex``; each at most ``simplex_iterations_per_site`` iterations per
-    non-empty site and at most ``simplex_iterations_max``, :func:`_feasibility_lp`): a vertex
-    satisfies its rows to HiGHS's tolerance and is checked as it is; when the simplex proves
-    the LP infeasible instead, its dual ray is an admissible self-stress with positive work
-    (Farkas' lemma), purified and offered as a rigid candidate. A HiGHS failure leaves the
-    search as it was.
+    Then, if nothing was accepted and the problem has at most ``feasibility_sites_max``
+    non-empty sites, the feasibility LP for a zero-energy displacement by the dual simplex,
+    and by the primal when the dual stops with status "Unknown" (``feasibility_simplex``;
+    each at most ``simplex_iterations_per_site`` iterations per non-empty site and at most
+    ``simplex_iterations_max``, :func:`_feasibility_lp`): a vertex satisfies its rows to
+    HiGHS's tolerance and is checked as it is; when the simplex proves the LP infeasible
+    instead, its dual ray is an admissible self-stress with positive work (Farkas' lemma),
+    purified and offered as a rigid candidate. A HiGHS failure leaves the search as it was.
 
     Attributes
     ----------
@@ -732,6 +732,13 @@ class LinearProgram:
         alone loses floppy vertices the dual finds (n = 64 intervals 278 events against 247),
         while ``"dual+primal"`` narrows one n = 64 interval from 37 to 6 events and leaves the
         others and every n = 32 bracket as the dual leaves them (n = 64: 477 s against 480 s).
+    feasibility_sites_max : int
+        Above this many non-empty sites the feasibility LP is not run. At n = 128 (49,152
+        sites on a full triangular lattice) it decided none of the near-threshold probes it
+        ran on (BENCHMARKS.md: 15 runs at the 25,000-iteration cap on configurations 1 and 4,
+        28 to 55 s each, and 4 earlier runs at 2 iterations per site), while at n = 64
+        (12,288 sites) it decides about a quarter of its runs. The default, 24,576 (two n = 64
+        lattices), lies between the sizes measured; nothing between them was.
     name : str
         The stage's name in ``SolverOptions.stages``.
     """
@@ -743,6 +750,7 @@ class LinearProgram:
     refine_iterations_per_site: float = 0.25
     interior_fallback: bool = True
     feasibility_simplex: str = "dual+primal"
+    feasibility_sites_max: int = 24_576
     name: str = "lp"
 
     def __post_init__(self):
@@ -819,7 +827,10 @@ class LinearProgram:
             s.offer_t(ray, self.name)
 
     def _feasibility_budget(self, p: Problem) -> int:
-        """Simplex iterations of the feasibility LP."""
+        """Simplex iterations of the feasibility LP (0 above ``feasibility_sites_max``
+        sites)."""
+        if p.sites.size > self.feasibility_sites_max:
+            return 0
         per_site = int(self.simplex_iterations_per_site * p.sites.size)
         return min(per_site, self.simplex_iterations_max)
 
