@@ -332,27 +332,27 @@ def test_lp_refinement_certifies_a_vertex_that_misses_its_bounds():
     assert s.rigid.work > Resolution().displacement * s.rigid.residual
 
 
+def _feasibility_budget(n_sites: int, **options) -> int:
+    """The LP stage's feasibility-LP budget on a problem with ``n_sites`` non-empty sites."""
+    from types import SimpleNamespace
+
+    from tensegrity_rigidity.solver.stages import LinearProgram
+
+    return LinearProgram(**options)._feasibility_budget(SimpleNamespace(sites=np.arange(n_sites)))
+
+
 def test_the_feasibility_lp_budget_is_per_site_up_to_n_64_and_capped_above():
     """The feasibility LP's simplex budget is 2 iterations per non-empty site, at most 25,000:
     unchanged on every triangular lattice up to n = 64 (3 n^2 sites), capped at n = 128
     (where, by default, it is not run at all: the site limit of the next test), where
     2 per site (98,304 on a full lattice) cost 130 to 155 s per run and decided nothing."""
-    from types import SimpleNamespace
-
-    from tensegrity_rigidity.solver.stages import LinearProgram
-
-    def budget(n_sites: int, **options) -> int:
-        return LinearProgram(**options)._feasibility_budget(
-            SimpleNamespace(sites=np.arange(n_sites))
-        )
-
     for n in (8, 16, 32, 64):
-        assert budget(3 * n * n) == 2 * 3 * n * n
+        assert _feasibility_budget(3 * n * n) == 2 * 3 * n * n
     wide = 10**9  # no site limit (the next test)
-    assert budget(3 * 128 * 128, feasibility_sites_max=wide) == 25_000
-    assert budget(3 * 128 * 128, feasibility_sites_max=wide, simplex_iterations_max=wide) == (
-        2 * 3 * 128 * 128
-    )
+    assert _feasibility_budget(3 * 128 * 128, feasibility_sites_max=wide) == 25_000
+    assert _feasibility_budget(
+        3 * 128 * 128, feasibility_sites_max=wide, simplex_iterations_max=wide
+    ) == (2 * 3 * 128 * 128)
 
 
 def test_the_feasibility_lp_is_not_run_above_its_site_limit():
@@ -360,19 +360,10 @@ def test_the_feasibility_lp_is_not_run_above_its_site_limit():
     lattice up to n = 64 is below it, n = 128 above) the feasibility LP gets no budget, so the
     LP stage does not run it. At n = 128 it decided none of the 19 near-threshold probes it
     was measured on, at 28 to 155 s each."""
-    from types import SimpleNamespace
-
-    from tensegrity_rigidity.solver.stages import LinearProgram
-
-    def budget(n_sites: int, **options) -> int:
-        return LinearProgram(**options)._feasibility_budget(
-            SimpleNamespace(sites=np.arange(n_sites))
-        )
-
-    assert budget(3 * 64 * 64) > 0
-    assert budget(3 * 128 * 128) == 0
-    assert budget(100, feasibility_sites_max=99) == 0
-    assert budget(100, feasibility_sites_max=100) == 200
+    assert _feasibility_budget(3 * 64 * 64) > 0
+    assert _feasibility_budget(3 * 128 * 128) == 0
+    assert _feasibility_budget(100, feasibility_sites_max=99) == 0
+    assert _feasibility_budget(100, feasibility_sites_max=100) == 200
 
 
 def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purification():
