@@ -5,7 +5,11 @@ kept). Python runs a signal handler in the main thread at the next bytecode, whi
 Python code that a C extension calls back and whose exception the extension swallows; a sweep
 then ran on to its end (1 of 41 SIGTERMs of a serial sweep at n = 8). So the handler also records
 the request, and long loops call :func:`check` between units of work: the exception is raised
-again there, at the latest one chunk later.
+again there, at the latest one chunk later. When the handler runs inside a finalizer (a
+``__del__``, such as pyarrow's ``ParquetWriter.__del__`` while a part is written), Python cannot
+raise the exception and prints it as "Exception ignored in ...", with a traceback;
+:func:`quiet_unraisable` wraps ``sys.unraisablehook`` so that a :class:`Terminated` lost there
+is not printed (the recorded request still raises it at the next :func:`check`).
 """
 
 from __future__ import annotations
@@ -34,3 +38,24 @@ def reset() -> None:
     """Forget a recorded request (a new command starts)."""
     global _requested
     _requested = False
+
+
+def quiet_unraisable(hook):
+    """A ``sys.unraisablehook`` that drops :class:`Terminated` and passes anything else on.
+
+    Parameters
+    ----------
+    hook : callable
+        The hook to pass other unraisable exceptions to (``sys.unraisablehook`` before).
+
+    Returns
+    -------
+    callable
+        The wrapped hook.
+    """
+
+    def quiet(unraisable) -> None:
+        if not isinstance(unraisable.exc_value, Terminated):
+            hook(unraisable)
+
+    return quiet

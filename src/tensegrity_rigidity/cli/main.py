@@ -198,6 +198,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     handler = getattr(args, "handler", None) or COMMANDS[args.command]
     in_main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, on_sigterm) if in_main_thread else None
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = interrupts.quiet_unraisable(previous_hook)
     interrupts.reset()
     try:
         with warnings.catch_warnings():
@@ -228,6 +230,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+        sys.unraisablehook = previous_hook
         interrupts.reset()
 
 
