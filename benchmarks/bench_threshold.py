@@ -43,7 +43,7 @@ def refactor_seconds(net, eps) -> float:
     return float(np.median(times))
 
 
-def straddle_check(net, u, v, eps, p_t, f_c, th, solver: str = "highs") -> str:
+def straddle_check(net, u, v, eps, p_t, f_c, th) -> str:
     """'ok', 'WRONG' or '-' (never rigid on the path): the verdict LP on the last certified
     floppy configuration and the first certified rigid one (the two sides of a decided
     threshold; the two ends of an interval)."""
@@ -52,8 +52,8 @@ def straddle_check(net, u, v, eps, p_t, f_c, th, solver: str = "highs") -> str:
     ev = EventPath(u, v, "p_r", p_t, f_c)
     low = int(np.searchsorted(ev.positions, th.s_low)) + 1
     high = int(np.searchsorted(ev.positions, th.s_high)) + 1
-    above = lp_verdict(Instance(net.with_kinds(ev.kinds(high)), eps), solver=solver).rigid
-    below = lp_verdict(Instance(net.with_kinds(ev.kinds(low - 1)), eps), solver=solver).rigid
+    above = lp_verdict(Instance(net.with_kinds(ev.kinds(high)), eps)).rigid
+    below = lp_verdict(Instance(net.with_kinds(ev.kinds(low - 1)), eps)).rigid
     return "ok" if (above, below) == (True, False) else "WRONG"
 
 
@@ -63,7 +63,6 @@ def main() -> None:
     ap.add_argument("--samples", type=int, nargs="+", default=[12, 6, 3])
     ap.add_argument("--lp-max", type=int, default=64)
     ap.add_argument("--repeat-max", type=int, default=64, help="largest n searched twice")
-    ap.add_argument("--lp-solver", choices=["highs", "clarabel"], default="highs")
     args = ap.parse_args()
     rows, detail = [], []
     for n, count in zip(args.sizes, args.samples, strict=True):
@@ -77,11 +76,7 @@ def main() -> None:
                     same &= th == find_threshold(net, u, v, eps, p_t, f_c)
             ref = refactor_seconds(net, eps)
             width = interval_events(u, v, p_t, f_c, th)
-            check = (
-                straddle_check(net, u, v, eps, p_t, f_c, th, args.lp_solver)
-                if n <= args.lp_max
-                else "-"
-            )
+            check = straddle_check(net, u, v, eps, p_t, f_c, th) if n <= args.lp_max else "-"
             secs.append(dt)
             units.append(dt / ref)
             solves.append(th.solves)
@@ -110,10 +105,10 @@ def main() -> None:
                 ("yes" if same else "NO") if n <= args.repeat_max else "-",
             ]
         )
-        _write(rows, detail, args.lp_solver)
+        _write(rows, detail)
 
 
-def _write(rows, detail, lp_solver: str) -> None:
+def _write(rows, detail) -> None:
     """Record the table so far (after every size: a long run keeps what it measured)."""
     body = (
         f"Machine: {machine()}. Seconds per threshold on the near-threshold set (six "
@@ -122,9 +117,7 @@ def _write(rows, detail, lp_solver: str) -> None:
         "thresholds reported as an interval because probes were undecided (within resolution "
         "of the boundary), with the widest interval in events. LP check: the configurations "
         "on both sides of each threshold (an interval's two ends: the last certified floppy "
-        "and the first certified rigid configuration) against the verdict LP solved by "
-        f"{'HiGHS (dual simplex)' if lp_solver == 'highs' else 'Clarabel (interior point)'}. "
-        "'same': a "
+        "and the first certified rigid configuration) against the HiGHS verdict LP. 'same': a "
         "second search, with BLAS set to 2 threads, returned the identical result.\n\n"
         + table(
             [

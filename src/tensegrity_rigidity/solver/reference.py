@@ -60,12 +60,9 @@ def _nonempty(instance: Instance):
 
 
 def lp_verdict(
-    instance: Instance,
-    tol: float = 1e-9,
-    time_limit: float | None = None,
-    solver: str = "highs",
+    instance: Instance, tol: float = 1e-9, time_limit: float | None = None
 ) -> ReferenceResult:
-    """Rigidity verdict from the Farkas linear program, solved by HiGHS or Clarabel.
+    """Rigidity verdict from the Farkas linear program, solved by HiGHS.
 
     Parameters
     ----------
@@ -75,13 +72,7 @@ def lp_verdict(
         ``rigid`` is True when the maximal work of an admissible self-stress with
         ``|t_b| <= 1`` exceeds ``tol * sum |e0|``.
     time_limit : float, optional
-        Seconds the solver may spend (no limit by default).
-    solver : {"highs", "clarabel"}
-        "highs": HiGHS's dual simplex (its interior point with crossover where the simplex
-        ends without a status), an optimal vertex. "clarabel": Clarabel's interior point
-        (gap and feasibility tolerances ``1e-11``), a code independent of HiGHS and of this
-        package's stages, for sizes where the simplex takes too long: at n = 64 at a
-        sample's own threshold HiGHS ran for more than 25 minutes on one configuration.
+        Seconds HiGHS may spend (no limit by default).
 
     Returns
     -------
@@ -92,14 +83,11 @@ def lp_verdict(
 
     Raises
     ------
-    ValueError
-        For an unknown ``solver``.
     RuntimeError
-        When HiGHS fails for another reason (after its dual simplex, its interior point),
-        or Clarabel ends without a solution.
+        When HiGHS fails for another reason (after its dual simplex, its interior point).
     """
-    if solver not in ("highs", "clarabel"):
-        raise ValueError(f"solver must be 'highs' or 'clarabel', got {solver!r}")
+    from scipy.optimize import linprog
+
     net, sites, kinds, R, e0, _ = _nonempty(instance)
     m, n2 = R.shape
     t_full = np.zeros(net.n_sites)
@@ -107,10 +95,6 @@ def lp_verdict(
         return ReferenceResult(0.0, False, t_full, np.zeros((net.n_nodes, 2)), "trivial")
     lo = np.where(kinds == Element.CABLE, 0.0, -1.0)
     hi = np.where(kinds == Element.STRUT, 0.0, 1.0)
-    if solver == "clarabel":
-        return _lp_clarabel(net, sites, R, e0, lo, hi, tol, time_limit)
-    from scipy.optimize import linprog
-
     # HiGHS's default (dual simplex) occasionally ends with status "Not Set" on near-degenerate
     # instances at a threshold; its interior point with crossover is then asked instead
     for method in ("highs", "highs-ipm"):
@@ -136,39 +120,6 @@ def lp_verdict(
     u = np.asarray(res.eqlin.marginals, dtype=float).reshape(-1, 2)
     scale = float(np.abs(e0).sum())
     return ReferenceResult(value, value > tol * scale, t_full, u, res.message)
-
-
-def _lp_clarabel(net, sites, R, e0, lo, hi, tol, time_limit) -> ReferenceResult:
-    """:func:`lp_verdict` by Clarabel: ``min -e0 . t / |e0|_1`` subject to ``R^T t = 0`` (zero
-    cone) and ``lo <= t <= hi`` (two nonnegative cones); ``u`` from the multipliers of the
-    equalities (``e0 + R u`` is ``|e0|_1`` times the bounds' multipliers' difference)."""
-    import clarabel
-
-    m, n2 = R.shape
-    scale = float(np.abs(e0).sum())
-    eye = sp.identity(m, format="csc")
-    A = sp.vstack([R.T, eye, -eye]).tocsc()
-    b = np.concatenate([np.zeros(n2), hi, -lo])
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = 1e-11
-    settings.max_iter = 500
-    if time_limit is not None:
-        settings.time_limit = float(time_limit)
-    cones = [clarabel.ZeroConeT(n2), clarabel.NonnegativeConeT(2 * m)]
-    sol = clarabel.DefaultSolver(sp.csc_matrix((m, m)), -e0 / scale, A, b, cones, settings).solve()
-    status = str(sol.status)
-    t_full = np.zeros(net.n_sites)
-    if status == "MaxTime" and time_limit is not None:
-        return ReferenceResult(np.nan, False, t_full, np.zeros((net.n_nodes, 2)), "time limit")
-    if status not in ("Solved", "AlmostSolved"):
-        raise RuntimeError(f"Clarabel failed on the verdict LP: {status}")
-    t = np.asarray(sol.x)
-    value = float(e0 @ t)
-    t_full[sites] = t
-    # stationarity -e0 / scale + R z_eq + z_hi - z_lo = 0: u = -scale z_eq
-    u = (-scale * np.asarray(sol.z)[:n2]).reshape(-1, 2)
-    return ReferenceResult(value, value > tol * scale, t_full, u, status)
 
 
 def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
