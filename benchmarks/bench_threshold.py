@@ -11,6 +11,10 @@ threshold is computed twice, the second time with BLAS set to 2 threads; the two
 be identical (a deterministic search whatever the thread settings).
 
 Run: python benchmarks/bench_threshold.py [--sizes 32 64 128] [--samples 12 6 3]
+     [--lp-time-limit SECONDS]
+
+``--lp-time-limit`` bounds each verdict LP of the check (HiGHS, no limit by default); a
+configuration whose LP reaches it is counted as unchecked ('LP limit'), never as agreeing.
 """
 
 from __future__ import annotations
@@ -43,18 +47,25 @@ def refactor_seconds(net, eps) -> float:
     return float(np.median(times))
 
 
-def straddle_check(net, u, v, eps, p_t, f_c, th) -> str:
-    """'ok', 'WRONG' or '-' (never rigid on the path): the verdict LP on the last certified
-    floppy configuration and the first certified rigid one (the two sides of a decided
-    threshold; the two ends of an interval)."""
+def straddle_check(net, u, v, eps, p_t, f_c, th, time_limit=None) -> str:
+    """'ok', 'WRONG', 'limit' (an LP reached ``time_limit`` seconds) or '-' (never rigid on
+    the path): the verdict LP on the last certified floppy configuration and the first
+    certified rigid one (the two sides of a decided threshold; the two ends of an
+    interval)."""
     if not np.isfinite(th.s) or th.s == 0 or not np.isfinite(th.s_low):
         return "-"
     ev = EventPath(u, v, "p_r", p_t, f_c)
     low = int(np.searchsorted(ev.positions, th.s_low)) + 1
     high = int(np.searchsorted(ev.positions, th.s_high)) + 1
-    above = lp_verdict(Instance(net.with_kinds(ev.kinds(high)), eps)).rigid
-    below = lp_verdict(Instance(net.with_kinds(ev.kinds(low - 1)), eps)).rigid
-    return "ok" if (above, below) == (True, False) else "WRONG"
+    verdicts = []
+    for i in (high, low - 1):
+        t0 = time.perf_counter()
+        lp = lp_verdict(Instance(net.with_kinds(ev.kinds(i)), eps), time_limit=time_limit)
+        print(f"  verdict LP at event {i}: {lp.status}, {time.perf_counter() - t0:.1f} s")
+        if lp.status == "time limit":
+            return "limit"
+        verdicts.append(lp.rigid)
+    return "ok" if verdicts == [True, False] else "WRONG"
 
 
 def main() -> None:
@@ -63,6 +74,7 @@ def main() -> None:
     ap.add_argument("--samples", type=int, nargs="+", default=[12, 6, 3])
     ap.add_argument("--lp-max", type=int, default=64)
     ap.add_argument("--repeat-max", type=int, default=64, help="largest n searched twice")
+    ap.add_argument("--lp-time-limit", type=float, default=None, help="seconds per check LP")
     args = ap.parse_args()
     rows, detail = [], []
     for n, count in zip(args.sizes, args.samples, strict=True):
@@ -76,7 +88,11 @@ def main() -> None:
                     same &= th == find_threshold(net, u, v, eps, p_t, f_c)
             ref = refactor_seconds(net, eps)
             width = interval_events(u, v, p_t, f_c, th)
-            check = straddle_check(net, u, v, eps, p_t, f_c, th) if n <= args.lp_max else "-"
+            check = (
+                straddle_check(net, u, v, eps, p_t, f_c, th, args.lp_time_limit)
+                if n <= args.lp_max
+                else "-"
+            )
             secs.append(dt)
             units.append(dt / ref)
             solves.append(th.solves)
@@ -102,6 +118,7 @@ def main() -> None:
                 max(widths),
                 sum(c == "ok" for c in checks),
                 sum(c == "WRONG" for c in checks),
+                sum(c == "limit" for c in checks),
                 ("yes" if same else "NO") if n <= args.repeat_max else "-",
             ]
         )
@@ -117,7 +134,8 @@ def _write(rows, detail) -> None:
         "thresholds reported as an interval because probes were undecided (within resolution "
         "of the boundary), with the widest interval in events. LP check: the configurations "
         "on both sides of each threshold (an interval's two ends: the last certified floppy "
-        "and the first certified rigid configuration) against the HiGHS verdict LP. 'same': a "
+        "and the first certified rigid configuration) against the HiGHS verdict LP ('LP limit': "
+        "not checked, an LP reached --lp-time-limit). 'same': a "
         "second search, with BLAS set to 2 threads, returned the identical result.\n\n"
         + table(
             [
@@ -132,6 +150,7 @@ def _write(rows, detail) -> None:
                 "widest (events)",
                 "LP ok",
                 "LP wrong",
+                "LP limit",
                 "same",
             ],
             rows,
