@@ -4,6 +4,8 @@ of the verdict search on its own."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -76,6 +78,63 @@ def test_lp_certificates_are_valid(rng):
         else:
             e_aff = energy(inst)
             assert energy(inst, lp.displacements) <= 1e-12 * max(e_aff, 1e-300) + 1e-300
+
+
+def test_the_lp_verdict_between_its_box_bounds_is_the_l1_optimum():
+    """Where the tolerance lies between the box LP's vertex work per unit |t|_1 and its optimum,
+    the l1-normalised LP decides: its optimum lies between the two, and its tensions are an
+    admissible self-stress with |t|_1 <= 1 doing exactly that work."""
+    from tensegrity_rigidity.model.mechanics import affine_extensions, net_forces
+    from tensegrity_rigidity.model.network import Element
+    from tensegrity_rigidity.solver.reference import _farkas_lp, _nonempty
+
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(40):
+        inst = random_instance(rng, "lattice")
+        net, sites, kinds, R, e0, _ = _nonempty(inst)
+        if R.shape[0] == 0 or not np.any(e0):
+            continue
+        box, t_box, _ = _farkas_lp(R, e0, kinds, False, None)
+        vertex = float(t_box @ e0) / max(float(np.abs(t_box).sum()), 1e-300)
+        if not 0 < 1.01 * vertex < box:
+            continue
+        scale = float(np.abs(e0).max())
+        tol = float(np.sqrt(vertex * box)) / scale  # strictly between the two bounds
+        res = lp_verdict(inst, tol=tol)
+        assert res.status == "l1 LP"
+        assert vertex * (1 - 1e-9) <= res.value <= box * (1 + 1e-9)
+        assert res.rigid == (res.value > tol * scale)
+        t = res.tensions
+        assert np.abs(t).sum() <= 1 + 1e-9
+        assert np.abs(net_forces(net, t)).max() <= 1e-9
+        assert t[net.kinds == Element.CABLE].min(initial=0.0) >= -1e-12
+        assert t[net.kinds == Element.STRUT].max(initial=0.0) <= 1e-12
+        e_full = affine_extensions(net, inst.strain)
+        assert float(t @ e_full) == pytest.approx(res.value, rel=1e-9)
+        checked += 1
+    assert checked >= 5
+
+
+@pytest.mark.slow
+def test_the_lp_verdict_agrees_with_a_certified_rigid_configuration_at_n64():
+    """The first certified rigid configuration of configuration 0's n = 64 threshold (an
+    interval of 14 events): its certificate does work 6.8e-9 per unit |t|_1, above tau = 1e-9.
+    The box LP's optimum normalised by sum |e0| (8.3e-10, the rule until 2026-11-28) read it
+    floppy; per unit |t|_1 its vertex does 5.4e-9 (about 11 s)."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parents[2] / "benchmarks"))
+    from near_threshold_set import samples
+
+    from tensegrity_rigidity.ensemble.thresholds import EventPath
+    from tensegrity_rigidity.model.network import Instance
+
+    _, _, (net, u, v, eps, p_t, f_c) = next(iter(samples(64, 1)))
+    ev = EventPath(u, v, "p_r", p_t, f_c)
+    inst = Instance(net.with_kinds(ev.kinds(12788)), eps)
+    res = lp_verdict(inst)
+    assert res.rigid and res.status == "box LP: vertex above"
 
 
 @pytest.mark.slow
