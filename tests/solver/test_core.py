@@ -81,29 +81,31 @@ def test_lp_certificates_are_valid(rng):
 
 
 def test_the_lp_verdict_between_its_box_bounds_is_the_l1_optimum():
-    """Where the tolerance lies between the box LP's vertex work per unit |t|_1 and its optimum,
-    the l1-normalised LP decides: its optimum lies between the two, and its tensions are an
+    """Where the tolerance lies between the box LP's bounds on the largest work per unit |t|_1
+    (below: its vertex's; above: its optimum and its dual's largest violation), the
+    l1-normalised LP decides: its optimum lies between the bounds, and its tensions are an
     admissible self-stress with |t|_1 <= 1 doing exactly that work."""
     from tensegrity_rigidity.model.mechanics import affine_extensions, net_forces
     from tensegrity_rigidity.model.network import Element
-    from tensegrity_rigidity.solver.reference import _farkas_lp, _nonempty
+    from tensegrity_rigidity.solver.reference import _farkas_lp, _largest_violation, _nonempty
 
     rng = np.random.default_rng(5)
     checked = 0
-    for _ in range(40):
+    for _ in range(60):
         inst = random_instance(rng, "lattice")
         net, sites, kinds, R, e0, _ = _nonempty(inst)
         if R.shape[0] == 0 or not np.any(e0):
             continue
-        box, t_box, _ = _farkas_lp(R, e0, kinds, False, None)
-        vertex = float(t_box @ e0) / max(float(np.abs(t_box).sum()), 1e-300)
-        if not 0 < 1.01 * vertex < box:
+        box, t_box, u_box = _farkas_lp(R, e0, kinds, False, None)
+        lower = float(t_box @ e0) / max(float(np.abs(t_box).sum()), 1e-300)
+        upper = min(box, _largest_violation(R, e0, kinds, u_box.ravel()))
+        if not 0 < 1.01 * lower < upper:
             continue
         scale = float(np.abs(e0).max())
-        tol = float(np.sqrt(vertex * box)) / scale  # strictly between the two bounds
+        tol = float(np.sqrt(lower * upper)) / scale  # strictly between the bounds
         res = lp_verdict(inst, tol=tol)
         assert res.status == "l1 LP"
-        assert vertex * (1 - 1e-9) <= res.value <= box * (1 + 1e-9)
+        assert lower * (1 - 1e-9) <= res.value <= upper * (1 + 1e-9)
         assert res.rigid == (res.value > tol * scale)
         t = res.tensions
         assert np.abs(t).sum() <= 1 + 1e-9
