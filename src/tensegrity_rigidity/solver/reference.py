@@ -84,9 +84,9 @@ def lp_verdict(
     computes the largest itself; the simplex is much slower on it (more than 12 minutes on
     an n = 64 configuration whose box LP takes 11 s). At n = 64 the box optimum alone left
     a certified floppy configuration between the bounds (optimum 1.2e-8, vertex 1.8e-11,
-    against 1.5e-9). The box LP alone with ``tol * sum |e0|``, the
-    rule until 2026-11-28, called a certified rigid n = 64 configuration floppy: its vertex
-    does work 6.8e-9 per unit ``|t|_1``, against ``tau = 1e-9``.
+    against 1.5e-9). The box LP's optimum against ``tol * sum |e0|``, the rule until
+    2026-11-28, called a certified rigid n = 64 configuration floppy: its vertex does work
+    6.8e-9 per unit ``|t|_1``, against ``tau = 1e-9``.
 
     Parameters
     ----------
@@ -101,11 +101,12 @@ def lp_verdict(
     Returns
     -------
     ReferenceResult
-        ``value`` the work per unit ``|t|_1`` that decided (physical units): the box
-        optimum where it is below the tolerance, else the work of ``tensions`` (m,), the
-        deciding maximiser; ``displacements`` (N, 2) the LP's dual (admissible extensions
-        when the optimum is 0); ``status`` names the step that decided. ``value`` NaN and
-        status "time limit" when an LP reached the limit.
+        ``value`` the work per unit ``|t|_1`` that decided (physical units): where floppy
+        by the box LP, the upper bound below the tolerance (its optimum or its dual's
+        largest violation), else the work of ``tensions`` (m,), the deciding maximiser;
+        ``displacements`` (N, 2) the LP's dual (admissible extensions when the optimum is
+        0); ``status`` names the step that decided. ``value`` NaN and status "time limit"
+        when an LP reached the limit.
 
     Raises
     ------
