@@ -119,23 +119,25 @@ def lp_verdict(
     if R.shape[0] == 0 or not np.any(e0):
         return ReferenceResult(0.0, False, t_full, no_u, "trivial")
     limit = tol * float(np.abs(e0).max())
-    for l1 in (False, True):
-        solved = _farkas_lp(R, e0, kinds, l1, time_limit)
-        if solved is None:
-            return ReferenceResult(np.nan, False, t_full, no_u, "time limit")
-        optimum, t, u = solved
-        t_full[sites] = t
-        work = float(t @ e0) / max(float(np.abs(t).sum()), 1e-300)
-        if l1:
-            return ReferenceResult(optimum, optimum > limit, t_full, u, "l1 LP")
-        if optimum <= limit:
-            return ReferenceResult(optimum, False, t_full, u, "box LP: optimum below")
-        violation = _largest_violation(R, e0, kinds, u.ravel())
-        if violation <= limit:
-            return ReferenceResult(violation, False, t_full, u, "box LP: dual below")
-        if work > limit:
-            return ReferenceResult(work, True, t_full, u, "box LP: vertex above")
-    raise AssertionError("unreachable")  # pragma: no cover
+    box = _farkas_lp(R, e0, kinds, False, time_limit)
+    if box is None:
+        return ReferenceResult(np.nan, False, t_full, no_u, "time limit")
+    optimum, t, u = box
+    t_full[sites] = t
+    if optimum <= limit:
+        return ReferenceResult(optimum, False, t_full, u, "box LP: optimum below")
+    violation = _largest_violation(R, e0, kinds, u.ravel())
+    if violation <= limit:
+        return ReferenceResult(violation, False, t_full, u, "box LP: dual below")
+    work = float(t @ e0) / max(float(np.abs(t).sum()), 1e-300)
+    if work > limit:
+        return ReferenceResult(work, True, t_full, u, "box LP: vertex above")
+    l1 = _farkas_lp(R, e0, kinds, True, time_limit)  # between the bounds
+    if l1 is None:
+        return ReferenceResult(np.nan, False, t_full, no_u, "time limit")
+    optimum, t, u = l1
+    t_full[sites] = t
+    return ReferenceResult(optimum, optimum > limit, t_full, u, "l1 LP")
 
 
 def _largest_violation(R, e0, kinds, u) -> float:
