@@ -433,7 +433,8 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
     1e-6, HiGHS's tensions balance the nodes to round-off on 5266 elements but do no work; at
     support 1e-9 (5911 elements) they do work 7.7e-6 and certify the sample. So a balanced but
     rejected purification is no reason to skip the smaller tolerance (a rule that did so cost
-    this probe its verdict; see CHANGELOG)."""
+    this probe its verdict; see CHANGELOG). Purified without the stall rule here (with it, the
+    coarse purification stops early, still rejected)."""
     from tensegrity_rigidity.solver.selfstress import purify
     from tensegrity_rigidity.solver.stages import SUPPORT_TOLS, LinearProgram
 
@@ -442,7 +443,9 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
     h, _, lo, hi = LinearProgram().verdict_lp(p)
     t = np.clip(np.asarray(h.getSolution().col_value, dtype=float), lo, hi)
     res = Resolution()
-    coarse, fine = (p.exact.rigid(purify(p, t, support_tol=tol), res) for tol in SUPPORT_TOLS)
+    coarse, fine = (
+        p.exact.rigid(purify(p, t, support_tol=tol, stall=0), res) for tol in SUPPORT_TOLS
+    )
     assert coarse.residual < 1e-14 and coarse.work <= res.violation and not coarse.accepted
     assert fine.accepted and fine.work > 1e3 * res.violation
     s = Search(p, res)

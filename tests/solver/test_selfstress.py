@@ -1,0 +1,71 @@
+"""Purification (solver/selfstress.py): where it gives up early, and that giving up loses no
+certificate."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tensegrity_rigidity import lattice_instance
+from tensegrity_rigidity.solver.certificates import Resolution
+from tensegrity_rigidity.solver.problem import Problem
+from tensegrity_rigidity.solver.selfstress import purify
+
+RES = Resolution()
+
+
+def _affine(inst):
+    """The problem and the tensions of its affine deformation (a poor rigid guess)."""
+    p = Problem(inst, unit_stiffness=True)
+    _, _, t = p.state(np.zeros(p.n2))
+    return p, t
+
+
+def _purify_counted(p, t, **kw):
+    """``purify(p, t, **kw)`` and the factorisations it took."""
+    before = p.factorizations
+    tp = purify(p, t, **kw)
+    return tp, p.factorizations - before
+
+
+def test_purification_stops_after_two_rounds_without_positive_work():
+    """Shear, n = 8, p_r = 0.55, p_t = 0.3, f_c = 0.5, seed 58: the affine tensions balance
+    on their support after each round but do no positive work, and one-sided elements keep
+    flipping. Without the stall rule all rounds run (5 factorisations) and end rejected;
+    with it, purification stops after the second such round, with the flipped signs left, so
+    the result is no certificate either."""
+    p, t = _affine(lattice_instance(8, 0.55, 0.3, 0.5, phi="shear", seed=58))
+    full, n_full = _purify_counted(p, t, stall=0)
+    stalled, n_stalled = _purify_counted(p, t)
+    assert not p.exact.rigid(full, RES).accepted
+    assert np.any(p.sigma * stalled < 0) and not p.exact.rigid(stalled, RES).accepted
+    assert n_stalled == 2 < n_full
+    assert float(stalled @ p.e0) <= 0.0
+
+
+def test_the_stall_rule_loses_no_certificate_on_small_lattices():
+    """On 200 small sheared lattices around the transition, every purification of the affine
+    tensions that is a certificate without the stall rule is one with it, and the rule never
+    costs a factorisation."""
+    accepted = 0
+    for seed in range(40):
+        for p_r in (0.45, 0.5, 0.55, 0.6, 0.65):
+            p, t = _affine(lattice_instance(8, p_r, 0.3, 0.5, phi="shear", seed=seed))
+            full, n_full = _purify_counted(p, t, stall=0)
+            fast, n_fast = _purify_counted(p, t)
+            a, b = p.exact.rigid(full, RES).accepted, p.exact.rigid(fast, RES).accepted
+            assert b == a and n_fast <= n_full, (seed, p_r)
+            accepted += a
+    assert accepted > 20  # the set holds certificates to lose
+
+
+def test_a_hopeless_purification_skips_the_extended_precision_steps():
+    """Shear, n = 8, p_r = 0.45, p_t = 0.3, f_c = 0.5, seed 53: the affine tensions stay 0.8
+    of their size away from balance after the first projection. The extended-precision
+    steps cannot bring such a residual near a certificate's margin, so the double-precision
+    projection is returned as it is (they would have returned a longdouble array)."""
+    p, t = _affine(lattice_instance(8, 0.45, 0.3, 0.5, phi="shear", seed=53))
+    tp = purify(p, t)
+    assert tp.dtype == np.float64
+    assert not np.any(p.sigma * tp < 0)
+    assert float(np.abs(p.RT @ tp).sum()) > 1e-3 * float(np.abs(tp).sum())
+    assert not p.exact.rigid(tp, RES).accepted
