@@ -206,16 +206,18 @@ def test_rows_of_another_revision_are_not_resumed(tmp_path):
 
 
 def test_threshold_rows_keep_their_revision_when_grid_rows_change(tmp_path):
-    """Threshold rows hold only verdicts, so a threshold directory written under revision 2
-    (before grid rows went to revisions 3 to 7 with the relaxation's longer interior point, its
-    smaller shift, the projection's reduced system, its active set and its stop at the first
-    certified iterate) resumes rather than being refused, while a grid directory of revision
-    2 is refused."""
+    """Each mode has its own rows revision. Threshold rows hold only verdicts, so they stayed
+    at revision 2 while grid rows went to revisions 3 to 7 (the relaxation's longer interior
+    point, its smaller shift, the projection's reduced system, its active set and its stop at
+    the first certified iterate); both went up by one when purification started stopping
+    early (its certificates, hence the verdicts of probes near a threshold, can differ). A
+    directory recorded at the threshold revision resumes as a threshold sweep and is refused
+    as a grid sweep."""
     import json
 
     from tensegrity_rigidity.ensemble.store import ROWS_REVISION
 
-    assert ROWS_REVISION == {"grid": 7, "threshold": 2}
+    assert ROWS_REVISION == {"grid": 8, "threshold": 3}
     threshold = SMALL.replace("p_r = [0.55, 0.7]\n", "").replace(
         "[output]", '[threshold]\npath = "p_r"\n[output]'
     )
@@ -225,10 +227,10 @@ def test_threshold_rows_keep_their_revision_when_grid_rows_change(tmp_path):
         run_sweep(spec, out, executor="serial", progress=False)
         meta = out / "_spec.json"
         record = json.loads(meta.read_text())
-        record["rows_revision"] = 2
+        record["rows_revision"] = ROWS_REVISION["threshold"]
         meta.write_text(json.dumps(record))
         if refused:
-            with pytest.raises(SpecError, match="rows of revision 2"):
+            with pytest.raises(SpecError, match="rows of revision 3"):
                 run_sweep(spec, out, executor="serial", progress=False)
         else:
             run_sweep(spec, out, executor="serial", progress=False)

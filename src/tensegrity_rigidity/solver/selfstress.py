@@ -68,8 +68,10 @@ def purify(
         threshold searches (n = 16: 6 samples per configuration, 1,539 calls; n = 32: 3,
         1,330 calls; scratch, 2026-11-28) no accepted result came after two of them, one
         after a single one (its work went from -8.6e-5 to 7.9e-4), and the rounds after the
-        second were 29 % of the purifications' time at n = 32. Once a round is
-        hopeless, the extended-precision steps are skipped too: they cannot bring a
+        second took an estimated 29 % of the purifications' time at n = 32, whose searches
+        spend a quarter of their time purifying. Measured on whole searches (BENCHMARKS.md):
+        the same thresholds, n = 32 median 1.95 -> 1.77 s, n = 64 unchanged (76 s). Once a
+        round is hopeless, the extended-precision steps are skipped too: they cannot bring a
         residual above ``hopeless`` near the certificates' margin.
 
     Returns
