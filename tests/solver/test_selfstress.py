@@ -30,9 +30,9 @@ def _purify_counted(p, t, **kw):
 def test_purification_stops_after_two_rounds_without_positive_work():
     """Shear, n = 8, p_r = 0.55, p_t = 0.3, f_c = 0.5, seed 58: the affine tensions balance
     on their support after each round but do no positive work, and one-sided elements keep
-    flipping. Without the stall rule all rounds run (5 factorisations) and end rejected;
-    with it, purification stops after the second such round, with the flipped signs left, so
-    the result is no certificate either."""
+    flipping. Without the stall rule purification goes on for 5 rounds (5 factorisations)
+    and ends rejected; with it, it stops after the second such round, with the flipped signs
+    left, so the result is no certificate either."""
     p, t = _affine(lattice_instance(8, 0.55, 0.3, 0.5, phi="shear", seed=58))
     full, n_full = _purify_counted(p, t, stall=0)
     stalled, n_stalled = _purify_counted(p, t)
