@@ -89,7 +89,6 @@ def purify(
     w = t * t
     w[p.rod] += rod_weight * t_max**2
     nonpositive = 0  # consecutive rounds doing no positive work (see ``stall``)
-    hopeless_round = False
     for _ in range(rounds):
         solver = p.factor_values(p.values(w, shift * t_max**2))
         r_prev = np.inf
@@ -101,8 +100,9 @@ def purify(
             r_prev = r_norm
             t = t - w * (p.R @ solver.solve(r))
         if float(np.abs(p.RT @ t).sum()) > hopeless * float(np.abs(t).sum()):
-            hopeless_round = True
-            break  # far from any self-stress on this support: more rounds will not help
+            # far from any self-stress on this support: more rounds will not help, nor will
+            # the extended-precision steps
+            return t
         flipped = p.sigma * t < 0
         if not flipped.any():
             break
@@ -111,7 +111,7 @@ def purify(
             break
         t[flipped] = 0.0
         w[flipped] = 0.0
-    if extended and not hopeless_round and not np.any(p.sigma * t < 0):
+    if extended and not np.any(p.sigma * t < 0):
         t = _refine_extended(p, t, w, solver, extended)
     return t
 
