@@ -210,14 +210,15 @@ def test_threshold_rows_keep_their_revision_when_grid_rows_change(tmp_path):
     at revision 2 while grid rows went to revisions 3 to 7 (the relaxation's longer interior
     point, its smaller shift, the projection's reduced system, its active set and its stop at
     the first certified iterate); both went up by one when purification started stopping
-    early (its certificates, hence the verdicts of probes near a threshold, can differ). A
-    directory recorded at the threshold revision resumes as a threshold sweep and is refused
+    early (its certificates, hence the verdicts of probes near a threshold, can differ); grid
+    rows alone went to 9 when the projection stopped refining its predictor. A directory
+    recorded at the threshold revision resumes as a threshold sweep and is refused
     as a grid sweep."""
     import json
 
     from tensegrity_rigidity.ensemble.store import ROWS_REVISION
 
-    assert ROWS_REVISION == {"grid": 8, "threshold": 3}
+    assert ROWS_REVISION == {"grid": 9, "threshold": 3}
     threshold = SMALL.replace("p_r = [0.55, 0.7]\n", "").replace(
         "[output]", '[threshold]\npath = "p_r"\n[output]'
     )

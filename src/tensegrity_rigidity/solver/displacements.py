@@ -21,8 +21,9 @@ slacks ``s >= 0`` (inequalities), each step solves the system
 
 regularised by ``d`` in its last two diagonal blocks and reduced to ``2N x 2N``: ``(d I +
 R_E^T R_E + G^T diag(d / (S/Z + d)) G) du = ...``, a matrix in the pattern of the verdict's own
-Newton matrix, factorised by its sparse Cholesky (:class:`_ReducedKKT`), with a few steps of
-iterative refinement against the unregularised, unreduced system. The identity block (the
+Newton matrix, factorised by its sparse Cholesky (:class:`_ReducedKKT`), the corrector's solve
+with a few steps of iterative refinement against the unregularised, unreduced system (the
+predictor's, which only sets the centring, without). The identity block (the
 objective's Hessian) keeps the system regular however near-floppy ``R`` is, which is where the
 minimum-norm displacements are large (near a sample's own threshold, ``|u|`` reaches ``1e5`` to
 ``1e7`` times the strain). The iteration starts from the minimiser the verdict found (a point
@@ -281,6 +282,7 @@ def min_norm_minimizer(
     regularization: float = 1e-14,
     refinement: int = 3,
     stall: int | None = None,
+    predictor_refinement: int = 0,
 ) -> MinNormResult:
     """Projection of the origin onto the minimisers ``U*`` of problem ``p``.
 
@@ -299,13 +301,25 @@ def min_norm_minimizer(
     regularization : float
         ``d``, the diagonal regularisation of the interior-point system (:class:`_ReducedKKT`).
     refinement : int
-        Steps of iterative refinement per solve, against the unregularised system.
+        Steps of iterative refinement of the corrector's solve (the step taken), against the
+        unregularised system.
     stall : int, optional
         Stop after this many consecutive steps shorter than ``1e-2`` of the Newton step: the
         iterate no longer moves, as when ``U*`` is empty (the zero-energy set of a rigid
         sample, asked for by the ``project`` stage of the verdict search). Converging
         projections near the threshold take at most 7 such steps in a row (n = 64); without
         this the iteration runs to ``max_iterations``.
+    predictor_refinement : int
+        Steps of iterative refinement of the predictor's solve. The predictor only sets the
+        centring and the corrector's second-order term, and the corrector's own solve is
+        refined: unrefined, an iteration costs one factorisation and 5 triangular solves
+        instead of 8. On the projections of ``solve()`` on ``benchmarks/bench_solver.py``'s
+        phase diagrams (n = 32 and 64) and on the 18 probes of one n = 64 threshold search
+        (scratch, 2026-11-28, best of 3): the same iterations on every phase-diagram
+        projection and 17 to 26 % less time (n = 64 floppy: 66 to 97 ms against 52 to 76 ms);
+        at the threshold every certificate kept and one rigid projection more certified (65
+        iterations where 3 refinement steps ran to the limit of 150), one 11 iterations
+        longer. One refinement step lost a certificate there.
 
     Returns
     -------
@@ -351,7 +365,9 @@ def min_norm_minimizer(
         except ArithmeticError:  # numerically singular: keep the best iterate
             break
         residuals = (rd, re, ri)
-        du, dy, dz, ds = kkt_system.newton(residuals, z * s, z, s)  # predictor (affine scaling)
+        du, dy, dz, ds = kkt_system.newton(  # predictor (affine scaling)
+            residuals, z * s, z, s, predictor_refinement
+        )
         a = min(step_to_boundary(z, dz), step_to_boundary(s, ds))
         mu_aff = float((z + a * dz) @ (s + a * ds)) / max(mI, 1)
         centring = (mu_aff / mu) ** 3 if mu > 0 else 0.0
@@ -424,11 +440,12 @@ class _ReducedKKT:
         dy = (R_E du - r2) / d,   dz = (G du - r3) / (D + d),
 
     a matrix ``R^T W R + d I`` in the pattern of the verdict's Newton matrix, factorised by the
-    problem's sparse Cholesky (CHOLMOD; :meth:`Problem.factor_shifted`). Each solve is refined
-    against the unregularised system. The elimination loses accuracy along the mechanisms of
-    ``R_E`` (relative errors of order ``eps / d`` per solve), which the refinement removes at
-    a factor of about 100 a step. Against a QDLDL factorisation of the full ``(2N + m)``-sized
-    system, with the same three refinement steps, on the interior-point projections of
+    problem's sparse Cholesky (CHOLMOD; :meth:`Problem.factor_shifted`). A solve can be
+    refined against the unregularised system (the interior point refines its corrector's).
+    The elimination loses accuracy along the mechanisms of ``R_E`` (relative errors of order
+    ``eps / d`` per solve), which the refinement removes at a factor of about 100 a step.
+    Against a QDLDL factorisation of the full ``(2N + m)``-sized system, with the same three
+    refinement steps, on the interior-point projections of
     ``benchmarks/bench_solver.py``'s instances (scratch, 2026-11-27; BENCHMARKS.md): the same
     certificates on the phase diagrams (n = 16 to 64) and at the threshold at n = 16 and 32,
     one more at n = 64 (3 of 8 against 2), in 0.6 to 0.9 times the time (0.5 at the n = 64
@@ -465,11 +482,12 @@ class _ReducedKKT:
             raise ArithmeticError("the projection's reduced system is numerically singular")
         self._factor = f
 
-    def newton(self, residuals, rc, z, s):
+    def newton(self, residuals, rc, z, s, refinement: int | None = None):
         """(du, dy, dz, ds) of the interior-point step for the residuals ``(rd, re, ri)`` and
-        the complementarity residual ``rc``, at multipliers ``z`` and slacks ``s``."""
+        the complementarity residual ``rc``, at multipliers ``z`` and slacks ``s``, with
+        ``refinement`` steps of iterative refinement (default: the system's own)."""
         rd, re, ri = residuals
-        du, dy, dz = self.solve(-rd, -re, -ri + rc / z)
+        du, dy, dz = self.solve(-rd, -re, -ri + rc / z, refinement)
         return du, dy, dz, -(rc + s * dz) / z
 
     def _regularised(self, r1, r2):
@@ -479,11 +497,12 @@ class _ReducedKKT:
         du = self._factor.solve(self.d * (r1 + self.Bt @ (self._inverse * r2)))
         return du, (self.B @ du - r2) * self._inverse
 
-    def solve(self, r1, r2, r3):
-        """(du, dy, dz) of the unregularised system with right-hand side (r1, r2, r3)."""
+    def solve(self, r1, r2, r3, refinement: int | None = None):
+        """(du, dy, dz) of the unregularised system with right-hand side (r1, r2, r3), refined
+        ``refinement`` times (default: the system's own count)."""
         r23 = np.concatenate([r2, r3])
         du, dw = self._regularised(r1, r23)
-        for _ in range(self.refinement):
+        for _ in range(self.refinement if refinement is None else refinement):
             c, cw = self._regularised(
                 r1 - (du + self.Bt @ dw), r23 - (self.B @ du - self._lower * dw)
             )
