@@ -314,12 +314,12 @@ def min_norm_minimizer(
         centring and the corrector's second-order term, and the corrector's own solve is
         refined: unrefined, an iteration costs one factorisation and 5 triangular solves
         instead of 8. On the projections of ``solve()`` on ``benchmarks/bench_solver.py``'s
-        phase diagrams (n = 32 and 64) and on the 18 probes of one n = 64 threshold search
-        (scratch, 2026-11-28, best of 3): the same iterations on every phase-diagram
-        projection and 17 to 26 % less time (n = 64 floppy: 66 to 97 ms against 52 to 76 ms);
-        at the threshold every certificate kept and one rigid projection more certified (65
-        iterations where 3 refinement steps ran to the limit of 150), one 11 iterations
-        longer. One refinement step lost a certificate there.
+        phase diagrams (n = 32 and 64) and on the 14 it runs on the probes of one n = 64
+        threshold search (scratch, 2026-11-28, best of 3): the same iterations on every
+        phase-diagram projection and 17 to 26 % less time (n = 64 floppy: 66 to 97 ms against
+        52 to 76 ms); at the threshold every certificate kept and one rigid projection more
+        certified (65 iterations where 3 refinement steps ran to the limit of 150), one 11
+        iterations longer. One refinement step lost a certificate there.
 
     Returns
     -------
