@@ -82,7 +82,11 @@ FORMAT = 2
 #: 9 (grid) -- the projection's interior point no longer refines its predictor's solve
 #: (``displacements.min_norm_minimizer``): displacements change in their last digits, and a
 #: projection near a sample's own threshold can be certified where it was not (or the reverse).
-ROWS_REVISION = {"grid": 9, "threshold": 3}
+#: 10 (grid) and 4 (threshold) -- purification counts a round whose work is at most the
+#: resolution's (round-off work of a self-stress of rods) as doing none, and so stops earlier
+#: (``selfstress.purify``'s ``work_floor``): it returns other rejected candidates, so a search
+#: can take another path and a probe within resolution of the boundary be decided otherwise.
+ROWS_REVISION = {"grid": 10, "threshold": 4}
 
 
 def rows_revision(spec: Spec) -> int:

@@ -228,7 +228,9 @@ class Search:
                 continue  # purify's input, and so its result, as at the last tolerance
             previous = support
             try:
-                tp = purify(self.p, t, support_tol=support_tol)
+                tp = purify(
+                    self.p, t, support_tol=support_tol, work_floor=self.resolution.violation
+                )
             except ArithmeticError:
                 continue
             cert = self.p.exact.rigid(tp, self.resolution)
