@@ -212,7 +212,8 @@ def test_threshold_rows_keep_their_revision_when_grid_rows_change(tmp_path):
     the first certified iterate); both went up by one when purification started stopping
     early (its certificates, hence the verdicts of probes near a threshold, can differ); grid
     rows alone went to 9 when the projection stopped refining its predictor; both went up by
-    one again when purification began counting round-off work as none. A directory
+    one again when purification began counting round-off work as none (and balancing
+    became selective). A directory
     recorded at the threshold revision resumes as a threshold sweep and is refused
     as a grid sweep."""
     import json

@@ -600,6 +600,28 @@ def test_balance_restores_perturbed_self_stresses_without_flipping_a_sign():
     assert balanced >= 10
 
 
+def test_balance_takes_only_candidates_a_bounded_reduction_would_certify():
+    """A rejected rigid candidate is balanced only when its residual ``r`` need shrink by at
+    most ``Balance.reduction`` for ``w > tau + U r``: at U = 1e8, work 0.01 and residual
+    1e-7 need a reduction of 1e3 and are taken; work 1e-4 with the same residual needs 1e5
+    (taken at the limit), work 1e-5 needs 1e6 and is not, nor are candidates above ``below``
+    or without work above ``tau``."""
+    from tensegrity_rigidity.solver.certificates import RigidCertificate
+    from tensegrity_rigidity.solver.stages import Balance
+
+    res, b = Resolution(1e-9, 1e8), Balance()
+
+    def cert(work, residual):
+        return RigidCertificate(np.ones(3), work, residual, False)
+
+    assert b.takes(cert(0.01, 1e-7), res)
+    assert b.takes(cert(1e-4 + 1e-9, 1e-7), res)
+    assert not b.takes(cert(1e-5, 1e-7), res)
+    assert Balance(reduction=np.inf).takes(cert(1e-5, 1e-7), res)
+    assert not b.takes(cert(0.5, 2e-6), res)  # above ``below``
+    assert not b.takes(cert(1e-9, 1e-20), res)  # no work above tau
+
+
 def test_balance_decides_an_n64_probe_whose_purification_stalls():
     """n = 64, p_t = 0.3, f_c = 0.5, shear (benchmarks/near_threshold_set.py, configuration 2,
     sample 0, event 12585: a probe of its threshold search). The interior point's tensions,

@@ -84,7 +84,8 @@ FORMAT = 2
 #: projection near a sample's own threshold can be certified where it was not (or the reverse).
 #: 10 (grid) and 4 (threshold) -- purification counts a round whose work is at most the
 #: resolution's (round-off work of a self-stress of rods) as doing none, and so stops earlier
-#: (``selfstress.purify``'s ``work_floor``): it returns other rejected candidates, so a search
+#: (``selfstress.purify``'s ``work_floor``), and rigid candidates are balanced only when a
+#: bounded reduction of their residual would certify them (``stages.Balance.takes``): a search
 #: can take another path and a probe within resolution of the boundary be decided otherwise.
 ROWS_REVISION = {"grid": 10, "threshold": 4}
 

@@ -244,9 +244,8 @@ class Search:
         if (
             balance is not None
             and best is not None
-            and best.work > res.violation
-            and best.residual <= balance.below
             and self.balanced < balance.attempts
+            and balance.takes(best, res)
         ):
             self.balanced += 1
             x = balance(self, best.t)
@@ -628,12 +627,23 @@ class Balance:
     after 18 factorisations (0.1 s).
 
     Only candidates whose work exceeds ``tau`` and whose residual is at most ``below`` (both
-    relative to ``|t|_1``) are balanced, at most ``attempts`` per search: a count, not a time.
+    relative to ``|t|_1``) and needs to shrink by at most ``reduction`` to certify are
+    balanced, at most ``attempts`` per search: a count, not a time.
 
     Attributes
     ----------
     below : float
         Largest relative force residual of a candidate that is balanced.
+    reduction : float
+        Largest factor by which balancing is asked to reduce a candidate's residual ``r``:
+        it is balanced only when ``U r <= reduction (w - tau)``. On issue 13's threshold
+        searches (scratch, 2026-11-28) the candidates later accepted needed a reduction of
+        at most ``2.3e4`` (n = 32, 12 samples per configuration: 70 of 526 balanced) and
+        ``222`` (n = 64, one sample per configuration: 4 of 129); none of those needing more
+        than ``1e5`` was accepted, and they took 4.9 of the 13.5 s spent balancing at n = 32
+        and 15.1 of 20.5 s at n = 64. Paired on the whole searches: the same thresholds and
+        intervals, n = 32 in 150.1 s against 157.8 s (72 thresholds), n = 64 in 475 s
+        against 498 s (6).
     attempts : int
         Most candidates balanced per search.
     steps : int
@@ -641,8 +651,19 @@ class Balance:
     """
 
     below: float = 1e-6
+    reduction: float = 1e5
     attempts: int = 4
     steps: int = 20
+
+    def takes(self, cert: RigidCertificate, res: Resolution) -> bool:
+        """Whether a rejected candidate ``cert`` is worth balancing at resolution ``res``:
+        work above ``tau``, residual at most ``below``, and ``U r <= reduction (w - tau)``."""
+        margin = float(cert.work) - res.violation
+        return (
+            margin > 0
+            and cert.residual <= self.below
+            and res.displacement * cert.residual <= self.reduction * margin
+        )
 
     def __call__(self, s: Search, t: np.ndarray) -> np.ndarray | None:
         """The balanced tensions ((m,) longdouble) of candidate ``t`` (m,), or None."""
