@@ -719,23 +719,27 @@ def _purifications_of_an_offer(p, t):
 
 
 def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
-    """``_balanced_tensions`` purifies the minimiser's tensions once and returns both the
-    balanced tensions and the weak-duality bound they give, which is the bound of the same
-    purification checked on its own (exact force residual); it bounds the relaxed energy from
-    below and certifies it on most rigid samples; and it costs the factorisations of one
-    purification, the energy's lower bound included (the bound used to purify again)."""
+    """``_balanced_tensions`` returns the minimiser's tensions balanced and the weak-duality
+    bound they give, from one purification at most: where the tensions (their round-off
+    entries dropped, as purification drops them) already balance the nodes to ``1e-13``
+    relative, as a converged Newton minimiser's do, they are kept as they are and nothing is
+    factorised (one factorisation and about 5 ms of a rigid n = 64 ``solve()`` saved); else
+    purification runs once and its bound is the one checked on its own (the bound used to
+    purify again). Either way the bound is below the relaxed energy and certifies it on most
+    rigid samples."""
     from tensegrity_rigidity.solver.core import (
+        PURIFY_SUPPORT,
         _balanced_tensions,
         _energy_lower,
         _relax,
         _self_stress_bound,
         energy_certified,
     )
-    from tensegrity_rigidity.solver.selfstress import purify
+    from tensegrity_rigidity.solver.selfstress import kept, purify
 
     rng = np.random.default_rng(11)
     opts = SolverOptions()
-    checked = 0
+    checked = balanced = purified = 0
     for _ in range(60):
         inst = random_instance(rng, "lattice")
         p = Problem(inst, unit_stiffness=True)
@@ -749,11 +753,21 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
         t_n, bound = _balanced_tensions(p, t)
         lower = _energy_lower(p, bound)
         spent = p.factorizations - before
-        before = p.factorizations
-        tp = purify(p, t)
-        assert spent == p.factorizations - before
-        residual = float(np.abs(p.exact.forces(tp)).sum()) / float(np.abs(tp).sum())
-        assert lower == bound == _self_stress_bound(p, tp, residual)
+        t_kept = np.where(kept(t, PURIFY_SUPPORT), t, 0.0)
+        size = float(np.abs(t_kept).sum())
+        residual = float(np.abs(p.exact.forces(t_kept)).sum()) / size
+        if residual <= 1e-13:
+            balanced += 1
+            assert spent == 0
+            assert np.array_equal(t_n, t_kept)
+            assert lower == bound == _self_stress_bound(p, t_kept, residual)
+        else:
+            purified += 1
+            before = p.factorizations
+            tp = purify(p, t)
+            assert spent == p.factorizations - before > 0
+            residual = float(np.abs(p.exact.forces(tp)).sum()) / float(np.abs(tp).sum())
+            assert lower == bound == _self_stress_bound(p, tp, residual)
         assert bound <= E * (1 + 1e-12), (bound, E)  # a lower bound
         checked += energy_certified(E, bound)  # and a tight one where the relaxation converged
-    assert checked >= 10, checked
+    assert checked >= 10 and balanced >= 5 and purified >= 3, (checked, balanced, purified)

@@ -90,7 +90,8 @@ FORMAT = 2
 #: 11 (grid) -- where the relaxed tensions' purification leaves the energy uncertified, they
 #: are moved onto the best self-stress of their support for the energy's dual
 #: (``selfstress.optimal_on_support``): near a sample's own threshold rows certify more
-#: energies (their lower bounds rise) and so carry more nonaffinities.
+#: energies (their lower bounds rise) and so carry more nonaffinities; relaxed tensions that
+#: already balance the nodes are no longer purified, so lower bounds change in their last digits.
 ROWS_REVISION = {"grid": 11, "threshold": 4}
 
 
