@@ -1,5 +1,5 @@
-"""Purification (solver/selfstress.py): where it gives up early, and that giving up loses no
-certificate."""
+"""Self-stresses near approximate tensions (solver/selfstress.py): where purification gives up
+early, that giving up loses no certificate, and the support optimum of the energy's dual."""
 
 from __future__ import annotations
 
