@@ -605,18 +605,15 @@ def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
         return t, 0.0
     # purification's own support: the round-off tensions of elements only touched dropped
     t_kept = np.where(kept(t, PURIFY_SUPPORT), t, 0.0)
-    size = float(np.abs(t_kept).sum())
-    exact = float(np.abs(p.exact.forces(t_kept)).sum()) / max(size, 1e-300)
+    exact = _exact_residual(p, t_kept)
     if exact <= 1e-13:  # already balanced: purification could only refine round-off
         return t_kept, _self_stress_bound(p, t_kept, exact)
     try:
         tp = purify(p, t, support_tol=PURIFY_SUPPORT)
     except ArithmeticError:
         return t, 0.0
-    size = float(np.abs(tp).sum())
-    exact = float(np.abs(p.exact.forces(tp)).sum()) / max(size, 1e-300)
-    bound = _self_stress_bound(p, tp, exact)
-    if float(np.abs(p.RT @ tp).sum()) <= 1e-13 * size:
+    bound = _self_stress_bound(p, tp, _exact_residual(p, tp))
+    if float(np.abs(p.RT @ tp).sum()) <= 1e-13 * float(np.abs(tp).sum()):
         return tp, bound
     return t, bound
 
@@ -645,12 +642,17 @@ def _support_optimal_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, fl
     x = optimal_on_support(p, t)
     if x is None:
         return t, 0.0
-    size = float(np.abs(x).sum())
-    if size == 0.0:
-        return t, 0.0
-    residual = float(np.abs(p.exact.forces(x)).sum()) / size
     t_opt = np.asarray(x, dtype=float)
-    return t_opt, _self_stress_bound(p, t_opt, residual)
+    return t_opt, _self_stress_bound(p, t_opt, _exact_residual(p, x))
+
+
+def _exact_residual(p: Problem, t: np.ndarray) -> float:
+    """Relative force residual ``|R^T t|_1 / |t|_1`` of tensions ``t`` ((m,) float or
+    longdouble), the forces in extended precision (0 for ``t = 0``). No floor on ``|t|_1``:
+    tensions that underflow to subnormal sizes get the large residual they have, so that
+    :func:`_self_stress_bound` rejects them instead of dividing by their underflowed norm."""
+    size = float(np.abs(t).sum())
+    return float(np.abs(p.exact.forces(t)).sum()) / size if size > 0 else 0.0
 
 
 def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
