@@ -132,3 +132,21 @@ def test_one_blas_thread_also_limits_a_blas_loaded_after_the_first_solve():
     res = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     assert res.stdout.split() == ["1"]
+
+
+def test_every_number_of_solve_is_the_same_whatever_the_blas_threads():
+    # at n = 64 (12,288 sites) a multithreaded BLAS splits a dot product over the sites between
+    # its threads: the affine energy, computed after the solver's one-thread section, differed
+    # in its last digits between a sweep on one worker and one on two (bench_sweep.py)
+    inst = lattice_instance(64, 0.45, 0.2, 0.0, phi="dilation", seed=1)
+    results = []
+    for threads in (1, 2):
+        with threadpool_limits(limits=threads, user_api="blas"):
+            r = solve(inst)
+        s = r.summary()
+        s.pop("seconds")
+        results.append((s, r.displacements, r.tensions, r.extensions))
+    (s1, *arrays1), (s2, *arrays2) = results
+    assert s1 == s2
+    for a, b in zip(arrays1, arrays2, strict=True):
+        assert np.array_equal(a, b)

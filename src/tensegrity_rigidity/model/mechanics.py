@@ -128,9 +128,16 @@ def energy_from_extensions(kinds: np.ndarray, stiffness: np.ndarray, e: np.ndarr
     -------
     float
         E.
+
+    Notes
+    -----
+    Summed by NumPy's pairwise summation, not a BLAS dot product: a multithreaded BLAS splits
+    a dot product of more than about 10,000 entries between its threads and adds the parts
+    in another order, so the energy's last digits depended on the thread count (at n = 64 the
+    affine energy of a sweep's rows differed between one worker and two).
     """
     t = tensions_from_extensions(kinds, stiffness, e)
-    return 0.5 * float(np.dot(t, e))
+    return 0.5 * float(np.sum(t * e))
 
 
 def extensions(instance: Instance, displacements: np.ndarray | None = None) -> np.ndarray:
