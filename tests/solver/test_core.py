@@ -728,14 +728,13 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
     purify again). Either way the bound is below the relaxed energy and certifies it on most
     rigid samples."""
     from tensegrity_rigidity.solver.core import (
-        PURIFY_SUPPORT,
         _balanced_tensions,
         _energy_lower,
         _relax,
         _self_stress_bound,
         energy_certified,
     )
-    from tensegrity_rigidity.solver.selfstress import kept, purify
+    from tensegrity_rigidity.solver.selfstress import SUPPORT_TOL, kept, purify
 
     rng = np.random.default_rng(11)
     opts = SolverOptions()
@@ -753,7 +752,7 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
         t_n, bound = _balanced_tensions(p, t)
         lower = _energy_lower(p, bound)
         spent = p.factorizations - before
-        t_kept = np.where(kept(t, PURIFY_SUPPORT), t, 0.0)
+        t_kept = np.where(kept(t, SUPPORT_TOL), t, 0.0)
         size = float(np.abs(t_kept).sum())
         residual = float(np.abs(p.exact.forces(t_kept)).sum()) / size
         if residual <= 1e-13:

@@ -43,7 +43,7 @@ from .ipm import interior_point
 from .linalg import one_blas_thread
 from .newton import CROSSOVER_TAUS, crossover, newton
 from .problem import Problem
-from .selfstress import kept, optimal_on_support, purify
+from .selfstress import SUPPORT_TOL, kept, optimal_on_support, purify
 from .stages import BALANCE, DEFAULT_STAGES, POLISH, STAGES, search
 
 
@@ -568,13 +568,6 @@ def _long_relaxation(
         return None, pl.factorizations
 
 
-#: Relative size below which :func:`_balanced_tensions` drops a relaxed tension before
-#: balancing (purification's default ``support_tol``): elements only touched by the minimiser
-#: carry round-off tensions (``1e-18`` to ``1e-17`` of the largest on the rigid phase-diagram
-#: instances at n = 64), which belong to no self-stress.
-PURIFY_SUPPORT = 1e-9
-
-
 def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
     """The minimiser's tensions, moved onto an exact self-stress when they are close to one,
     and the lower bound on E* that self-stress gives.
@@ -584,11 +577,11 @@ def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
     relative change of the order of their force residual. Kept only if it balances them
     better than 1e-13 relative, else the tensions are returned as they were. Tensions that
     already balance the nodes to 1e-13 (their round-off entries dropped, as purification
-    drops them: :data:`PURIFY_SUPPORT`), as a converged Newton minimiser's do (``3e-16`` to
-    ``8e-16`` on the rigid phase-diagram instances at n = 64), are kept without purifying:
-    one factorisation fewer per rigid ``solve()`` (paired on those 9 instances, scratch,
-    2026-11-28: 5.6 ms of 125 ms on average, the same energies, bounds and displacements,
-    tensions within 1e-14).
+    drops them: :data:`~.selfstress.SUPPORT_TOL`), as a converged Newton minimiser's do
+    (``3e-16`` to ``8e-16`` on the rigid phase-diagram instances at n = 64), are kept without
+    purifying: one factorisation fewer per rigid ``solve()`` (paired on those 9 instances,
+    scratch, 2026-11-28: 5.6 ms of 125 ms on average, the same energies, bounds and
+    displacements, tensions within 1e-14).
 
     Returns
     -------
@@ -604,12 +597,12 @@ def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
     if not np.any(t):
         return t, 0.0
     # purification's own support: the round-off tensions of elements only touched dropped
-    t_kept = np.where(kept(t, PURIFY_SUPPORT), t, 0.0)
+    t_kept = np.where(kept(t, SUPPORT_TOL), t, 0.0)
     exact = _exact_residual(p, t_kept)
     if exact <= 1e-13:  # already balanced: purification could only refine round-off
         return t_kept, _self_stress_bound(p, t_kept, exact)
     try:
-        tp = purify(p, t, support_tol=PURIFY_SUPPORT)
+        tp = purify(p, t)
     except ArithmeticError:
         return t, 0.0
     bound = _self_stress_bound(p, tp, _exact_residual(p, tp))
