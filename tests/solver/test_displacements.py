@@ -379,7 +379,9 @@ def test_the_interior_point_stops_at_its_first_certified_iterate():
         residuals = (full.feasibility, full.stationarity, full.dual)
         if full.rounds < 2 or not _certified_with_margin(*residuals, tol):
             continue  # ended otherwise (not certified, or at its KKT or iteration limits)
-        shorter = interior_point(p, t, u, tol=tol, max_iterations=full.rounds - 1)
+        shorter = interior_point(
+            p, t, u, tol=tol, max_iterations=full.rounds - 1, refine_multipliers=False
+        )
         assert not _certified_with_margin(
             shorter.feasibility, shorter.stationarity, shorter.dual, tol
         )
@@ -432,3 +434,69 @@ def test_an_unrefined_predictor_certifies_a_projection_at_an_n64_threshold():
     res = solve(inst)
     assert res.decided and res.rigid
     assert res.min_norm_ok, res.min_norm_residuals
+
+
+def _sweep_sample(n: int, p_r: float, f_c: float, phi: str, k: int) -> Instance:
+    """Sample ``k`` of ``benchmarks/bench_sweep.py``'s sweep (p_t = 0.2, seed 5) at one point."""
+    from tensegrity_rigidity import strain_tensor
+    from tensegrity_rigidity.ensemble.runner import sample_geometry
+    from tensegrity_rigidity.ensemble.spec import parse_spec
+    from tensegrity_rigidity.model.elements import place_elements
+
+    spec = parse_spec(
+        {"n": n, "p_r": p_r, "p_t": 0.2, "f_c": f_c, "phi": phi, "samples": k, "seed": 5}
+    )
+    (point,) = spec.points()
+    net, u, v, theta = sample_geometry(spec, point, k)
+    kinds = place_elements(u, v, point.p_r, point.p_t, point.f_c)
+    return Instance(net.with_kinds(kinds), strain_tensor(point.phi, theta, spec.gamma))
+
+
+def test_multipliers_refined_in_extended_precision_certify_a_stalled_projection():
+    """A floppy row of the n = 64 sweep of ``bench_sweep.py`` (p_r = 0.55, f_c = 1,
+    compression, sample 6): the projection's interior point reaches a point feasible to 1e-14
+    whose multipliers have grown to ``1e10`` against ``|u|`` of ``1e2`` (units of the strain), so
+    that its stationarity stalls at ``1.5e-8``, the round-off of ``R^T lam``, just above the
+    tolerance: the row had no nonaffinity. Refined in extended precision
+    (``displacements._refined_certificate``) the multipliers certify it, and the displacements
+    have the norm of Clarabel's projection (which reports "Solved" here) to 1e-9."""
+    inst = _sweep_sample(64, 0.55, 1.0, "compression", 6)
+    res = solve(inst)
+    assert res.decided and not res.rigid
+    assert res.min_norm_ok, (res.min_norm_residuals, res.message)
+    feas, stat, dual = res.min_norm_residuals
+    assert feas <= 1e-8 and stat <= 1e-8 and dual <= 1e-9
+    u_ref, status = min_norm_minimizer(inst, res.tensions)
+    assert status == "Solved"
+    a, b = np.linalg.norm(res.displacements), np.linalg.norm(u_ref - u_ref.mean(axis=0))
+    assert abs(a - b) <= 1e-9 * b, (a, b)
+
+
+def test_refined_multipliers_do_not_certify_a_point_that_is_not_the_projection():
+    """The refined certificate is the same KKT test with better multipliers, not a looser one:
+    the certified minimum-norm point of a floppy sample moved by a uniform translation (a
+    zero-energy motion, so still feasible, and longer) keeps a stationarity residual of the
+    translation's size, which no multipliers remove (``R^T lam`` has no translation), and is
+    rejected; the projection itself, with the same multipliers, passes."""
+    from tensegrity_rigidity.solver.core import _search
+    from tensegrity_rigidity.solver.displacements import (
+        _certified,
+        _polyhedron,
+        _refined_certificate,
+    )
+    from tensegrity_rigidity.solver.displacements import min_norm_minimizer as interior_point
+
+    inst = lattice_instance(8, 0.45, 0.3, 0.5, phi="shear", theta=0.4, seed=3)
+    p, s = _search(inst, SolverOptions(), None)
+    t = np.zeros(p.sites.size)
+    eq, ineq, c, _, _ = _polyhedron(p, t)
+    res = interior_point(p, t, np.asarray(s.floppy.u, dtype=float))
+    assert res.ok and res.multipliers is not None
+    refined = _refined_certificate(p, res.u, res.multipliers, eq, ineq, c)
+    assert refined is not None and _certified(*refined[0], 1e-8), refined[0]
+    shift = 1e-3 * np.abs(res.u).max()
+    moved = res.u + np.tile([shift, -shift], p.n2 // 2)
+    refined = _refined_certificate(p, moved, res.multipliers, eq, ineq, c)
+    assert refined is not None
+    feasibility, stationarity, _ = refined[0]
+    assert feasibility <= 1e-12 and stationarity > 1e-4, refined[0]
