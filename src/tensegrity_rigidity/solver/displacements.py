@@ -403,7 +403,7 @@ def min_norm_minimizer(
     assert best is not None
     _, u, y, z, _ = best
     lam = _multipliers(p, y, z, E, In)
-    feas, stat, dual = _certificate(p, u, y, z, E, In, eq, ineq, c)
+    feas, stat, dual = _residuals(p, u, p.e0 + p.R @ u, lam, eq, ineq, c)
     ok = _certified(feas, stat, dual, tol)
     if refine_multipliers and not ok and feas <= tol:  # see refine_multipliers
         refined = _refined_certificate(p, u, lam, eq, ineq, c)
