@@ -215,15 +215,16 @@ def test_threshold_rows_keep_their_revision_when_grid_rows_change(tmp_path):
     one again when purification began counting round-off work as none (and balancing
     became selective); grid rows alone went to 11 when the relaxed tensions' support optimum
     began certifying energies purification left open, to 12 when the affine energy
-    stopped depending on the BLAS thread count, and to 13 when stalled projections had their
-    multipliers refined in extended precision. A directory
+    stopped depending on the BLAS thread count, to 13 when stalled projections had their
+    multipliers refined in extended precision, and to 14 when rows began to carry a lower
+    bound on the nonaffinity where it is not certified. A directory
     recorded at the threshold revision resumes as a threshold sweep and is refused
     as a grid sweep."""
     import json
 
     from tensegrity_rigidity.ensemble.store import ROWS_REVISION
 
-    assert ROWS_REVISION == {"grid": 13, "threshold": 4}
+    assert ROWS_REVISION == {"grid": 14, "threshold": 4}
     threshold = SMALL.replace("p_r = [0.55, 0.7]\n", "").replace(
         "[output]", '[threshold]\npath = "p_r"\n[output]'
     )

@@ -115,6 +115,7 @@ def test_sweep_nonaffinity_is_that_of_solve(tmp_path):
             assert bool(row.min_norm_ok) == res.min_norm_ok
             if res.min_norm_ok:
                 assert row.nonaffinity == nonaffinity(inst, res, spec.gamma)
+                assert row.nonaffinity_lower == row.nonaffinity
             else:
                 assert np.isnan(row.nonaffinity)
 
@@ -500,3 +501,64 @@ def test_refined_multipliers_do_not_certify_a_point_that_is_not_the_projection()
     assert refined is not None
     feasibility, stationarity, _ = refined[0]
     assert feasibility <= 1e-12 and stationarity > 1e-4, refined[0]
+
+
+def test_the_norm_bound_is_weak_duality_whatever_the_multipliers():
+    """``norm_lower_bound`` never exceeds the certified minimum norm: on the certified floppy
+    projections of random small instances it equals ``|u*|^2`` (to 1e-6) from the interior
+    point's own multipliers, and stays below it when wrong-signed multipliers are added on a
+    slack inequality, which would raise the dual function above ``|u*|^2`` if they were kept
+    (checked here too, so that the perturbation bites)."""
+    from tensegrity_rigidity.solver.core import _search
+    from tensegrity_rigidity.solver.displacements import _polyhedron, norm_lower_bound
+    from tensegrity_rigidity.solver.displacements import min_norm_minimizer as interior_point
+
+    rng = np.random.default_rng(5)
+    checked = 0
+    for i in range(60):
+        inst = random_instance(rng)
+        p, s = _search(inst, SolverOptions(), None)
+        if s.floppy is None or not s.floppy.accepted or not np.any(p.e0):
+            continue
+        t = np.zeros(p.sites.size)
+        res = interior_point(p, t, np.asarray(s.floppy.u, dtype=float))
+        if not res.ok or res.multipliers is None:
+            continue
+        eq, ineq, c, _, _ = _polyhedron(p, t)
+        squares = float(res.u @ res.u)
+        lam = np.asarray(res.multipliers, dtype=float)
+        assert abs(norm_lower_bound(p, lam, eq, ineq, c) - squares) <= 1e-6 * squares, i
+        v = p.e0 + p.R @ res.u
+        slack = np.flatnonzero(ineq & (p.sigma * v < -1e-3))
+        if slack.size == 0:
+            continue
+        b = slack[np.argmax(np.abs(v[slack]))]
+        wrong = lam.copy()
+        wrong[b] = v[b] / 2  # the sign of v_b: wrong for a slack one-sided element
+        raw = -float(np.sum((p.RT @ wrong) ** 2)) + 2 * float(wrong @ (p.e0 - c))
+        assert raw > squares * (1 + 1e-6), i  # kept, it would break the bound
+        assert norm_lower_bound(p, wrong, eq, ineq, c) <= squares * (1 + 1e-7), i
+        checked += 1
+    assert checked >= 10, checked
+
+
+def test_a_stalled_projection_brackets_the_nonaffinity_from_below():
+    """A floppy row of the n = 64 sweep of ``bench_sweep.py`` (p_r = 0.55, f_c = 0, shear,
+    sample 3) whose projection's interior point stalls at feasibility 1e-7 (nearly dependent
+    held rows; BENCHMARKS.md 2026-11-28): no minimum-norm displacements and a NaN nonaffinity,
+    but a certified lower bound on ``|u*|^2`` from the multipliers (weak duality), positive
+    and below the squared norm of the reported floppy minimiser (a feasible point, so an upper
+    bound); the sweep row's ``nonaffinity_lower`` is the nonaffinity of that bound."""
+    from tensegrity_rigidity.analysis.observables import nonaffinity_lower, sample_record
+
+    inst = _sweep_sample(64, 0.55, 0.0, "shear", 3)
+    res = solve(inst)
+    assert res.decided and not res.rigid and not res.min_norm_ok
+    squares = float(np.sum(res.displacements**2))
+    assert 0 < res.min_norm_lower <= squares, (res.min_norm_lower, squares)
+    assert "the minimum norm is at least" in res.message
+    record = sample_record(inst, res)
+    assert np.isnan(record["nonaffinity"])
+    gamma_lower = nonaffinity_lower(inst, res)
+    assert record["nonaffinity_lower"] == gamma_lower
+    assert 0 < gamma_lower <= nonaffinity(inst, res)

@@ -99,7 +99,10 @@ FORMAT = 2
 #: multipliers refined in extended precision (``displacements._refined_certificate``): rows
 #: near a sample's own threshold certify more minimum-norm displacements and so carry more
 #: nonaffinities (4 of the 10 missing at n = 64 in ``bench_sweep.py``).
-ROWS_REVISION = {"grid": 13, "threshold": 4}
+#: 14 (grid) -- rows carry ``nonaffinity_lower``: the nonaffinity where it is certified, and a
+#: certified lower bound on it where the projection ran uncertified (weak duality from its
+#: multipliers, ``displacements.norm_lower_bound``), so that those samples are bracketed.
+ROWS_REVISION = {"grid": 14, "threshold": 4}
 
 
 def rows_revision(spec: Spec) -> int:

@@ -237,6 +237,12 @@ class SolveResult:
         multiplier relative to ``|lam|_inf``). All NaN when the displacements were not asked
         for (``SolverOptions.min_norm`` False) or not computed (relaxed energy not certified);
         all 0 when nothing is strained or there is no element (``u = 0`` is exact).
+    min_norm_lower : float
+        A certified lower bound on ``sum_i |u*_i|^2`` of the minimum-norm minimiser (length^2):
+        that sum itself where ``min_norm_ok``; where the projection ran but was not certified,
+        the bound weak duality gives from its multipliers
+        (:func:`~tensegrity_rigidity.solver.displacements.norm_lower_bound`); NaN where no
+        projection ran.
     message : str
         Why the sample is undecided, and why the displacements are not certified minimum-norm
         (not asked for, relaxed energy not certified, or the projection's residuals); empty
@@ -266,6 +272,7 @@ class SolveResult:
     method: str
     min_norm_ok: bool
     min_norm_residuals: tuple[float, float, float] = (np.nan, np.nan, np.nan)
+    min_norm_lower: float = np.nan
     message: str = ""
     seconds: float = field(default=0.0)
 
@@ -749,6 +756,7 @@ def solve(
                     E_lower = min(E_lower, E_n)  # and E_n bounds it from above
             iterations = s.iterations + more
         min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
+        norm_lower = np.nan  # of |u*|^2, units of scale^2
         # the polyhedron of minimisers is built from the relaxed tensions: it is U* only when
         # they are t*, which the energy's lower bound certifies (see ENERGY_GAP)
         certified = verdict.status == "floppy" or energy_certified(E_n, E_lower)
@@ -772,11 +780,14 @@ def solve(
                 if mn.ok:
                     u_n, min_norm_ok = mn.u, True
                 else:
+                    norm_lower = mn.norm_lower
                     message = _joined(
                         message,
                         "minimum-norm displacements not certified (KKT residuals: feasibility "
                         f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual "
-                        f"{mn.dual:.1e}); the displacements are a minimiser",
+                        f"{mn.dual:.1e}); the displacements are a minimiser; the minimum "
+                        f"norm is at least {np.sqrt(norm_lower):.3g} times the largest affine "
+                        "extension",
                     )
         elif opts.min_norm:  # nothing strained or no element: u = 0 is the minimum-norm minimiser
             u_n, min_norm_ok, kkt = np.zeros(p.n2), True, (0.0, 0.0, 0.0)
@@ -790,6 +801,8 @@ def solve(
     e_unit = k_unit * p.scale**2
     disp = (u_n * p.scale).reshape(-1, 2)
     disp = disp - disp.mean(axis=0)
+    # the certified sum itself, else the projection's bound (physical units)
+    min_norm_lower = float(np.sum(disp**2)) if min_norm_ok else float(norm_lower * p.scale**2)
     t_full = np.zeros(net.n_sites)
     t_full[p.sites] = t_n * k_unit * p.scale
     affine = affine_extensions(net, instance.strain)
@@ -816,6 +829,7 @@ def solve(
         method=verdict.stage or "undecided",
         min_norm_ok=min_norm_ok,
         min_norm_residuals=kkt,
+        min_norm_lower=min_norm_lower,
         message=message,
         seconds=time.perf_counter() - start,
     )
