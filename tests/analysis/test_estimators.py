@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from tensegrity_rigidity.analysis.estimators import (
     contour_slope,
@@ -114,3 +116,29 @@ def test_the_same_samples_under_three_strains_are_one_unit_each():
     est = paired_bootstrap(np.mean, tripled, tripled + 0.01, n_boot=200, groups=units)
     est1 = paired_bootstrap(np.mean, t, t + 0.01, n_boot=200)
     assert 0.8 < est.a_err / est1.a_err < 1.25
+
+
+@given(
+    st.lists(
+        st.tuples(
+            st.floats(0, 1e8),  # the true value
+            st.floats(0, 1),  # its lower bound, as a fraction of it
+            st.sampled_from(["known", "bounded", "unknown"]),
+        ),
+        min_size=1,
+        max_size=15,
+    )
+)
+def test_the_median_bracket_holds_the_median_of_the_true_values(samples):
+    """Whatever the true values of the samples known only from below (or not at all), their
+    median lies in :func:`median_bracket`'s interval."""
+    from tensegrity_rigidity.analysis.estimators import median_bracket
+
+    true = np.array([x for x, _, _ in samples])
+    values = np.array([x if how == "known" else np.nan for x, _, how in samples])
+    lower = np.array([x * f if how == "bounded" else np.nan for x, f, how in samples])
+    low, high = median_bracket(values, lower)
+    median = float(np.median(true))
+    assert low <= median * (1 + 1e-12) and median <= high * (1 + 1e-12)
+    if np.all([how == "known" for _, _, how in samples]):
+        assert low == high == median

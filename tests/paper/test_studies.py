@@ -162,3 +162,32 @@ def test_fig2_gives_quantiles_beside_the_mean(mini):
     assert (c.gamma_median[ok] <= c.gamma_q75[ok] + 1e-12).all()
     assert r.min_norm_failed is None or r.min_norm_failed >= 0
     assert set(r.at_pcrit.p_t) <= set(studies.PT4) and len(r.tails)
+
+
+def test_samples_known_only_from_below_bracket_the_median_nonaffinity():
+    """Rows whose projection stalled keep a certified lower bound on Gamma
+    (``nonaffinity_lower``): the median over every sample is bracketed between the median with
+    them at their bounds and at infinity, and the report says so; rows written before the
+    bound existed count such samples at 0."""
+    from tensegrity_rigidity.paper.report import _bracket_sentence
+
+    rows = pd.DataFrame(
+        {
+            "phi": math.pi,
+            "p_t": 0.2,
+            "p_r": [0.5] * 4 + [0.6] * 3,
+            "nonaffinity": [1.0, 2.0, 3.0, np.nan, 4.0, np.nan, np.nan],
+            "nonaffinity_lower": [1.0, 2.0, 3.0, 50.0, 4.0, 60.0, np.nan],
+        }
+    )
+    b = studies.gamma_median_brackets(rows).set_index("p_r")
+    assert b.loc[0.5, "gamma_median_low"] == 2.5 and b.loc[0.5, "gamma_median_high"] == 2.5
+    assert b.loc[0.6, "gamma_median_low"] == 4.0 and np.isinf(b.loc[0.6, "gamma_median_high"])
+    assert b.gamma_bounded.tolist() == [1, 1]
+    curves = b.reset_index().assign(gamma_median=[2.0, 4.0])
+    text = _bracket_sentence(curves)
+    assert "2 of them have a certified lower bound" in text
+    assert "agree at 1 of 2 grid points" in text and "[4, inf]" in text
+    old = studies.gamma_median_brackets(rows.drop(columns="nonaffinity_lower")).set_index("p_r")
+    assert old.loc[0.5, "gamma_median_low"] == 1.5 and old.gamma_bounded.tolist() == [0, 0]
+    assert _bracket_sentence(old.reset_index()) == ""

@@ -694,6 +694,42 @@ def critical_point(thresholds: np.ndarray, groups=None) -> tuple[float, float]:
     return med, float(np.std(boots, ddof=1))
 
 
+def median_bracket(values: np.ndarray, lower: np.ndarray) -> tuple[float, float]:
+    """Bounds on the median of samples of which some are known only from below.
+
+    Parameters
+    ----------
+    values : (S,) float
+        The samples' values, NaN where unknown.
+    lower : (S,) float
+        A lower bound on each value (NaN where there is none); only read where ``values``
+        is NaN.
+
+    Returns
+    -------
+    low, high : float
+        The median with every unknown value at its lower bound (at 0 where it has none), and
+        with every unknown value at ``+inf``: the median of the true values lies between them
+        whenever they are non-negative (the median is monotone in each sample). ``high`` is
+        ``inf`` where the unknown values are half the samples or more; both NaN for no samples.
+
+    Notes
+    -----
+    For the nonaffinity near a sample's own threshold, where the minimum-norm projection can
+    stall and leave only a certified lower bound (sweep rows' ``nonaffinity_lower``): the
+    median over the certified samples alone leaves the largest ones out and is biased low;
+    this bracket counts every sample.
+    """
+    values = np.asarray(values, dtype=float)
+    if values.size == 0:
+        return float("nan"), float("nan")
+    unknown = np.isnan(values)
+    floor = np.where(np.isnan(lower), 0.0, np.asarray(lower, dtype=float))
+    low = np.where(unknown, floor, values)
+    high = np.where(unknown, np.inf, values)
+    return float(np.median(low)), float(np.median(high))
+
+
 def probability_curve(thresholds: np.ndarray, p_grid: np.ndarray):
     """P on a grid from thresholds, with Wilson intervals.
 

@@ -131,6 +131,32 @@ def _g(x: float) -> str:
     return f"{x:.3g}" if np.isfinite(x) else "n/a"
 
 
+def _bracket_sentence(curves: pd.DataFrame) -> str:
+    """What the certified lower bounds of the samples without a nonaffinity say about the
+    median Gamma under compression (empty where no row has such a bound)."""
+    if "gamma_bounded" not in curves or not int(curves.gamma_bounded.sum()):
+        return ""
+    k = int(curves.gamma_bounded.sum())
+    comp = curves[np.isclose(curves.phi, np.pi)]
+    open_ = comp[comp.gamma_median_high > comp.gamma_median_low]
+    text = (
+        f" {k} of them have a certified lower bound on Gamma instead (their minimum-norm "
+        "projection ran but stalled, near their own threshold; rows' nonaffinity_lower): "
+        "counting every sample, the median Gamma of a grid point lies between its median with "
+        "those samples at their bounds (at 0 where a sample has none) and at infinity. Under "
+        f"compression the two agree at {len(comp) - len(open_)} of {len(comp)} grid points"
+    )
+    if len(open_):
+        w = open_.loc[(open_.gamma_median_high / open_.gamma_median_low).idxmax()]
+        high = "inf" if np.isposinf(w.gamma_median_high) else _g(w.gamma_median_high)
+        text += (
+            f"; the widest bracket is [{_g(w.gamma_median_low)}, {high}] "
+            f"(p_t = {w.p_t:.1f}, p_r = {w.p_r:.2f}; median over the certified samples "
+            f"{_g(w.gamma_median)})"
+        )
+    return text + "."
+
+
 def tails_section(r) -> Section:
     """Heavy tails of Gamma and the energy at the transition (from Fig. 2's study)."""
     if r.min_norm_failed is None:
@@ -144,6 +170,7 @@ def tails_section(r) -> Section:
             f"{r.min_norm_failed} grid samples have no verified minimum-norm displacements "
             "(min_norm_ok = False); their Gamma is left out (NaN), their verdict and energy kept."
         )
+    mn += _bracket_sentence(r.curves)
     if r.tensions_uncertified:
         mn += (
             f" {r.tensions_uncertified} rigid grid samples have no certified relaxed energy, so "

@@ -633,7 +633,11 @@ class Fig2Result:
     curves : DataFrame
         Per (phi, p_t, p_r): energy and nonaffinity: mean with standard error, median and
         quartiles (``*_median``, ``*_q25``, ``*_q75``; both are heavy-tailed near the
-        transition), the number of samples with a nonaffinity (``gamma_n``), P, N.
+        transition), the number of samples with a nonaffinity (``gamma_n``), P, N; and the
+        median nonaffinity over all N samples bracketed (``gamma_median_low``,
+        ``gamma_median_high``: :func:`~tensegrity_rigidity.analysis.estimators.median_bracket`
+        with the rows' certified lower bounds ``nonaffinity_lower``), with the number of
+        samples known only from such a bound (``gamma_bounded``).
     taut : DataFrame
         Per (phi, p_t, p_r): fraction of cables under tension in rigid samples (mean, sem, size).
     fits : DataFrame
@@ -757,6 +761,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         )
         .reset_index()
     )
+    curves = curves.merge(gamma_median_brackets(rows), on=["phi", "p_t", "p_r"], how="left")
     taut = (
         rows[rows.rigid]
         .groupby(["phi", "p_t", "p_r"])
@@ -823,6 +828,27 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         straddling=interval_straddles(th, p_r),
         measured=_fig2_measurements(scale, fits, paper_est, peaks, taut_tr),
     )
+
+
+def gamma_median_brackets(rows: pd.DataFrame) -> pd.DataFrame:
+    """Per (phi, p_t, p_r): the median nonaffinity over every sample, bracketed.
+
+    Samples without a certified nonaffinity (NaN after :func:`mask_min_norm`) enter at their
+    certified lower bound ``nonaffinity_lower`` (at 0 where the row has none) for
+    ``gamma_median_low`` and at ``+inf`` for ``gamma_median_high``
+    (:func:`~tensegrity_rigidity.analysis.estimators.median_bracket`); ``gamma_bounded``
+    counts those known from a bound. Rows written before the bound existed have none.
+    """
+    lower = rows["nonaffinity_lower"] if "nonaffinity_lower" in rows else np.nan
+    rows = rows.assign(_lower=lower)
+    out = []
+    for (phi, p_t, p_r), g in rows.groupby(["phi", "p_t", "p_r"]):
+        gamma, low = g.nonaffinity.to_numpy(), g._lower.to_numpy(dtype=float)
+        lo, hi = an.median_bracket(gamma, low)
+        bounded = int(np.sum(np.isnan(gamma) & np.isfinite(low)))
+        out.append((phi, p_t, p_r, lo, hi, bounded))
+    columns = ["phi", "p_t", "p_r", "gamma_median_low", "gamma_median_high", "gamma_bounded"]
+    return pd.DataFrame(out, columns=columns)
 
 
 def _q25(x: pd.Series) -> float:
