@@ -464,10 +464,12 @@ def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
     # |R^T lam| of the exact geometry is at most |forces| + their round-off, per component
     slack = p.exact.roundoff * (abs(p.RT) @ np.abs(lam_x))
     upper = np.abs(forces) + slack
-    # the two sums (pairwise, in extended precision) less bounds on their summation errors
+    # the two sums (NumPy's pairwise summation, in extended precision; a longdouble dot
+    # product would add in turn) less bounds on their summation errors
     sums = float(np.ceil(np.log2(max(lam_x.size, 2)))) + 2.0
-    square = (upper @ upper) * (1 + 2 * sums * EPS)
-    terms = lam_x * np.asarray(p.e0 - c, dtype=np.longdouble)
+    square = np.sum(upper * upper) * (1 + 2 * sums * EPS)
+    target = np.asarray(p.e0, dtype=np.longdouble) - np.asarray(c, dtype=np.longdouble)
+    terms = lam_x * target
     linear = terms.sum() - sums * EPS * np.abs(terms).sum()
     bound = float(2 * linear - square)
     # the last subtraction and the rounding to double, each within 2^-52 relative
