@@ -462,8 +462,7 @@ def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
     lam_x = np.asarray(lam_x, dtype=np.longdouble)
     forces = p.exact.forces(lam_x)
     # |R^T lam| of the exact geometry is at most |forces| + their round-off, per component
-    slack = p.exact.roundoff * (abs(p.RT) @ np.abs(lam_x))
-    upper = np.abs(forces) + slack
+    upper = np.abs(forces) + _force_roundoff(p, lam_x)
     # the two sums (NumPy's pairwise summation, in extended precision; a longdouble dot
     # product would add in turn) less bounds on their summation errors
     sums = float(np.ceil(np.log2(max(lam_x.size, 2)))) + 2.0
@@ -550,13 +549,18 @@ def _refined_certificate(
         r = U + p.exact.forces(lam_x)
         lam_x = lam_x - p.R @ f.solve(np.asarray(r, dtype=float))
     lam_f = np.asarray(lam_x, dtype=float)
-    # each force sums products of at most the node's degree: exact.roundoff bounds their
-    # relative round-off, so the node's sum of |lam_b| bounds the absolute
-    roundoff = p.exact.roundoff * float((abs(p.RT) @ np.abs(lam_f)).max(initial=0.0))
+    roundoff = float(_force_roundoff(p, lam_f).max(initial=0.0))
     stat = (float(np.abs(U + p.exact.forces(lam_x)).max(initial=0.0)) + roundoff) / max(
         float(np.abs(u).max(initial=0.0)), 1e-300
     )
     return _residuals(p, u, p.e0 + p.R @ u, lam_f, eq, ineq, c, stationarity=stat), lam_x
+
+
+def _force_roundoff(p: Problem, lam: np.ndarray) -> np.ndarray:
+    """Per-component bound (2N,) on the round-off of ``p.exact.forces(lam)``: each force sums
+    products of at most the node's degree, ``exact.roundoff`` bounds their relative round-off,
+    so the node's sum of ``|lam_b|`` bounds the absolute."""
+    return p.exact.roundoff * (abs(p.RT) @ np.abs(lam))
 
 
 class _ReducedKKT:
