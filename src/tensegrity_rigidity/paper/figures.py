@@ -170,26 +170,84 @@ def fig2b(r: Fig2Result, figdir: Path):
     c = r.curves
     sub = c[np.isclose(c.phi, math.pi)]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for p_t, s in sub.groupby("p_t"):
+    grid = np.unique(sub.p_r.to_numpy(float))
+    step = float(np.diff(grid).min()) if grid.size > 1 else 0.0
+    curves = list(sub.groupby("p_t"))
+    for i, (p_t, s) in enumerate(curves):
         (line,) = ax.plot(s.p_r, s.gamma_median, "-", lw=1.5, label=f"p_t = {p_t:.1f} (median)")
         colour = line.get_color()
         ax.fill_between(s.p_r, s.gamma_q25, s.gamma_q75, color=colour, alpha=0.2, lw=0)
         ax.plot(s.p_r, s.gamma, "o", mfc="none", ms=4, color=colour)
+        # the bars of different p_t side by side, within a fifth of a grid step
+        median_brackets(ax, s, colour, dx=0.2 * step * (i - (len(curves) - 1) / 2))
         pc = r.crit
         pc = pc[np.isclose(pc.phi, math.pi) & np.isclose(pc.p_t, p_t)].p_crit
         if len(pc):
             ax.axvline(float(pc.iloc[0]), color=colour, ls="--", lw=1)
     ax.plot([], [], "o", mfc="none", color="grey", label="mean")
+    if "gamma_median_low" in sub and (sub.gamma_median_high > sub.gamma_median_low).any():
+        ax.plot([], [], "_", color="grey", ms=8, label="median over all samples, bracketed")
     ax.set_yscale("log")
     ax.set_xlabel("p_r")
     ax.set_ylabel("nonaffinity Gamma")
     ax.legend(fontsize=7)
     ax.set_title(
         f"2B  rods + cables, compression, n = {r.n}: median, quartiles (band), mean (o); "
-        "dashed: p_crit",
+        "dashed: p_crit;\nbars: median over all samples where some are known only from below "
+        "(^: unbounded above)",
         fontsize=8,
     )
     return _save(fig, figdir, "2B")
+
+
+def median_brackets(ax, s, colour, dx: float = 0.0) -> list[tuple[float, float, float]]:
+    """Draw, at each p_r where samples lack a certified nonaffinity, the bracket of the median
+    over all samples (``gamma_median_low`` to ``gamma_median_high``,
+    :func:`~tensegrity_rigidity.paper.studies.gamma_median_brackets`) as a vertical bar.
+
+    A bracket open above (``gamma_median_high = inf``) ends in a ``^`` just above the curves;
+    one open below (``gamma_median_low = 0``: the missing samples have no bound) starts at
+    the lowest quartile drawn. The median line itself uses the certified samples only, so it can
+    lie outside the bracket.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        Log-scaled in y by the caller.
+    s : DataFrame
+        One curve's rows (``p_r``, ``gamma_q25``, ``gamma_q75``, ``gamma`` and the bracket
+        columns; rows from studies without the bracket draw nothing).
+    colour : colour
+        The curve's colour.
+    dx : float
+        Horizontal offset of the bars (so that curves at the same p_r do not hide each other).
+
+    Returns
+    -------
+    list of (p_r, low, high)
+        The bars drawn, in data coordinates (``p_r + dx``; ``high`` where the bracket is open
+        above is the drawn top, not inf).
+    """
+    if "gamma_median_low" not in s:
+        return []
+    lo, hi = s.gamma_median_low.to_numpy(float), s.gamma_median_high.to_numpy(float)
+    open_ = hi > lo
+    if not open_.any():
+        return []
+    shown = np.r_[s.gamma_q25, s.gamma_q75, s.gamma, lo, hi].astype(float)
+    shown = shown[np.isfinite(shown) & (shown > 0)]
+    if not shown.size:
+        return []
+    floor, top = shown.min(), 3.0 * shown.max()
+    x = s.p_r.to_numpy(float)[open_] + dx
+    low = np.where(lo[open_] > 0, lo[open_], floor)
+    high = np.where(np.isfinite(hi[open_]), hi[open_], top)
+    ax.vlines(x, low, high, color=colour, lw=1.5, alpha=0.7)
+    ax.plot(x, low, "_", color=colour, ms=8)
+    up = ~np.isfinite(hi[open_])
+    ax.plot(x[up], high[up], "^", color=colour, ms=5)
+    ax.plot(x[~up], high[~up], "_", color=colour, ms=8)
+    return [(float(a), float(b), float(c)) for a, b, c in zip(x, low, high, strict=True)]
 
 
 def fig2e(r: Fig2Result, figdir: Path):
