@@ -173,30 +173,34 @@ def fig2b(r: Fig2Result, figdir: Path):
     grid = np.unique(sub.p_r.to_numpy(float))
     step = float(np.diff(grid).min()) if grid.size > 1 else 0.0
     curves = list(sub.groupby("p_t"))
+    bars: list[tuple[float, float, float]] = []
     for i, (p_t, s) in enumerate(curves):
         (line,) = ax.plot(s.p_r, s.gamma_median, "-", lw=1.5, label=f"p_t = {p_t:.1f} (median)")
         colour = line.get_color()
         ax.fill_between(s.p_r, s.gamma_q25, s.gamma_q75, color=colour, alpha=0.2, lw=0)
         ax.plot(s.p_r, s.gamma, "o", mfc="none", ms=4, color=colour)
         # the bars of different p_t side by side, within a fifth of a grid step
-        median_brackets(ax, s, colour, dx=0.2 * step * (i - (len(curves) - 1) / 2))
+        bars += median_brackets(ax, s, colour, dx=0.2 * step * (i - (len(curves) - 1) / 2))
         pc = r.crit
         pc = pc[np.isclose(pc.phi, math.pi) & np.isclose(pc.p_t, p_t)].p_crit
         if len(pc):
             ax.axvline(float(pc.iloc[0]), color=colour, ls="--", lw=1)
     ax.plot([], [], "o", mfc="none", color="grey", label="mean")
-    if "gamma_median_low" in sub and (sub.gamma_median_high > sub.gamma_median_low).any():
+    title = (
+        f"2B  rods + cables, compression, n = {r.n}: median, quartiles (band), mean (o); "
+        "dashed: p_crit"
+    )
+    if bars:
         ax.plot([], [], "_", color="grey", ms=8, label="median over all samples, bracketed")
+        title += (
+            ";\nbars: median over all samples where some are known only from below "
+            "(^: unbounded above)"
+        )
     ax.set_yscale("log")
     ax.set_xlabel("p_r")
     ax.set_ylabel("nonaffinity Gamma")
     ax.legend(fontsize=7)
-    ax.set_title(
-        f"2B  rods + cables, compression, n = {r.n}: median, quartiles (band), mean (o); "
-        "dashed: p_crit;\nbars: median over all samples where some are known only from below "
-        "(^: unbounded above)",
-        fontsize=8,
-    )
+    ax.set_title(title, fontsize=8)
     return _save(fig, figdir, "2B")
 
 
