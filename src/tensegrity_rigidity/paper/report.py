@@ -54,7 +54,8 @@ FIGURE_CAPTIONS = {
     "2A": "Nonaffine displacement field of a rods-and-cables network under compression: arrows "
     "of equal length give the direction, their colour and the background |u| on a log scale.",
     "2B": "Nonaffinity versus p_r for several p_t (rods + cables, compression): median with the "
-    "interquartile band, the mean as open markers.",
+    "interquartile band, the mean as open markers; where some samples' minimum norm is known "
+    "only from below, a bar brackets the median over all samples.",
     "2E": "Not in the paper: the distribution (complementary CDF) of Gamma over samples at the "
     "grid p_r nearest p_crit (rods + cables, compression).",
     "2C": "Energy versus p_r under compression; inset: log-log with power-law fits.",
