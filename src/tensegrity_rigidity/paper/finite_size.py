@@ -44,11 +44,12 @@ from .studies import (
     FIG1C_PT,
     PT4,
     Scale,
+    energy_exponent,
     mask_uncertified_tensions,
     p_r_grid,
     strain_name,
     sweep_rows,
-    taut_at_transition,
+    taut_with_error,
 )
 
 STRAINS3 = [0.0, math.pi / 2, math.pi]
@@ -154,43 +155,46 @@ ENERGY_KEYS = frozenset(
 )
 
 
-def energy_claims(rows: pd.DataFrame, crit: dict[tuple[str, float], float]) -> list[dict]:
+def energy_claims(
+    rows: pd.DataFrame, thresholds: dict[tuple[str, float], pd.DataFrame], n_boot: int
+) -> list[dict]:
     """alpha per (strain, p_t) and the taut-cable fraction at the transition from grid rows.
 
     Parameters
     ----------
     rows : DataFrame
         Decided grid rows of :func:`energy_sweeps` (every p_t, both strains).
-    crit : dict
-        (strain name, p_t) -> p_crit (the median threshold at the same size and delta).
+    thresholds : dict
+        (strain name, p_t) -> threshold rows (``sample``, ``threshold_p_r``) of the same
+        samples at the same size and delta; their median is p_crit.
+    n_boot : int
+        Bootstrap replicas of the errors.
 
     Returns
     -------
     list of dict
         Rows ``key``, ``value``, ``err``: ``alpha_<strain>_<p_t>`` (the power law of the mean
-        energy above p_crit, as in Fig. 2) and ``taut_cables_transition`` (mean over p_t = 0.1,
-        0.2, 0.3 under compression of the taut fraction of rigid samples with certified tensions
-        at the grid p_r nearest p_crit).
+        energy above p_crit, as in Fig. 2:
+        :func:`~tensegrity_rigidity.paper.studies.energy_exponent`) and
+        ``taut_cables_transition`` (mean over p_t = 0.1, 0.2, 0.3 under compression of the taut
+        fraction of rigid samples with certified tensions at the grid p_r nearest p_crit,
+        :func:`~tensegrity_rigidity.paper.studies.taut_with_error`). Both errors are
+        bootstraps over samples that re-estimate p_crit in every replica.
     """
     rows, _ = mask_uncertified_tensions(rows)
-    out, taut, crit_rows = [], [], []
+    out, th = [], []
+    empty = pd.DataFrame({"sample": pd.Series(dtype=int), "threshold_p_r": pd.Series(dtype=float)})
     for phi in (math.pi, 0.0):
         strain = strain_name(phi)
         for p_t in PT4:
-            pc = crit.get((strain, p_t), np.nan)
+            t = thresholds.get((strain, p_t), empty)
+            th.append(t[["sample", "threshold_p_r"]].assign(phi=phi, p_t=p_t))
             sub = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
-            curve = sub.groupby("p_r").energy.mean()
-            fit = an.fit_energy_power_law(curve.index.to_numpy(float), curve.to_numpy(), pc)
+            fit = energy_exponent(sub, t, n_boot)
             out.append({"key": f"alpha_{strain}_{p_t}", "value": fit.alpha, "err": fit.alpha_err})
-            crit_rows.append({"phi": phi, "p_t": p_t, "p_crit": pc})
-            rigid = sub[sub.rigid]
-            if len(rigid):
-                t = rigid.groupby("p_r").frac_cables_taut.agg(["mean", "sem", "size"])
-                taut.append(t.reset_index().assign(phi=phi, p_t=p_t))
-    if taut:
-        tr = taut_at_transition(pd.concat(taut, ignore_index=True), pd.DataFrame(crit_rows))
-        if tr is not None:
-            out.append({"key": "taut_cables_transition", "value": tr[0], "err": tr[1]})
+    tr = taut_with_error(rows, pd.concat(th, ignore_index=True), n_boot)
+    if tr is not None:
+        out.append({"key": "taut_cables_transition", "value": tr[0], "err": tr[1]})
     return out
 
 
@@ -227,15 +231,14 @@ def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
         strain = strain_name(phi)
         for p_t in PT4:
             src = rods if p_t == 0 else cables
-            t = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)].threshold_p_r
-            v, e = an.critical_point(t.to_numpy())
+            crit[strain, p_t] = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)]
+            v, e = an.critical_point(crit[strain, p_t].threshold_p_r.to_numpy())
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
-            crit[strain, p_t] = v
     grids = []
     for name, spec in energy_sweeps(n, delta, samples).items():
         grid, excluded[name] = sweep_rows(out, name, spec, **kw)
         grids.append(grid)
-    rows += energy_claims(pd.concat(grids, ignore_index=True), crit)
+    rows += energy_claims(pd.concat(grids, ignore_index=True), crit, n_boot)
     return pd.DataFrame(rows), excluded
 
 
