@@ -133,3 +133,19 @@ def test_alternatives_with_large_errors_are_inconclusive_not_explanations():
     row = _rows(ours, loose)[key]
     assert "inconclusive" in row.explanation.split("; ")[2]
     assert "then agrees" not in row.explanation
+
+
+def test_an_alternative_that_agrees_only_through_its_error_is_named_so():
+    """An alternative whose value is as far from the paper as ours (0.44 against 0.372 +-
+    0.013) agrees only because its error (0.038) is larger: at our error (0.01) it would still
+    disagree, and the explanation says so instead of "then agrees". One that moves towards the
+    paper (0.39) does agree."""
+    key = "st_sr_cables_compression"
+    ours = Measurement.scalar(key, 0.451, 0.01, "n = 32")
+    wide = Measurement.scalar(key, 0.44, 0.038, "n = 8", factor="finite size", label="n -> inf")
+    near = Measurement.scalar(key, 0.39, 0.02, "n = 32", factor="delta", label="delta = 0.1")
+    assert verdict(CLAIMS[key], wide)[1] == "agree"
+    clauses = _rows(ours, wide, near)[key].explanation.split("; ")
+    assert "agrees only through its larger error: at our error z = 4.15" in clauses[0]
+    assert "then agrees" not in clauses[0] and "z = 1.69" in clauses[0]
+    assert "then agrees" in clauses[1]

@@ -26,9 +26,11 @@ is a disagreement whatever the errors.
 Where a claim disagrees, the ``explanation`` names, for each factor that could account for it
 (finite size, node disorder delta, the paper's method, the estimator), the evidence the studies
 provide: the same claim measured with that factor changed, with its z, and whether it "then
-agrees" or "still disagrees" (a large error can make it agree without explaining much: the
-value and its error are shown for that reason); a factor without such a measurement is "not
-yet tested".
+agrees" or "still disagrees"; a factor without such a measurement is "not yet tested". A large
+error can make an alternative agree without explaining anything: where its value would still
+disagree at our error (z >= 2 with our covariance), it "agrees only through its larger error",
+and the value and its error are shown so that the reader can see whether it moved towards the
+paper or away.
 """
 
 from __future__ import annotations
@@ -198,6 +200,20 @@ def _applied(ours: Measurement, shift: Measurement) -> Measurement:
     return replace(shift, value=ours.value + shift.value, cov=ours.cov + shift.cov, shift=False)
 
 
+def _at_our_error(claim: Claim, ours: Measurement, alt: Measurement) -> float:
+    """z of an alternative's value with our covariance instead of its own.
+
+    An alternative can agree with the paper only because its error is larger than ours (fewer
+    samples, an extrapolation, an added shift) while its value stays as far from the paper as
+    ours, or moves away. At our error its value would still disagree: the factor does not
+    account for the difference, its measurement just cannot resolve it. NaN when the two
+    cover different points.
+    """
+    if alt.value.size != ours.value.size:
+        return float("nan")
+    return z_score(claim, replace(alt, cov=ours.cov))
+
+
 def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) -> str:
     """One clause per factor: the alternative measurements and whether they agree."""
     clauses = []
@@ -214,7 +230,11 @@ def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) 
                 "disagree": "still disagrees",
                 "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
             }.get(v, "no value")
-            parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.1f}: {judged})")
+            if v == "agree":
+                z_ours = _at_our_error(claim, ours, a)
+                if z_ours >= AGREE_BELOW:
+                    judged = f"agrees only through its larger error: at our error z = {z_ours:.2f}"
+            parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.2f}: {judged})")
         clauses.append(f"{factor}: " + " / ".join(parts))
     return "; ".join(clauses)
 
