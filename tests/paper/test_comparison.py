@@ -149,3 +149,21 @@ def test_an_alternative_that_agrees_only_through_its_error_is_named_so():
     assert "agrees only through its larger error: at our error z = 4.15" in clauses[0]
     assert "then agrees" not in clauses[0] and "z = 1.69" in clauses[0]
     assert "then agrees" in clauses[1]
+
+
+def test_claims_about_one_system_are_paired_with_the_papers_own_z():
+    """Rods only is one system under compression and dilation, and rods + struts under
+    dilation is rods + cables under compression (e -> -e): our value is one number for each
+    pair. The paper gives alpha = 1.100 +- 0.015 and 1.257 +- 0.029 for the first."""
+    from tensegrity_rigidity.paper.comparison import shared_measurements
+    from tensegrity_rigidity.paper.report import _shared_sentence
+
+    keys = ["alpha_compression_0.0", "alpha_dilation_0.0", "st_sr_struts_dilation"]
+    rows = [r for r in _rows(*(Measurement.scalar(k, 1.3, 0.1, "") for k in keys)).values()]
+    pairs = shared_measurements(rows)
+    assert [(a, b) for a, b, _ in pairs] == [("alpha_dilation_0.0", "alpha_compression_0.0")]
+    assert pairs[0][2] == pytest.approx(0.157 / math.hypot(0.015, 0.029))
+    text = _shared_sentence(rows, len(rows))
+    assert text.startswith("1 of the 3 rows") and "z = 4.8" in text
+    assert "independent comparisons are 2" in text
+    assert _shared_sentence(rows[:1], 1) == ""

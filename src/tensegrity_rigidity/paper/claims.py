@@ -103,6 +103,13 @@ class Claim:
         "equal", or "positive" / "negative" for a claim about a sign (a trend).
     target : str
         The claim's family in :data:`TARGETS` ("" for none): the precision it is measured to.
+    same_as : str
+        The key of an earlier claim about a system identical to this one by an exact symmetry
+        ("" for none): our measurement of the two is one number, compared with two values of
+        the paper. Rods only (p_t = 0) under compression and dilation is one system (a rod
+        resists both signs of strain); rods + struts under dilation is rods + cables under
+        compression with e -> -e. The report counts such a pair once and gives the paper's
+        own two values' z against each other.
     """
 
     key: str
@@ -115,6 +122,7 @@ class Claim:
     study: str
     relation: str = "equal"
     target: str = ""
+    same_as: str = ""
 
     @property
     def resolution(self) -> float:
@@ -232,6 +240,7 @@ def _claims() -> list[Claim]:
             "Fig. 1C caption: '(struts) ... 35.9 % ± 1.5 %'",
             "fig1c",
             target="st_sr",
+            same_as="st_sr_cables_compression",
         ),
         Claim(
             "st_sr_cables_dilation",
@@ -287,6 +296,7 @@ def _claims() -> list[Claim]:
                     "positive'",
                     "fig2",
                     target="p_crit",
+                    same_as="p_crit_compression_0.0" if (strain, p_t) == ("dilation", 0.0) else "",
                 )
             )
             out.append(
@@ -299,6 +309,7 @@ def _claims() -> list[Claim]:
                     "stated",
                     f"{label}, p_t = {p_t}: alpha of ln E = alpha ln(p_r - p_crit) + beta",
                     "fig2",
+                    same_as="alpha_compression_0.0" if (strain, p_t) == ("dilation", 0.0) else "",
                 )
             )
     out += [

@@ -239,6 +239,35 @@ def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) 
     return "; ".join(clauses)
 
 
+def shared_measurements(rows: list[ComparisonRow]) -> list[tuple[str, str, float]]:
+    """Pairs of rows whose claims are about one system (:attr:`Claim.same_as`).
+
+    Our measurement of such a pair is one number compared with two values of the paper, so the
+    pair is one independent comparison, not two; and the paper's two values can disagree with
+    each other.
+
+    Returns
+    -------
+    list of (key, same_as, z)
+        Each pair present in ``rows``, with ``z`` the paper's two values against each other,
+        ``|a - b| / sqrt(err_a^2 + err_b^2)`` with the errors of the agreement rule (NaN for a
+        claim without a value).
+    """
+    present = {r.key for r in rows}
+    out = []
+    for r in rows:
+        c = CLAIMS[r.key]
+        if not c.same_as or c.same_as not in present:
+            continue
+        o = CLAIMS[c.same_as]
+        if c.value is None or o.value is None:
+            z = float("nan")
+        else:
+            z = abs(c.value - o.value) / float(np.hypot(c.error, o.error))
+        out.append((r.key, c.same_as, z))
+    return out
+
+
 def compare(results: dict) -> list[ComparisonRow]:
     """One row per claim measured by the studies in ``results`` (study name -> result).
 

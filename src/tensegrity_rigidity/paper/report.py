@@ -21,7 +21,7 @@ import pandas as pd
 from ..analysis.single_node import class_weights, qbar_table
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS
-from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame
+from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame, shared_measurements
 from .finite_size import NU_CHECK, PC_CHECK, energy_samples
 
 
@@ -449,6 +449,29 @@ def _html_section(sec: Section) -> str:
     return f"<h2>{html.escape(sec.title)}</h2>{body}"
 
 
+def _shared_sentence(rows, total: int) -> str:
+    """How many rows restate another claim about the same system, with the paper's own z."""
+    pairs = shared_measurements(rows)
+    if not pairs:
+        return ""
+    text = {r.key: r.claim for r in rows}
+    each = "; ".join(
+        f"'{text[a]}' is '{text[b]}'"
+        + (
+            f" (the paper's two values differ by z = {z:.1f} with the errors used below)"
+            if np.isfinite(z)
+            else ""
+        )
+        for a, b, z in pairs
+    )
+    return (
+        f"{len(pairs)} of the {total} rows measure a system identical to another row's by an "
+        f"exact symmetry (rods only under compression and dilation; e -> -e swapping cables and "
+        f"struts), so our value is one number compared with two of the paper's: {each}. The "
+        f"independent comparisons are {total - len(pairs)}. "
+    )
+
+
 def write_report(
     out: Path,
     results: dict,
@@ -497,6 +520,7 @@ def write_report(
         f"{n_agree} claims agree, {n_dis} do not"
         + (f", {n_inc} are inconclusive at this precision" if n_inc else "")
         + ". "
+        + _shared_sentence(rows, len(rows))
         if rows
         else "This scale runs none of the paper's figure studies: its claims are compared in "
         "the finite-size and node-disorder tables below (z_paper), claim by claim in the report "
