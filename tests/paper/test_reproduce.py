@@ -82,6 +82,8 @@ def test_evidence_of_a_finished_fss_run_joins_another_scales_report(tiny, tmp_pa
     assert {"fig1c", "fss", "delta"} <= set(res["results"])
     fss_claims = {m.claim for m in res["results"]["fss"].measured}
     assert fss_claims & {m.claim for m in res["results"]["fig1c"].measured}
+    (pc,) = [m for m in res["results"]["fig1c"].measured if m.claim == "rods_only_pc"]
+    assert pc.system.endswith("6 samples x 5 strains")  # a sample's strains: one unit
     for row in compare(res["results"]):
         if row.key in fss_claims and row.verdict == "disagree":
             assert "finite size: extrapolated" in row.explanation, row.explanation

@@ -580,8 +580,10 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
             "rods_only_pc",
             pc,
             pc_err,
-            f"n = {scale.n_threshold}, {len(rods_only)} thresholds",
-            note="finite-size threshold (median of per-sample thresholds, every strain)",
+            f"n = {scale.n_threshold}, {rods_only['sample'].nunique()} samples x "
+            f"{rods_only.phi.nunique()} strains",
+            note="finite-size threshold (median of per-sample thresholds, every strain; a "
+            "sample's strains are one unit of the bootstrap)",
         )
     )
     return Fig1cResult(
