@@ -52,8 +52,10 @@ class MethodResult:
         (exact E*), ``paper_energy`` (where L-BFGS-B stopped), ``affine_energy``,
         ``iterations``, ``converged``.
     disagreement : DataFrame
-        Per threshold and region ("all", "0.1 <= P <= 0.9"): samples, verdicts that differ
-        (count, fraction with its Wilson interval), and the two directions.
+        Per threshold and region ("all", "0.1 <= P <= 0.9"): verdicts, distinct samples,
+        verdicts that differ (count, fraction with a 95 % interval from a bootstrap over whole
+        samples, and the row-wise Wilson interval for comparison), and the two directions; see
+        :func:`_disagreement`.
     claims : DataFrame
         Per claim: its key, the value with exact verdicts, with the paper's, and the shift
         (paper's - exact) with paired bootstrap errors.
@@ -114,7 +116,8 @@ def study_method(out, scale: Scale, **kw) -> MethodResult:
     claims = _claims(rows, scale.bootstrap)
     return MethodResult(
         rows=rows,
-        disagreement=_disagreement(rows),
+        # percentiles need many replicas, and these cost microseconds: at least 1000
+        disagreement=_disagreement(rows, max(scale.bootstrap, 1000)),
         claims=claims,
         iterations={
             "median": float(rows.iterations.median()),
@@ -129,32 +132,141 @@ def study_method(out, scale: Scale, **kw) -> MethodResult:
     )
 
 
-def _disagreement(rows: pd.DataFrame) -> pd.DataFrame:
-    """How often the verdicts differ, per threshold and region."""
+def _disagreement(rows: pd.DataFrame, n_boot: int = 1000, seed: int = 1) -> pd.DataFrame:
+    """How often the verdicts differ, per threshold and region, with a cluster interval.
+
+    The rows are a few disorders (column ``sample``) each decided at many grid points
+    ``(phi, p_t, p_r)``: one sample's verdicts are strongly correlated, so the independent unit
+    is the sample, not the row. The interval therefore resamples whole samples.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        One row per sample and grid point with ``phi``, ``p_t``, ``p_r``, ``sample``,
+        ``rigid`` (exact verdict), ``paper_energy`` and ``affine_energy``.
+    n_boot : int
+        Bootstrap replicas of the cluster interval (:func:`study_method` passes the scale's
+        ``bootstrap``, at least 1000).
+    seed : int
+        Seed of the replicas; every (threshold, region) restarts from it, so the same rows
+        give the same numbers.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per threshold and region ("all", "0.1 <= P <= 0.9", P the exact rigidity
+        probability at the row's grid point):
+
+        * ``samples``: verdicts (rows) in the region; ``units``: distinct samples among them;
+        * ``differ``, ``fraction``: verdicts that differ and their share ``differ / samples``;
+        * ``lo``, ``hi``: 95 % cluster-bootstrap interval of ``fraction``. A replica draws
+          ``units`` samples with replacement and pools all their rows in the region
+          (``sum differ / sum rows``); the interval is the 2.5 and 97.5 percentiles of the
+          replicas;
+        * ``wilson_lo``, ``wilson_hi``: the Wilson interval that counts every row as
+          independent, for comparison only (too narrow when a sample's verdicts are
+          correlated);
+        * ``interval_note``: why the interval is not the percentile one, else "";
+        * ``exact_rigid_paper_floppy``, ``exact_floppy_paper_rigid``: the two directions.
+
+    Notes
+    -----
+    Where the percentile interval cannot be read:
+
+    * no unit: ``lo = hi = NaN``;
+    * one unit: ``[0, 1]``; resampling one sample shows no spread between samples, and
+      nothing else bounds the fraction;
+    * no verdict differs (``differ = 0``): every replica is 0 and the percentiles collapse to
+      ``[0, 0]``, which claims a certainty the data do not have. The bound is then the exact
+      one-sided 95 % upper bound on the probability that a sample has any disagreement in the
+      region, from 0 such samples in ``U`` independent ones: ``[0, 1 - 0.05**(1/U)]`` (about
+      ``3 / U``, the rule of three, counted in samples rather than rows). The share of
+      differing rows cannot exceed the share of samples with a differing row (if the samples
+      have equal numbers of rows), so this bounds ``fraction`` too, conservatively. Since the
+      fraction cannot be below 0, ``[0, hi]`` is a 95 % interval like the others.
+    * every verdict differs: the mirror image, ``[0.05**(1/U), 1]``.
+    """
     P = rows.groupby(["phi", "p_t", "p_r"]).rigid.transform("mean")
     regions = {"all": np.ones(len(rows), bool), "0.1 <= P <= 0.9": ((P >= 0.1) & (P <= 0.9))}
+    sample = rows["sample"].to_numpy()
     out = []
     for tau in THRESHOLDS:
         paper = rows.paper_energy > tau * rows.affine_energy
         for region, m in regions.items():
             m = np.asarray(m, bool)
             exact_r, paper_r = rows.rigid.to_numpy()[m], paper.to_numpy()[m]
-            differ = int((exact_r != paper_r).sum())
-            _, lo, hi = an.wilson(differ, m.sum())
+            wrong = exact_r != paper_r
+            differ = int(wrong.sum())
+            _, w_lo, w_hi = an.wilson(differ, m.sum())
+            lo, hi, note, units = _cluster_interval(wrong, sample[m], n_boot, seed)
             out.append(
                 {
                     "threshold": tau,
                     "region": region,
                     "samples": int(m.sum()),
+                    "units": units,
                     "differ": differ,
                     "fraction": differ / m.sum() if m.sum() else np.nan,
-                    "lo": float(lo),
-                    "hi": float(hi),
+                    "lo": lo,
+                    "hi": hi,
+                    "wilson_lo": float(w_lo),
+                    "wilson_hi": float(w_hi),
+                    "interval_note": note,
                     "exact_rigid_paper_floppy": int((exact_r & ~paper_r).sum()),
                     "exact_floppy_paper_rigid": int((~exact_r & paper_r).sum()),
                 }
             )
     return pd.DataFrame(out)
+
+
+def _cluster_interval(
+    wrong: np.ndarray, unit: np.ndarray, n_boot: int, seed: int
+) -> tuple[float, float, str, int]:
+    """95 % interval of ``wrong.mean()`` resampling whole units (see :func:`_disagreement`).
+
+    Parameters
+    ----------
+    wrong : (R,) bool
+        Whether each row's two verdicts differ.
+    unit : (R,) array
+        Each row's independent unit (its sample).
+    n_boot : int
+        Replicas.
+    seed : int
+        Seed of the replicas.
+
+    Returns
+    -------
+    lo, hi : float
+        The interval.
+    note : str
+        Why it is not the percentile interval ("" when it is).
+    units : int
+        Distinct units.
+    """
+    units = an.n_units(wrong.size, unit)
+    if units == 0:
+        return np.nan, np.nan, "no samples in the region", 0
+    if units == 1:
+        return 0.0, 1.0, "one sample: no spread between samples to resample", 1
+    differ = int(wrong.sum())
+    if differ == 0:
+        hi = 1 - 0.05 ** (1 / units)
+        return 0.0, hi, f"no verdict differs: exact 95 % upper bound over {units} samples", units
+    if differ == wrong.size:
+        lo = 0.05 ** (1 / units)
+        return lo, 1.0, f"every verdict differs: exact 95 % lower bound over {units} samples", units
+    # per-unit totals: a replica's pooled fraction is sum(differ) / sum(rows) of its units
+    _, inverse = np.unique(unit, return_inverse=True)
+    d = np.bincount(inverse, weights=wrong.astype(float))
+    n = np.bincount(inverse).astype(float)
+    draw = an.resampler(units, rng=np.random.default_rng(seed))
+    reps = np.empty(n_boot)
+    for i in range(n_boot):
+        idx = draw()
+        reps[i] = d[idx].sum() / n[idx].sum()
+    lo, hi = np.percentile(reps, [2.5, 97.5])
+    return float(lo), float(hi), "", units
 
 
 def _matrix(sub: pd.DataFrame, column: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

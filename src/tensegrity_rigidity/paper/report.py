@@ -229,7 +229,14 @@ def method_section(r) -> Section:
         f"At that threshold {main.differ} of {main.samples} verdicts differ "
         f"({100 * main.fraction:.1f} %, 95 % interval {100 * main.lo:.1f} to "
         f"{100 * main.hi:.1f} %); where the exact P lies between 0.1 and 0.9, {near.differ} of "
-        f"{near.samples} ({100 * near.fraction:.1f} %). {main.exact_floppy_paper_rigid} floppy "
+        f"{near.samples} ({100 * near.fraction:.1f} %). The verdicts are {main.units} samples "
+        "(disorders) decided at every grid point, so one sample's verdicts are correlated: the "
+        "intervals (lo, hi) come from a bootstrap over whole samples (each replica draws the "
+        "samples with replacement and pools all their verdicts; 2.5 and 97.5 percentiles), "
+        "where no verdict differs from the exact 95 % upper bound 1 - 0.05^(1/samples) on the "
+        "share of samples with a disagreement (interval_note says which). The Wilson interval "
+        "that counts every verdict as independent (wilson_lo, wilson_hi) is shown for "
+        f"comparison only; it is too narrow. {main.exact_floppy_paper_rigid} floppy "
         f"samples are called rigid (the minimiser stopped above the threshold) and "
         f"{main.exact_rigid_paper_floppy} rigid samples floppy. L-BFGS-B took a median of "
         f"{it['median']:.0f} iterations (at most {it['max']}); {it['not_converged']} runs "
@@ -239,7 +246,7 @@ def method_section(r) -> Section:
         "shifts to our values as the evidence for the factor 'method'.",
     )
     dis = r.disagreement.copy()
-    for col in ("fraction", "lo", "hi"):
+    for col in ("fraction", "lo", "hi", "wilson_lo", "wilson_hi"):
         dis[col] = dis[col].map(lambda x: f"{100 * x:.1f} %" if np.isfinite(x) else "n/a")
     claims = r.claims.copy()
     claims.insert(1, "claim", [CLAIMS[k].text for k in claims.key])
