@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shutil
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -11,9 +12,10 @@ import pytest
 from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.paper import finite_size as fs
 from tensegrity_rigidity.paper import studies
-from tensegrity_rigidity.paper.claims import CLAIMS
+from tensegrity_rigidity.paper.claims import CLAIMS, Measurement
+from tensegrity_rigidity.paper.comparison import _evidence
 from tensegrity_rigidity.paper.figures import fig_fss
-from tensegrity_rigidity.paper.report import fss_section
+from tensegrity_rigidity.paper.report import _pc_smallest, fss_section
 from tensegrity_rigidity.paper.reproduce import reproduce
 
 from .conftest import SERIAL, TINY
@@ -335,3 +337,123 @@ def test_an_extrapolation_whose_form_does_not_fit_says_so():
     assert fs.misfit(92.6, 2) == " [chi-square 93 with 2 dof: the form does not fit these sizes]"
     assert fs.misfit(9.0, 2) == ""  # p = 0.011
     assert fs.misfit(9.3, 2) != ""  # p = 0.0096
+
+
+# ------------------------------------------------------- the extrapolations' dependence on nu
+
+SIZES = (8, 16, 32, 64)
+
+
+def _synthetic_fss(monkeypatch) -> tuple[fs.FiniteSizeResult, dict]:
+    """study_fss on synthetic per-size values (no sweeps): the rods-only point follows
+    0.6602 - 0.3 n^(-1/0.6), so the free fit's nu is 0.6, far from the literature's 1.16;
+    p_crit (compression, p_t = 0.1) follows 0.6 - 0.5 n^(-1/1.16), the paper's value reached
+    only with the literature's nu."""
+    n = np.asarray(SIZES, float)
+    series = {
+        "rods_only_pc": (0.6602 - 0.3 * n ** (-1 / 0.6), np.full(n.size, 1e-4)),
+        "p_crit_compression_0.1": (0.6 - 0.5 * n ** (-1 / 1.16), np.full(n.size, 1e-3)),
+    }
+
+    def headline(out, size, delta, samples, n_boot, **kw):
+        k = SIZES.index(size)
+        rows = [{"key": key, "value": y[k], "err": e[k]} for key, (y, e) in series.items()]
+        return pd.DataFrame(rows), {}
+
+    monkeypatch.setattr(fs, "headline", headline)
+    scale = studies.Scale(
+        "synthetic", 5, 5, 0, 0, 0, 0.1, 0, 10, fss_sizes=SIZES, samples_fss=10,
+        studies=("fss",),
+    )  # fmt: skip
+    return fs.study_fss(None, scale), series
+
+
+def test_every_claim_is_extrapolated_with_the_literature_nu_too(monkeypatch):
+    """Beside the free fit's nu (0.6 here), each claim gets a second "finite size" measurement
+    with nu fixed at 1.16 ± 0.03, labelled so: the fit with that nu, and its own columns."""
+    r, series = _synthetic_fss(monkeypatch)
+    n = np.asarray(SIZES, float)
+    ex = r.extrapolated.set_index("key")
+    nu_free = ex.loc["rods_only_pc"].nu
+    assert abs(nu_free - 0.6) < 0.01  # far from the literature's
+    for key, (y, e) in series.items():
+        check = fs.an.fit_finite_size(n, y, e, nu=fs.NU_CHECK.value, nu_err=fs.NU_CHECK.error)
+        row = ex.loc[key]
+        assert (row.y_inf_nu_check, row.y_inf_nu_check_err) == (check.y_inf, check.y_inf_err)
+        assert (row.chi2_nu_check, row.dof_nu_check) == (check.chi2, check.dof)
+        assert row.z_paper_nu_check == fs._z(key, check.y_inf, check.y_inf_err)
+        assert abs(row.y_inf - check.y_inf) > 5 * max(row.y_inf_err, check.y_inf_err)
+        ms = [m for m in r.measured if m.claim == key]
+        assert [m.factor for m in ms] == ["finite size", "finite size"]
+        free, fixed = ms
+        assert f"(y + a n^(-1/nu), nu = {nu_free:.2f} ± " in free.label
+        assert "nu fixed at 1.16 ± 0.03, the literature value)" in fixed.label
+        assert "nu fixed" not in free.label
+        assert free.value[0] == row.y_inf and free.err[0] == row.y_inf_err
+        assert fixed.value[0] == check.y_inf and fixed.err[0] == pytest.approx(check.y_inf_err)
+    # the rods-only reading with nu fixed is the one the report already quotes
+    assert r.pc_at_check_nu.y_inf == ex.loc["rods_only_pc"].y_inf_nu_check
+
+
+def test_the_report_counts_the_claims_whose_verdict_depends_on_nu(monkeypatch):
+    """p_crit agrees with the paper only with the literature's nu, the rods-only point only
+    with the free one: both verdicts change, and the finite-size section says so."""
+    r, _ = _synthetic_fss(monkeypatch)
+    ex = r.extrapolated.set_index("key")
+    assert ex.loc["p_crit_compression_0.1"].verdict_paper == "disagree"
+    assert ex.loc["p_crit_compression_0.1"].verdict_paper_nu_check == "agree"
+    assert ex.loc["rods_only_pc"].verdict_paper == "agree"
+    assert ex.loc["rods_only_pc"].verdict_paper_nu_check == "disagree"
+    assert fs.nu_dependent(r.extrapolated) == (["rods_only_pc", "p_crit_compression_0.1"], 2)
+    section = fss_section(r)
+    text = " ".join(section.paragraphs)
+    assert (
+        "2 of 2 extrapolated claims change verdict between the two nu: the extrapolation " in text
+    )
+    assert CLAIMS["p_crit_compression_0.1"].text in text
+    assert "n -> infinity, nu = 1.16" in section.tables[0].columns
+    # the comparison shows both readings of the finite-size factor
+    key = "p_crit_compression_0.1"
+    ours = Measurement.scalar(key, 0.58, 0.001, "n = 32")
+    clause = _evidence(CLAIMS[key], ours, [m for m in r.measured if m.claim == key])
+    assert "still disagrees" in clause and "the literature value)" in clause
+    assert "then agrees" in clause
+
+
+def test_free_fits_at_the_bound_of_nu_are_flagged():
+    """0.66 - 0.05 n^(-0.1): the correction decays more slowly than any allowed nu, so every
+    free fit ends at 1/nu = 1/3 (nu = 3); a well-determined series (nu = 1.16) is not flagged.
+    The fit of two sizes is NaN, not at the bound."""
+    n = np.array([8.0, 16.0, 32.0, 64.0])
+    t = fs.pc_by_smallest_size(n, 0.66 - 0.05 * n**-0.1, np.full(4, 1e-4))
+    assert list(t.nu_at_bound) == [True, True, False]
+    assert np.allclose(t.nu.iloc[:2], 3.0) and np.isnan(t.nu.iloc[2])
+    n5 = np.array([8.0, 16.0, 32.0, 64.0, 128.0])
+    err = np.full(5, 1e-4)
+    y = 0.66027 - 0.1 * n5 ** (-1 / 1.16) + err * np.array([0.5, -0.8, 0.3, 0.9, -0.4])
+    good = fs.pc_by_smallest_size(n5, y, err)
+    assert not good.nu_at_bound.any()
+    assert abs(good.nu.iloc[0] - 1.16) < 0.1
+
+
+def test_the_quoted_free_range_leaves_out_fits_at_the_bound_or_without_dof():
+    """The report's free-fit range of p_c quotes only fits with nu inside its range and at
+    least one degree of freedom, and says how many it left out and why."""
+    n5 = np.array([8.0, 16.0, 32.0, 64.0, 128.0])
+    err = np.full(5, 1e-4)
+    y = 0.66027 - 0.1 * n5 ** (-1 / 1.16) + err * np.array([0.5, -0.8, 0.3, 0.9, -0.4])
+    t = fs.pc_by_smallest_size(n5, y, err)
+    assert list(t.dof.iloc[:3]) == [2, 1, 0]  # n >= 32: three sizes, three parameters
+    kept = t.iloc[:2]
+    text, _ = _pc_smallest(SimpleNamespace(pc_by_smallest=t))
+    assert f"p_c ranges from {kept.p_c.min():.4f} to {kept.p_c.max():.4f}" in text
+    assert f"{t.p_c.iloc[2]:.4f}" not in text  # the 0-dof fit's p_c, outside that range
+    assert "(1 of the 3 free fits left out: 1 with 0 degrees of freedom" in text
+    n = np.array([8.0, 16.0, 32.0, 64.0])
+    bound = fs.pc_by_smallest_size(n, 0.66 - 0.05 * n**-0.1, np.full(4, 1e-4))
+    text, (table,) = _pc_smallest(SimpleNamespace(pc_by_smallest=bound))
+    assert "ranges from" not in text
+    assert "no range of p_c is quoted: 2 of the 2 free fits left out: 2 with nu at the bound" in (
+        text
+    )
+    assert table.nu.str.endswith("(at bound)").sum() == 2

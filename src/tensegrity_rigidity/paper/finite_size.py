@@ -17,8 +17,11 @@ n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
   Each is extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
   (:func:`~tensegrity_rigidity.analysis.estimators.fit_finite_size`): for the rods-only
   threshold with nu fitted (the literature's nu = 1.16 to 1.21 is a check, not an input), for
-  the other claims with nu fixed at that fitted value (its error widens theirs). The widths of
-  the rods-only threshold distributions give a second reading with no fitted exponent
+  the other claims with nu fixed at that fitted value (its error widens theirs). Every claim
+  is extrapolated a second time with nu fixed at the literature's :data:`NU_CHECK`: with four
+  sizes the free fit barely determines nu, and where the two readings' verdicts differ the
+  extrapolation depends on nu. The widths of the rods-only threshold distributions give a
+  further reading with no fitted exponent
   (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
 * :func:`study_delta`: the same claims at one size for each delta.
 
@@ -39,7 +42,7 @@ from scipy import stats
 from ..analysis import estimators as an
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS, REFERENCES, Measurement
-from .comparison import z_score
+from .comparison import verdict, z_score
 from .studies import (
     FIG1C_PT,
     PT4,
@@ -247,6 +250,12 @@ def _z(key: str, value: float, err: float) -> float:
     return z_score(CLAIMS[key], Measurement.scalar(key, value, err, ""))
 
 
+def _verdict(key: str, value: float, err: float) -> str:
+    """The comparison's verdict on one value of a claim ("agree", "disagree", "inconclusive",
+    "n/a"; :func:`~tensegrity_rigidity.paper.comparison.verdict`)."""
+    return verdict(CLAIMS[key], Measurement.scalar(key, value, err, ""))[1]
+
+
 # --------------------------------------------------------------------------- finite size
 
 
@@ -260,8 +269,15 @@ class FiniteSizeResult:
         Per (n, key): value and err.
     extrapolated : DataFrame
         Per key: ``y_inf``, ``y_inf_err``, ``a``, ``nu``, ``nu_err``, ``nu_fixed``, ``chi2``,
-        ``dof`` (:class:`~tensegrity_rigidity.analysis.estimators.FiniteSizeFit`) and
-        ``z_paper``, the agreement statistic of ``y_inf`` against the paper's claim.
+        ``dof`` (:class:`~tensegrity_rigidity.analysis.estimators.FiniteSizeFit`; nu fitted
+        for the rods-only threshold, fixed at its fitted value for the other claims),
+        ``z_paper``, the agreement statistic of ``y_inf`` against the paper's claim, and
+        ``verdict_paper``, the comparison's verdict on it
+        (:func:`~tensegrity_rigidity.paper.comparison.verdict`). The same extrapolation with
+        nu fixed at :data:`NU_CHECK` (value and error) for every key, the rods-only threshold
+        included: ``y_inf_nu_check``, ``y_inf_nu_check_err``, ``chi2_nu_check``,
+        ``dof_nu_check``, ``z_paper_nu_check`` and ``verdict_paper_nu_check``. A claim whose
+        two verdicts differ has an extrapolation that depends on nu.
     nu_z : float
         The fitted nu against :data:`NU_CHECK`, in units of both errors.
     pc_z : float
@@ -288,6 +304,9 @@ class FiniteSizeResult:
         The rods-only extrapolation refitted from the sizes ``n >= n_min``, one row per
         ``n_min`` (:func:`pc_by_smallest_size`): how much the extrapolation rests on the
         smallest sizes, where corrections to scaling are largest.
+    measured : tuple of Measurement
+        The evidence for the comparison's factor "finite size": per claim, the extrapolation
+        with the free fit's nu and the one with nu fixed at :data:`NU_CHECK`, labelled so.
     """
 
     by_size: pd.DataFrame
@@ -309,6 +328,12 @@ class FiniteSizeResult:
     pc_by_smallest: pd.DataFrame | None = None
 
 
+def _at_bound(nu: float) -> bool:
+    """Whether a free fit's 1/nu ended at a bound of
+    :data:`~tensegrity_rigidity.analysis.estimators.THETA` (False for NaN)."""
+    return bool(np.any(np.isclose(1.0 / nu, an.THETA, rtol=1e-6)))
+
+
 def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.DataFrame:
     """The rods-only extrapolation refitted without the smallest sizes.
 
@@ -327,7 +352,9 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
     DataFrame
         One row per ``n_min`` leaving at least two sizes: ``n_min``, ``sizes``; the free fit's
         ``p_c``, ``p_c_err``, ``nu``, ``nu_err``, ``chi2``, ``dof`` and ``z`` against
-        :data:`PC_CHECK` (NaN with fewer than three sizes); the fit with nu fixed at
+        :data:`PC_CHECK` (NaN with fewer than three sizes) and ``nu_at_bound``, whether its
+        1/nu ended at a bound of :data:`~tensegrity_rigidity.analysis.estimators.THETA` (the
+        sizes do not determine nu; False where the fit failed); the fit with nu fixed at
         :data:`NU_CHECK`'s ``p_c_fixed``, ``p_c_fixed_err``, ``chi2_fixed``, ``dof_fixed``
         and ``z_fixed``.
     """
@@ -350,6 +377,7 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
                 "chi2": free.chi2,
                 "dof": free.dof,
                 "z": an.agreement_z(free.y_inf, free.y_inf_err**2, PC_CHECK.value, 0.0),
+                "nu_at_bound": _at_bound(free.nu),
                 "p_c_fixed": fixed.y_inf,
                 "p_c_fixed_err": fixed.y_inf_err,
                 "chi2_fixed": fixed.chi2,
@@ -408,40 +436,70 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     for key in by_size.key.unique():
         if key != "rods_only_pc":
             fits[key] = an.fit_finite_size(*series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err)
+    # the second reading of every claim: nu fixed at the literature's value, not the free fit's
+    nu_check, nu_check_err = NU_CHECK.value, NU_CHECK.error or 0.0
+    checks = {
+        key: an.fit_finite_size(*series(key), nu=nu_check, nu_err=nu_check_err) for key in fits
+    }
     extrapolated = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
     extrapolated["z_paper"] = [
         _z(row.key, row.y_inf, row.y_inf_err) for row in extrapolated.itertuples()
     ]
-    nu_z = an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0)
+    extrapolated["verdict_paper"] = [
+        _verdict(row.key, row.y_inf, row.y_inf_err) for row in extrapolated.itertuples()
+    ]
+    extrapolated["y_inf_nu_check"] = [checks[k].y_inf for k in extrapolated.key]
+    extrapolated["y_inf_nu_check_err"] = [checks[k].y_inf_err for k in extrapolated.key]
+    extrapolated["chi2_nu_check"] = [checks[k].chi2 for k in extrapolated.key]
+    extrapolated["dof_nu_check"] = [checks[k].dof for k in extrapolated.key]
+    extrapolated["z_paper_nu_check"] = [
+        _z(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key
+    ]
+    extrapolated["verdict_paper_nu_check"] = [
+        _verdict(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key
+    ]
+    nu_z = an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, nu_check, nu_check_err)
     pc_z = an.agreement_z(pc_fit.y_inf, pc_fit.y_inf_err**2, PC_CHECK.value, 0.0)
-    at_check = an.fit_finite_size(
-        *series("rods_only_pc"), nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0
-    )
+    at_check = checks["rods_only_pc"]
     at_check_z = an.agreement_z(at_check.y_inf, at_check.y_inf_err**2, PC_CHECK.value, 0.0)
-    at_bound = bool(np.any(np.isclose(1.0 / pc_fit.nu, an.THETA, rtol=1e-6)))
+    at_bound = _at_bound(pc_fit.nu)
     widths_z = widths_nu_z = float("nan")
     if widths is not None:
         widths_z = an.agreement_z(widths.p_c, widths.p_c_err**2, PC_CHECK.value, 0.0)
         widths_nu_z = an.agreement_z(
             widths.nu, widths.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0
         )
-    label = (
+    where = (
         f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.fss_sizes))} "
         + (f"(rods-only p_c: n = {', '.join(map(str, scale.pc_sizes))}) " if scale.fss_pc else "")
         if scale.fss_sizes
         else f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.pc_sizes))} "
-    ) + f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
+    )
+    label = where + f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
+    label_check = where + (
+        f"(y + a n^(-1/nu), nu fixed at {nu_check:.2f} ± {nu_check_err:.2f}, the literature value)"
+    )
     measured = tuple(
         Measurement.scalar(
             row.key,
-            row.y_inf,
-            row.y_inf_err,
+            value,
+            err,
             f"{_samples_text(scale, energy=row.key in ENERGY_KEYS)} samples per point",
             factor="finite size",
-            label=label + misfit(row.chi2, row.dof),
+            label=text + misfit(chi2, dof),
         )
         for row in extrapolated.itertuples()
         if row.key in CLAIMS
+        for value, err, chi2, dof, text in (
+            (row.y_inf, row.y_inf_err, row.chi2, row.dof, label),
+            (
+                row.y_inf_nu_check,
+                row.y_inf_nu_check_err,
+                row.chi2_nu_check,
+                row.dof_nu_check,
+                label_check,
+            ),
+        )
     )
     return FiniteSizeResult(
         by_size=by_size,
@@ -462,6 +520,30 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_widths_nu_z=widths_nu_z,
         pc_by_smallest=pc_by_smallest_size(*series("rods_only_pc")),
     )
+
+
+def nu_dependent(extrapolated: pd.DataFrame) -> tuple[list[str], int]:
+    """The claims whose verdict differs between the free fit's nu and nu fixed at
+    :data:`NU_CHECK`.
+
+    Parameters
+    ----------
+    extrapolated : DataFrame
+        :attr:`FiniteSizeResult.extrapolated` (``key``, ``verdict_paper`` and
+        ``verdict_paper_nu_check``).
+
+    Returns
+    -------
+    changed : list of str
+        Keys of the claims whose two verdicts differ ("agree", "disagree" or "inconclusive"):
+        their extrapolation depends on nu.
+    compared : int
+        Claims with a verdict under both (neither extrapolation "n/a").
+    """
+    ex = extrapolated[extrapolated.key.isin(list(CLAIMS))]
+    both = ex[(ex.verdict_paper != "n/a") & (ex.verdict_paper_nu_check != "n/a")]
+    changed = both[both.verdict_paper != both.verdict_paper_nu_check]
+    return list(changed.key), len(both)
 
 
 #: a finite-size fit whose chi-square is less probable than this does not describe its sizes

@@ -22,7 +22,7 @@ from ..analysis.single_node import class_weights, qbar_table
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS
 from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame, shared_measurements
-from .finite_size import NU_CHECK, PC_CHECK, energy_samples
+from .finite_size import NU_CHECK, PC_CHECK, energy_samples, nu_dependent
 
 
 def _md_table(df: pd.DataFrame) -> str:
@@ -292,23 +292,45 @@ def _pc_smallest(r) -> tuple[str, tuple[pd.DataFrame, ...]]:
     t = r.pc_by_smallest
     if t is None or len(t) < 2:
         return "", ()
-    free = t[np.isfinite(t.p_c)]
+    fitted = t[np.isfinite(t.p_c)]
+    # a fit with nu at its bound or without a degree of freedom passes through its points
+    # whatever the form: its p_c is not a reading of the threshold
+    loose = fitted.nu_at_bound.astype(bool) | (fitted.dof <= 0)
+    free = fitted[~loose]
     text = (
         " The second table refits the rods-only point without the smallest sizes, "
         "where corrections to scaling are largest (a reading that moves by more than its error "
         "is not determined by these sizes)."
     )
+    left_out = ""
+    if loose.any():
+        n_bound = int(fitted.nu_at_bound.astype(bool).sum())
+        n_dof = int((loose & ~fitted.nu_at_bound.astype(bool)).sum())
+        why = [
+            f"{n_bound} with nu at the bound of its allowed range (0.5 to 3: the sizes do not "
+            "determine it)"
+            if n_bound
+            else "",
+            f"{n_dof} with 0 degrees of freedom (three parameters through three points)"
+            if n_dof
+            else "",
+        ]
+        left_out = f"{int(loose.sum())} of the {len(fitted)} free fits left out: " + " and ".join(
+            w for w in why if w
+        )
     if len(free) > 1:
         text += (
             f" Fitted freely, p_c ranges from {free.p_c.min():.4f} to {free.p_c.max():.4f} as "
-            "the smallest sizes are dropped."
+            "the smallest sizes are dropped" + (f" ({left_out})." if left_out else ".")
         )
+    elif left_out:
+        text += f" Fitted freely, no range of p_c is quoted: {left_out}, which leaves {len(free)}."
     table = pd.DataFrame(
         [
             {
                 "sizes used": f"n >= {int(row.n_min)} ({int(row.sizes)})",
                 "p_c, nu fitted": _fmt(row.p_c, row.p_c_err),
-                "nu": _fmt(row.nu, row.nu_err),
+                "nu": _fmt(row.nu, row.nu_err) + (" (at bound)" if row.nu_at_bound else ""),
                 "chi-square / dof, nu fitted": f"{row.chi2:.2f} / {row.dof}",
                 "z, nu fitted": f"{row.z:.2f}",
                 f"p_c, nu = {NU_CHECK.value}": _fmt(row.p_c_fixed, row.p_c_fixed_err),
@@ -343,6 +365,7 @@ def fss_section(r) -> Section:
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
     smallest, smallest_tables = _pc_smallest(r)
+    changed, compared = nu_dependent(r.extrapolated)
     paragraphs = (
         (
             f"The headline claims at n = {', '.join(map(str, r.sizes))} "
@@ -392,6 +415,21 @@ def fss_section(r) -> Section:
             if r.sizes
             else ""
         )
+        + (
+            f" Each claim is also extrapolated with nu fixed at the literature's {NU_CHECK.value}"
+            f' ± {NU_CHECK.error} (columns "n -> infinity, nu = {NU_CHECK.value}" and '
+            f'"z_paper, nu = {NU_CHECK.value}"; the comparison shows both readings): '
+            f"{len(changed)} of {compared} extrapolated claims change verdict between the two nu"
+            + (
+                ": the extrapolation is nu-dependent there ("
+                + "; ".join(CLAIMS[k].text for k in changed)
+                + ")."
+                if changed
+                else "."
+            )
+            if compared
+            else ""
+        )
         + " z_paper is the comparison's statistic of the extrapolation against the "
         "paper's value; where the chi-square is above its 99th percentile the form does not "
         "fit the sizes, and the comparison says so beside the extrapolated value.",
@@ -405,6 +443,12 @@ def fss_section(r) -> Section:
     table["n -> infinity"] = [_fmt(ex.loc[k].y_inf, ex.loc[k].y_inf_err) for k in wide.index]
     table["chi-square / dof"] = [f"{ex.loc[k].chi2:.1f} / {ex.loc[k].dof}" for k in wide.index]
     table["z_paper"] = [f"{ex.loc[k].z_paper:.2f}" for k in wide.index]
+    table[f"n -> infinity, nu = {NU_CHECK.value}"] = [
+        _fmt(ex.loc[k].y_inf_nu_check, ex.loc[k].y_inf_nu_check_err) for k in wide.index
+    ]
+    table[f"z_paper, nu = {NU_CHECK.value}"] = [
+        f"{ex.loc[k].z_paper_nu_check:.2f}" for k in wide.index
+    ]
     return Section("Finite size", paragraphs, (table, *smallest_tables))
 
 
