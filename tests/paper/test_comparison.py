@@ -113,6 +113,8 @@ def test_a_small_z_from_a_large_error_is_inconclusive_not_agreement():
     assert verdict(c, sharp)[1] == "agree" and verdict(c, wide)[1] == "inconclusive"
     row = _rows(wide)[c.key]
     assert row.verdict == "inconclusive" and "at 1 of 2 points" in row.explanation
+    # not "would not have been detected": a point may still show a deviation on its own
+    assert row.explanation.endswith("a deviation of 0.6 could have passed as agreement")
     # a z of 2 or more is a disagreement however wide the errors
     far = Measurement(c.key, np.array([5.0]), np.array([[1.0]]), "")
     assert verdict(c, far)[1] == "disagree"

@@ -61,8 +61,8 @@ RULE = (
     "claim's resolution at some point compared (the resolution is the larger of the paper's "
     "error and the precision targeted for that kind of claim: "
     f"S_t/S_r {TARGETS['st_sr']:g}, p_crit {TARGETS['p_crit']:g}, taut fraction "
-    f"{TARGETS['taut']:g}, Fig. 4C {TARGETS['fig4c']:g}): such a comparison could not have "
-    f"detected a deviation of {2 * RESOLVES_WITHIN:g} resolutions."
+    f"{TARGETS['taut']:g}, Fig. 4C {TARGETS['fig4c']:g}): a deviation of "
+    f"{2 * RESOLVES_WITHIN:g} resolutions could have passed such a comparison as agreement."
 )
 
 
@@ -172,7 +172,7 @@ def _why_inconclusive(claim: Claim, m: Measurement) -> str:
     return (
         f"our error exceeds {RESOLVES_WITHIN:g} x the claim's resolution "
         f"({claim.resolution:.3g}){where}: a deviation of "
-        f"{2 * RESOLVES_WITHIN * claim.resolution:.3g} would not have been detected"
+        f"{2 * RESOLVES_WITHIN * claim.resolution:.3g} could have passed as agreement"
     )
 
 
