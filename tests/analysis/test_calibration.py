@@ -159,7 +159,10 @@ def test_energy_power_law_fit_is_calibrated():
 
 def _nested_energies(rng, S, p):
     """Per-sample thresholds t ~ N(0.6125, 0.03) and energies c (p - t)_+^1.5 with one
-    amplitude c per sample at every p (nested configurations: correlated points)."""
+    amplitude c per sample at every p (nested configurations: correlated points). p_crit lies
+    between grid points: on a grid point the estimator is biased (see
+    :func:`~tensegrity_rigidity.analysis.estimators.fit_energy_exponent`), which an error
+    cannot calibrate."""
     t = rng.normal(0.6125, 0.03, S)
     c = np.exp(rng.normal(0, 0.3, S))[:, None]
     return t, c * np.clip(p[None] - t[:, None], 0, None) ** 1.5
