@@ -789,12 +789,10 @@ def critical_point(thresholds: np.ndarray, groups=None) -> tuple[float, float]:
         The median and its bootstrap standard error (200 replicas, a fixed seed).
     """
     t = np.asarray(thresholds, float)
-    t = np.where(np.isnan(t), np.inf, t)
     rng = np.random.default_rng(1)
-    med = float(np.median(t))
     draw = resampler(t.size, groups, rng)
-    boots = [np.median(t[draw()]) for _ in range(200)]
-    return med, float(np.std(boots, ddof=1))
+    boots = [median_threshold(t[draw()]) for _ in range(200)]
+    return median_threshold(t), float(np.std(boots, ddof=1))
 
 
 def median_bracket(values: np.ndarray, lower: np.ndarray) -> tuple[float, float]:

@@ -250,10 +250,10 @@ def _z(key: str, value: float, err: float) -> float:
     return z_score(CLAIMS[key], Measurement.scalar(key, value, err, ""))
 
 
-def _verdict(key: str, value: float, err: float) -> str:
-    """The comparison's verdict on one value of a claim ("agree", "disagree", "inconclusive",
-    "n/a"; :func:`~tensegrity_rigidity.paper.comparison.verdict`)."""
-    return verdict(CLAIMS[key], Measurement.scalar(key, value, err, ""))[1]
+def _judged(key: str, value: float, err: float) -> tuple[float, str]:
+    """The comparison's z and verdict on one value of a claim ("agree", "disagree",
+    "inconclusive", "n/a"; :func:`~tensegrity_rigidity.paper.comparison.verdict`)."""
+    return verdict(CLAIMS[key], Measurement.scalar(key, value, err, ""))
 
 
 # --------------------------------------------------------------------------- finite size
@@ -442,22 +442,16 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         key: an.fit_finite_size(*series(key), nu=nu_check, nu_err=nu_check_err) for key in fits
     }
     extrapolated = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
-    extrapolated["z_paper"] = [
-        _z(row.key, row.y_inf, row.y_inf_err) for row in extrapolated.itertuples()
-    ]
-    extrapolated["verdict_paper"] = [
-        _verdict(row.key, row.y_inf, row.y_inf_err) for row in extrapolated.itertuples()
-    ]
+    free = [_judged(r.key, r.y_inf, r.y_inf_err) for r in extrapolated.itertuples()]
+    extrapolated["z_paper"] = [z for z, _ in free]
+    extrapolated["verdict_paper"] = [v for _, v in free]
     extrapolated["y_inf_nu_check"] = [checks[k].y_inf for k in extrapolated.key]
     extrapolated["y_inf_nu_check_err"] = [checks[k].y_inf_err for k in extrapolated.key]
     extrapolated["chi2_nu_check"] = [checks[k].chi2 for k in extrapolated.key]
     extrapolated["dof_nu_check"] = [checks[k].dof for k in extrapolated.key]
-    extrapolated["z_paper_nu_check"] = [
-        _z(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key
-    ]
-    extrapolated["verdict_paper_nu_check"] = [
-        _verdict(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key
-    ]
+    fixed = [_judged(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key]
+    extrapolated["z_paper_nu_check"] = [z for z, _ in fixed]
+    extrapolated["verdict_paper_nu_check"] = [v for _, v in fixed]
     nu_z = an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, nu_check, nu_check_err)
     pc_z = an.agreement_z(pc_fit.y_inf, pc_fit.y_inf_err**2, PC_CHECK.value, 0.0)
     at_check = checks["rods_only_pc"]
