@@ -9,7 +9,13 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
-from tensegrity_rigidity.paper.claims import CLAIMS, FACTORS, ROUNDING_2DP, Measurement
+from tensegrity_rigidity.paper.claims import (
+    CLAIMS,
+    FACTORS,
+    REPLICATION,
+    ROUNDING_2DP,
+    Measurement,
+)
 from tensegrity_rigidity.paper.comparison import (
     AGREE_BELOW,
     compare,
@@ -151,6 +157,56 @@ def test_an_alternative_that_agrees_only_through_its_error_is_named_so():
     assert "agrees only through its larger error: at our error z = 4.15" in clauses[0]
     assert "then agrees" not in clauses[0] and "z = 1.69" in clauses[0]
     assert "then agrees" in clauses[1]
+
+
+def test_an_agreement_that_a_replication_at_the_same_size_contradicts_says_so():
+    """The case of the paper-scale report: rods-only p_c at n = 32 from 24 samples (0.6565 +-
+    0.002) agrees with the paper's 0.66 (+- 0.0003, z = 1.7), while 400 samples of the same
+    size give 0.6567 +- 0.0008 (z = 4.1). The row stays "agree" by the rule; its explanation
+    gives the replication and the factors' evidence, and records the replication's verdict.
+    A replication of another size is not ours to compare with."""
+    key = "rods_only_pc"
+    ours = Measurement.scalar(key, 0.6565, 0.002, "n = 32, 24 samples", size=32)
+    same = Measurement.scalar(
+        key, 0.6567, 0.0008, "n = 32, 400 samples per point", factor=REPLICATION,
+        label="the same size", size=32,
+    )  # fmt: skip
+    other = Measurement.scalar(
+        key, 0.6487, 0.0008, "n = 8", factor=REPLICATION, label="another size", size=8
+    )
+    limit = Measurement.scalar(key, 0.6601, 0.0008, "", factor="finite size", label="n -> inf")
+    row = _rows(ours, same, other, limit)[key]
+    assert row.verdict == "agree" and row.replication == "disagree"
+    assert row.explanation.startswith("agrees at our precision only: replication: the same size")
+    assert "z = 4.10: disagrees" in row.explanation and "another size" not in row.explanation
+    assert "finite size: n -> inf" in row.explanation and "then agrees" in row.explanation
+    # without the replication, or with one of another size only, the agreement needs no words
+    for alts in ((limit,), (other, limit)):
+        row = _rows(ours, *alts)[key]
+        assert row.explanation == "" and row.replication == ""
+    # a replication that agrees too leaves an agreement unexplained; ours needs a size
+    near = Measurement.scalar(key, 0.6598, 0.0008, "", factor=REPLICATION, label="r", size=32)
+    assert _rows(ours, near)[key].explanation == ""
+    assert _rows(ours, near)[key].replication == "agree"
+    unsized = Measurement.scalar(key, 0.6565, 0.002, "n = 32")
+    assert _rows(unsized, same)[key].replication == ""
+    # the report counts and names the agreements a replication contradicts
+    from tensegrity_rigidity.paper.report import _replication_sentence
+
+    rows = list(_rows(ours, same).values()) + list(_rows(near).values())
+    assert _replication_sentence(rows).startswith(
+        f"1 of the agreements ({CLAIMS[key].text}) holds at our precision only"
+    )
+    assert _replication_sentence(list(_rows(ours, near).values())) == ""
+
+
+def test_a_disagreement_lists_its_replication_first():
+    key = "st_sr_cables_compression"
+    ours = Measurement.scalar(key, 0.451, 0.01, "n = 32", size=32)
+    rep = Measurement.scalar(key, 0.466, 0.005, "", factor=REPLICATION, label="fss", size=32)
+    clauses = _rows(ours, rep)[key].explanation.split("; ")
+    assert clauses[0].startswith("replication: fss") and clauses[0].endswith("disagrees)")
+    assert [c.split(":")[0] for c in clauses[1:]] == list(FACTORS)
 
 
 def test_claims_about_one_system_are_paired_with_the_papers_own_z():

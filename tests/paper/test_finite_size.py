@@ -12,7 +12,7 @@ import pytest
 from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.paper import finite_size as fs
 from tensegrity_rigidity.paper import studies
-from tensegrity_rigidity.paper.claims import CLAIMS, Measurement
+from tensegrity_rigidity.paper.claims import CLAIMS, REPLICATION, Measurement
 from tensegrity_rigidity.paper.comparison import _evidence
 from tensegrity_rigidity.paper.figures import fig_fss
 from tensegrity_rigidity.paper.report import _pc_smallest, fss_section
@@ -64,7 +64,7 @@ def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     assert others.nu_fixed.all()
     assert np.allclose(others.nu, pc.nu, equal_nan=True)
     assert np.isfinite(fss.nu_z) or np.isnan(pc.nu)
-    assert all(m.factor == "finite size" for m in fss.measured)
+    assert {m.factor for m in fss.measured} == {"finite size", REPLICATION}
     # the second reading: nu fixed at the literature's value, reported beside the free fit
     check = fss.pc_at_check_nu
     assert check is not None and check.nu_fixed and check.nu == fs.NU_CHECK.value
@@ -270,13 +270,32 @@ def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
     fss, delta, _ = runs
     keys = {m.claim for m in fss.measured}
     assert {"alpha_compression_0.1", "taut_cables_transition"} <= keys
-    systems = {m.claim: m.system for m in fss.measured}
+    systems = {m.claim: m.system for m in fss.measured if m.factor == "finite size"}
     energy = [min(TINY.fss_samples(n), fs.ENERGY_SAMPLES) for n in TINY.fss_sizes]
     assert systems["alpha_dilation_0.2"].startswith(
         str(energy[0]) if len(set(energy)) == 1 else ", ".join(map(str, energy))
     )
     assert fs.ENERGY_KEYS == {k for k in KEYS if k.startswith(("alpha", "taut"))}
     assert {m.claim for m in delta.measured} >= {"alpha_dilation_0.3"}
+
+
+def test_every_claim_at_every_size_is_a_replication_of_that_size(runs):
+    """Each row of by_size becomes a replication with its size and its own sample count (the
+    rods-only point from its one-strain sweeps, the energy claims from the first
+    ENERGY_SAMPLES), for the comparison to set beside our value of the same size."""
+    fss, _, _ = runs
+    reps = [m for m in fss.measured if m.factor == REPLICATION]
+    assert len(reps) == len(fss.by_size)
+    for m in reps:
+        row = fss.by_size[(fss.by_size.key == m.claim) & (fss.by_size.n == m.size)]
+        assert len(row) == 1 and m.value[0] == row.value.iloc[0] and m.err[0] == row.err.iloc[0]
+        if m.claim == "rods_only_pc":
+            count = dict(TINY.fss_pc)[m.size]
+        elif m.claim in fs.ENERGY_KEYS:
+            count = fs.energy_samples(TINY.fss_samples(m.size))
+        else:
+            count = TINY.fss_samples(m.size)
+        assert m.system == f"n = {m.size}, {count} samples per point"
 
 
 def test_the_taut_fraction_uses_the_nearest_point_with_certified_tensions():
@@ -383,7 +402,7 @@ def test_every_claim_is_extrapolated_with_the_literature_nu_too(monkeypatch):
         assert (row.chi2_nu_check, row.dof_nu_check) == (check.chi2, check.dof)
         assert row.z_paper_nu_check == fs._z(key, check.y_inf, check.y_inf_err)
         assert abs(row.y_inf - check.y_inf) > 5 * max(row.y_inf_err, check.y_inf_err)
-        ms = [m for m in r.measured if m.claim == key]
+        ms = [m for m in r.measured if m.claim == key and m.factor != REPLICATION]
         assert [m.factor for m in ms] == ["finite size", "finite size"]
         free, fixed = ms
         assert f"(y + a n^(-1/nu), nu = {nu_free:.2f} ± " in free.label

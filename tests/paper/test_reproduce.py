@@ -87,6 +87,10 @@ def test_evidence_of_a_finished_fss_run_joins_another_scales_report(tiny, tmp_pa
     for row in compare(res["results"]):
         if row.key in fss_claims and row.verdict == "disagree":
             assert "finite size: extrapolated" in row.explanation, row.explanation
+        if row.key in fss_claims:  # fig1c's size (5) is one of the finite-size study's
+            assert row.replication in ("agree", "disagree", "inconclusive"), row
+            if row.verdict != "agree":
+                assert row.explanation.startswith("replication: the same size"), row
     assert "## Figure FS" in (out / "report.md").read_text()
 
 

@@ -138,6 +138,11 @@ class Claim:
 #: the factors that can account for a disagreement, in the order the report lists them
 FACTORS = ("finite size", "delta", "method", "estimator")
 
+#: the factor of a measurement that repeats ours at the same size on independent samples (the
+#: finite-size study's, usually with more of them): not a factor that could explain a
+#: difference, but a check of whether our value holds up at another sample set and precision
+REPLICATION = "replication"
+
 
 @dataclass(frozen=True, eq=False)
 class Measurement:
@@ -156,7 +161,7 @@ class Measurement:
     factor : str
         "ours" for the reproduction's own measurement, else one of :data:`FACTORS`: the same
         claim measured another way, as evidence of what moves it (e.g. "method": with the
-        paper's verdict; "estimator": with the paper's estimator).
+        paper's verdict; "estimator": with the paper's estimator); or :data:`REPLICATION`.
     label : str
         What was changed, for the explanation (e.g. "paper's verdict (L-BFGS-B)").
     points : tuple of str
@@ -169,6 +174,10 @@ class Measurement:
         True when ``value`` is a change of the claim's value (an alternative measured as
         "paper's way minus ours" on the same samples): the comparison adds it to our own
         measurement, with both covariances.
+    size : int or None
+        The lattice size n behind the value, where it is one size (None for an extrapolation
+        or a single-node computation). A :data:`REPLICATION` is compared only with our
+        measurement of the same size.
     """
 
     claim: str
@@ -181,6 +190,7 @@ class Measurement:
     reference: np.ndarray | None = None
     note: str = ""
     shift: bool = False
+    size: int | None = None
 
     @classmethod
     def scalar(cls, claim: str, value: float, err: float, system: str, **kw) -> Measurement:

@@ -31,6 +31,13 @@ error can make an alternative agree without explaining anything: where its value
 disagree at our error (z >= 2 with our covariance), it "agrees only through its larger error",
 and the value and its error are shown so that the reader can see whether it moved towards the
 paper or away.
+
+A replication (:data:`~tensegrity_rigidity.paper.claims.REPLICATION`: the same claim at the
+same size on the finite-size study's independent samples, usually more of them) is listed
+first in the explanation of a disagreement or an inconclusive comparison. Where our value
+agrees but a replication disagrees, the agreement rests on our sample set or precision: the row
+stays "agree" by the rule, and its explanation gives the replication and the factors' evidence
+(:attr:`ComparisonRow.replication` records the replication's verdict for the report's count).
 """
 
 from __future__ import annotations
@@ -41,7 +48,7 @@ import numpy as np
 import pandas as pd
 
 from ..analysis.estimators import agreement_z, sign_z
-from .claims import CLAIMS, FACTORS, TARGETS, Claim, Measurement
+from .claims import CLAIMS, FACTORS, REPLICATION, TARGETS, Claim, Measurement
 
 #: z below which a measurement agrees with the paper
 AGREE_BELOW = 2.0
@@ -86,11 +93,14 @@ class ComparisonRow:
         "agree", "disagree", "inconclusive" or "n/a" (:func:`verdict`).
     explanation : str
         For a disagreement, the evidence for each factor; for an inconclusive comparison, why;
-        empty when the claim agrees.
+        empty when the claim agrees, unless a replication disagrees.
     note : str
         How our value is defined, where that matters.
     source : str
         Where in the paper the claim is made.
+    replication : str
+        The verdict of the replications at our size ("disagree" when any disagrees, else
+        "agree" when any agrees, else "inconclusive"); empty without one.
     """
 
     key: str
@@ -103,6 +113,7 @@ class ComparisonRow:
     explanation: str
     note: str
     source: str
+    replication: str = ""
 
 
 #: columns of the comparison table as the report shows it
@@ -214,6 +225,25 @@ def _at_our_error(claim: Claim, ours: Measurement, alt: Measurement) -> float:
     return z_score(claim, replace(alt, cov=ours.cov))
 
 
+def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str]:
+    """The replications' clause for an explanation and their overall verdict (see
+    :attr:`ComparisonRow.replication`); two empty strings without one."""
+    if not replications:
+        return "", ""
+    parts, verdicts = [], []
+    for a in replications:
+        z, v = verdict(claim, a)
+        verdicts.append(v)
+        judged = {
+            "agree": "agrees",
+            "disagree": "disagrees",
+            "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
+        }.get(v, "no value")
+        parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.2f}: {judged})")
+    overall = next((v for v in ("disagree", "agree", "inconclusive") if v in verdicts), "")
+    return f"{REPLICATION}: " + " / ".join(parts), overall
+
+
 def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) -> str:
     """One clause per factor: the alternative measurements and whether they agree."""
     clauses = []
@@ -287,11 +317,19 @@ def compare(results: dict) -> list[ComparisonRow]:
         m = ours[0]
         z, v = verdict(claim, m)
         others = [a for a in ms if a.factor != "ours"]
+        same_size = [
+            a for a in others if a.factor == REPLICATION and a.size is not None and a.size == m.size
+        ]
+        replicated, replication = _replicated(claim, same_size)
         explanation = ""
         if v == "disagree":
-            explanation = _evidence(claim, m, others)
+            explanation = "; ".join(filter(None, [replicated, _evidence(claim, m, others)]))
         elif v == "inconclusive":
-            explanation = _why_inconclusive(claim, m)
+            explanation = "; ".join(filter(None, [replicated, _why_inconclusive(claim, m)]))
+        elif replication == "disagree":
+            explanation = (
+                f"agrees at our precision only: {replicated}; {_evidence(claim, m, others)}"
+            )
         rows.append(
             ComparisonRow(
                 key=key,
@@ -304,6 +342,7 @@ def compare(results: dict) -> list[ComparisonRow]:
                 explanation=explanation,
                 note=m.note,
                 source=claim.source,
+                replication=replication,
             )
         )
     return rows

@@ -500,6 +500,19 @@ def _html_section(sec: Section) -> str:
     return f"<h2>{html.escape(sec.title)}</h2>{body}"
 
 
+def _replication_sentence(rows) -> str:
+    """The agreements that a replication at the same size contradicts, counted and named
+    (empty when there is none)."""
+    weak = [r for r in rows if r.verdict == "agree" and r.replication == "disagree"]
+    if not weak:
+        return ""
+    return (
+        f"{len(weak)} of the agreements ({', '.join(r.claim for r in weak)}) "
+        f"{'holds' if len(weak) == 1 else 'hold'} at our precision only: the same claim at the same size on the finite-size study's samples "
+        "disagrees (explanation column). "
+    )
+
+
 def _shared_sentence(rows, total: int) -> str:
     """How many rows restate another claim about the same system, with the paper's own z."""
     pairs = shared_measurements(rows)
@@ -571,6 +584,7 @@ def write_report(
         f"{n_agree} claims agree, {n_dis} do not"
         + (f", {n_inc} are inconclusive at this precision" if n_inc else "")
         + ". "
+        + _replication_sentence(rows)
         + _shared_sentence(rows, len(rows))
         if rows
         else "This scale runs none of the paper's figure studies: its claims are compared in "

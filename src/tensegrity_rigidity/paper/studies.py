@@ -418,7 +418,12 @@ def study_fig1b(out, scale: Scale, **kw) -> Fig1bResult:
     )
     measured = (
         Measurement.scalar(
-            "collapse_shear_half", collapse.lam, collapse.lam_err, system, note=note
+            "collapse_shear_half",
+            collapse.lam,
+            collapse.lam_err,
+            system,
+            note=note,
+            size=scale.n_threshold,
         ),
     )
     return Fig1bResult(
@@ -563,7 +568,9 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
             if key == "st_sr_struts_dilation"
             else f"collapse fit P = F(p_r + lam p_t) over p_t = 0 and {FIG1C_PT}"
         )
-        measured.append(Measurement.scalar(key, row.lam, row.lam_err, system, note=note))
+        measured.append(
+            Measurement.scalar(key, row.lam, row.lam_err, system, note=note, size=scale.n_threshold)
+        )
         row = contour[np.isclose(contour.f_c, f_c) & (contour.strain == strain)].iloc[0]
         measured.append(
             Measurement.scalar(
@@ -573,6 +580,7 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
                 system,
                 factor="estimator",
                 label="slope of the P = 1/2 contour instead of the logistic collapse fit",
+                size=scale.n_threshold,
             )
         )
     measured.append(
@@ -584,6 +592,7 @@ def study_fig1c(out, scale: Scale, **kw) -> Fig1cResult:
             f"{rods_only.phi.nunique()} strains",
             note="finite-size threshold (median of per-sample thresholds, every strain; a "
             "sample's strains are one unit of the bootstrap)",
+            size=scale.n_threshold,
         )
     )
     return Fig1cResult(
@@ -1001,6 +1010,7 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
                 row.p_crit_err,
                 f"n = {scale.n_grid}, {scale.samples_threshold} thresholds",
                 note="ours: median threshold (P = 1/2); paper: first positive mean energy",
+                size=scale.n_grid,
             )
         )
         out.append(
@@ -1011,6 +1021,7 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
                 system,
                 factor="estimator",
                 label="the paper's p_crit (first grid p_r with positive mean energy)",
+                size=scale.n_grid,
             )
         )
         key = f"alpha_{row.strain}_{row.p_t}"
@@ -1022,6 +1033,7 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
                 f"{system}; {row.n_points} fit points",
                 note="least squares of ln(mean E) over ln(p_r - p_crit), p_crit = P = 1/2; "
                 "error: bootstrap over samples, p_crit re-estimated in each replica",
+                size=scale.n_grid,
             )
         )
         out.append(
@@ -1032,6 +1044,7 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
                 f"{system}; {alt.n_points} fit points",
                 factor="estimator",
                 label="fitted from the paper's p_crit (first positive mean energy)",
+                size=scale.n_grid,
             )
         )
     if taut_tr is not None:
@@ -1043,6 +1056,7 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
                 e,
                 system + "; rigid samples with certified tensions at p_r nearest p_crit, mean over "
                 "p_t = 0.1, 0.2, 0.3 (error: bootstrap over samples, p_crit re-estimated)",
+                size=scale.n_grid,
             )
         )
     labels = tuple(f"p_t = {p:.1f}" for p in peaks["p_t"])
@@ -1065,6 +1079,7 @@ def _fig2_measurements(scale, fits, paper_est, peaks, taut_tr) -> tuple[Measurem
                 points=labels,
                 note="peak of the mean Gamma on the p_r grid minus the median threshold; error: "
                 "bootstrap over samples, grid resolution, p_crit's error",
+                size=scale.n_grid,
             )
         )
     return tuple(out)
