@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pytest
@@ -161,8 +161,8 @@ def test_an_alternative_that_agrees_only_through_its_error_is_named_so():
 
 def test_an_agreement_that_a_replication_at_the_same_size_contradicts_says_so():
     """The case of the paper-scale report: rods-only p_c at n = 32 from 24 samples (0.6565 +-
-    0.002) agrees with the paper's 0.66 (+- 0.0003, z = 1.7), while 400 samples of the same
-    size give 0.6567 +- 0.0008 (z = 4.1). The row stays "agree" by the rule; its explanation
+    0.002) agrees with the paper's value (z < 2), while 400 samples of the same size give
+    0.6567 +- 0.0008 (z = 4.1). The row stays "agree" by the rule; its explanation
     gives the replication and the factors' evidence, and records the replication's verdict.
     A replication of another size is not ours to compare with."""
     key = "rods_only_pc"
@@ -179,7 +179,16 @@ def test_an_agreement_that_a_replication_at_the_same_size_contradicts_says_so():
     assert row.verdict == "agree" and row.replication == "disagree"
     assert row.explanation.startswith("agrees at our precision only: replication: the same size")
     assert "z = 4.10: disagrees" in row.explanation and "another size" not in row.explanation
-    assert "finite size: n -> inf" in row.explanation and "then agrees" in row.explanation
+    # the factors in plain words: nothing "then agrees" or "still disagrees" in an agreement
+    assert "finite size: n -> inf" in row.explanation and "z = 0.12: agrees)" in row.explanation
+    assert "then agrees" not in row.explanation and "still" not in row.explanation
+    # a replication no more precise than ours questions the sample set, not the precision
+    loose = replace(same, cov=np.array([[0.003**2]]), value=np.array([0.6450]))
+    row = _rows(ours, loose)[key]
+    assert row.explanation.startswith("agrees on our samples only: replication")
+    # a replication without a value is no replication
+    empty = replace(same, value=np.array([np.nan]))
+    assert _rows(ours, empty)[key].replication == "" == _rows(ours, empty)[key].explanation
     # without the replication, or with one of another size only, the agreement needs no words
     for alts in ((limit,), (other, limit)):
         row = _rows(ours, *alts)[key]
@@ -195,7 +204,7 @@ def test_an_agreement_that_a_replication_at_the_same_size_contradicts_says_so():
 
     rows = list(_rows(ours, same).values()) + list(_rows(near).values())
     assert _replication_sentence(rows).startswith(
-        f"1 of the agreements ({CLAIMS[key].text}) holds at our precision only"
+        f"1 of the agreements ({CLAIMS[key].text}) holds only at our precision or on our samples"
     )
     assert _replication_sentence(list(_rows(ours, near).values())) == ""
 
@@ -207,6 +216,12 @@ def test_a_disagreement_lists_its_replication_first():
     clauses = _rows(ours, rep)[key].explanation.split("; ")
     assert clauses[0].startswith("replication: fss") and clauses[0].endswith("disagrees)")
     assert [c.split(":")[0] for c in clauses[1:]] == list(FACTORS)
+    # and so does an inconclusive comparison, before its reason
+    wide = Measurement.scalar(key, 0.40, 0.05, "n = 32", size=32)
+    row = _rows(wide, rep)[key]
+    assert row.verdict == "inconclusive" and row.replication == "disagree"
+    assert row.explanation.startswith("replication: fss")
+    assert row.explanation.endswith("could have passed as agreement")
 
 
 def test_claims_about_one_system_are_paired_with_the_papers_own_z():

@@ -175,9 +175,9 @@ class Measurement:
         "paper's way minus ours" on the same samples): the comparison adds it to our own
         measurement, with both covariances.
     size : int or None
-        The lattice size n behind the value, where it is one size (None for an extrapolation
-        or a single-node computation). A :data:`REPLICATION` is compared only with our
-        measurement of the same size.
+        The lattice size n behind the value: set on the figure studies' own measurements of
+        the claims the finite-size study also measures, and on replications; None elsewhere.
+        A :data:`REPLICATION` is compared only with our measurement of the same size.
     """
 
     claim: str

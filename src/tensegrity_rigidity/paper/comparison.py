@@ -35,8 +35,9 @@ paper or away.
 A replication (:data:`~tensegrity_rigidity.paper.claims.REPLICATION`: the same claim at the
 same size on the finite-size study's independent samples, usually more of them) is listed
 first in the explanation of a disagreement or an inconclusive comparison. Where our value
-agrees but a replication disagrees, the agreement rests on our sample set or precision: the row
-stays "agree" by the rule, and its explanation gives the replication and the factors' evidence
+agrees but a replication disagrees, the agreement rests on our precision (where the
+replication's error is smaller) or on our sample set: the row stays "agree" by the rule, and
+its explanation says which, with the replication and the factors' evidence in plain words
 (:attr:`ComparisonRow.replication` records the replication's verdict for the report's count).
 """
 
@@ -93,14 +94,16 @@ class ComparisonRow:
         "agree", "disagree", "inconclusive" or "n/a" (:func:`verdict`).
     explanation : str
         For a disagreement, the evidence for each factor; for an inconclusive comparison, why;
-        empty when the claim agrees, unless a replication disagrees.
+        either preceded by the replication of the same size where there is one. Empty when
+        the claim agrees, unless a replication disagrees: then the replication and every
+        factor's evidence.
     note : str
         How our value is defined, where that matters.
     source : str
         Where in the paper the claim is made.
     replication : str
         The verdict of the replications at our size ("disagree" when any disagrees, else
-        "agree" when any agrees, else "inconclusive"); empty without one.
+        "agree" when any agrees, else "inconclusive"); empty without one that has a value.
     """
 
     key: str
@@ -227,7 +230,8 @@ def _at_our_error(claim: Claim, ours: Measurement, alt: Measurement) -> float:
 
 def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str]:
     """The replications' clause for an explanation and their overall verdict (see
-    :attr:`ComparisonRow.replication`); two empty strings without one."""
+    :attr:`ComparisonRow.replication`); two empty strings without one with a value."""
+    replications = [a for a in replications if np.isfinite(a.value).any()]
     if not replications:
         return "", ""
     parts, verdicts = [], []
@@ -244,8 +248,16 @@ def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str
     return f"{REPLICATION}: " + " / ".join(parts), overall
 
 
-def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) -> str:
-    """One clause per factor: the alternative measurements and whether they agree."""
+def _evidence(
+    claim: Claim, ours: Measurement, alternatives: list[Measurement], agreeing: bool = False
+) -> str:
+    """One clause per factor: the alternative measurements and whether they agree.
+
+    For a disagreement (the default) an alternative "then agrees" or "still disagrees", and
+    one that agrees only because its error is larger than ours is named so. For an agreement
+    (``agreeing``: one that a replication contradicts) the words are plain, "agrees" or
+    "disagrees": our error is not the yardstick there, since it is what is in question.
+    """
     clauses = []
     for factor in FACTORS:
         alts = [_applied(ours, a) if a.shift else a for a in alternatives if a.factor == factor]
@@ -256,11 +268,11 @@ def _evidence(claim: Claim, ours: Measurement, alternatives: list[Measurement]) 
         for a in alts:
             z, v = verdict(claim, a)
             judged = {
-                "agree": "then agrees",
-                "disagree": "still disagrees",
+                "agree": "agrees" if agreeing else "then agrees",
+                "disagree": "disagrees" if agreeing else "still disagrees",
                 "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
             }.get(v, "no value")
-            if v == "agree":
+            if v == "agree" and not agreeing:
                 z_ours = _at_our_error(claim, ours, a)
                 if z_ours >= AGREE_BELOW:
                     judged = f"agrees only through its larger error: at our error z = {z_ours:.2f}"
@@ -327,9 +339,11 @@ def compare(results: dict) -> list[ComparisonRow]:
         elif v == "inconclusive":
             explanation = "; ".join(filter(None, [replicated, _why_inconclusive(claim, m)]))
         elif replication == "disagree":
-            explanation = (
-                f"agrees at our precision only: {replicated}; {_evidence(claim, m, others)}"
-            )
+            # "precision" where the replication is the more precise, else the sample set
+            sharper = any(np.all(a.err < m.err) for a in same_size)
+            only = "at our precision only" if sharper else "on our samples only"
+            evidence = _evidence(claim, m, others, agreeing=True)
+            explanation = f"agrees {only}: {replicated}; {evidence}"
         rows.append(
             ComparisonRow(
                 key=key,

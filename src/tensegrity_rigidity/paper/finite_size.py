@@ -527,8 +527,8 @@ def replications(by_size: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]
 
     The study's samples (seed 61) are not those of the figure studies (seeds 12 and 21), and
     there are usually more of them (400 rods-only thresholds at n = 32 in ``--scale fss``
-    against 24 x 5 in Fig. 1C), so a value that agrees with the paper only at the figure
-    study's precision shows it here.
+    against Fig. 1C's 24 samples at ``--scale paper``), so a value that agrees with the paper
+    only at the figure study's precision shows it here.
 
     Parameters
     ----------
@@ -537,6 +537,13 @@ def replications(by_size: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]
         where a row's count is not the scale's).
     scale : Scale
         The study's scale (its sample counts per size).
+
+    Returns
+    -------
+    tuple of Measurement
+        One per row of ``by_size`` whose key is a claim: factor
+        :data:`~tensegrity_rigidity.paper.claims.REPLICATION`, ``size`` its n, and its sample
+        count in ``system`` (nominal, except the rods-only point's, which counts its rows).
     """
     out = []
     for row in by_size.itertuples():
@@ -554,7 +561,7 @@ def replications(by_size: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]
                 row.err,
                 f"n = {n}, {int(count)} samples per point",
                 factor=REPLICATION,
-                label=f"the same size on the finite-size study's samples (seed 61, n = {n})",
+                label="the same size on the finite-size study's samples (seed 61)",
                 size=n,
             )
         )

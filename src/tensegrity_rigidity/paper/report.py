@@ -506,10 +506,11 @@ def _replication_sentence(rows) -> str:
     weak = [r for r in rows if r.verdict == "agree" and r.replication == "disagree"]
     if not weak:
         return ""
+    verb = "holds" if len(weak) == 1 else "hold"
     return (
-        f"{len(weak)} of the agreements ({', '.join(r.claim for r in weak)}) "
-        f"{'holds' if len(weak) == 1 else 'hold'} at our precision only: the same claim at the same size on the finite-size study's samples "
-        "disagrees (explanation column). "
+        f"{len(weak)} of the agreements ({'; '.join(r.claim for r in weak)}) {verb} only at "
+        "our precision or on our samples: the same claim at the same size on the finite-size "
+        "study's samples disagrees (explanation column). "
     )
 
 
