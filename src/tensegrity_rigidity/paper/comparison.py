@@ -228,6 +228,21 @@ def _at_our_error(claim: Claim, ours: Measurement, alt: Measurement) -> float:
     return z_score(claim, replace(alt, cov=ours.cov))
 
 
+def _words(v: str, plain: bool) -> str:
+    """How an alternative's verdict reads: plainly ("agrees"), or beside a disagreement of
+    ours ("then agrees", "still disagrees")."""
+    return {
+        "agree": "agrees" if plain else "then agrees",
+        "disagree": "disagrees" if plain else "still disagrees",
+        "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
+    }.get(v, "no value")
+
+
+def _part(claim: Claim, a: Measurement, z: float, judged: str) -> str:
+    """One alternative in an explanation: its label, value, system, z and verdict."""
+    return f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.2f}: {judged})"
+
+
 def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str]:
     """The replications' clause for an explanation and their overall verdict (see
     :attr:`ComparisonRow.replication`); two empty strings without one with a value."""
@@ -238,12 +253,7 @@ def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str
     for a in replications:
         z, v = verdict(claim, a)
         verdicts.append(v)
-        judged = {
-            "agree": "agrees",
-            "disagree": "disagrees",
-            "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
-        }.get(v, "no value")
-        parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.2f}: {judged})")
+        parts.append(_part(claim, a, z, _words(v, plain=True)))
     overall = next((v for v in ("disagree", "agree", "inconclusive") if v in verdicts), "")
     return f"{REPLICATION}: " + " / ".join(parts), overall
 
@@ -267,16 +277,12 @@ def _evidence(
         parts = []
         for a in alts:
             z, v = verdict(claim, a)
-            judged = {
-                "agree": "agrees" if agreeing else "then agrees",
-                "disagree": "disagrees" if agreeing else "still disagrees",
-                "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
-            }.get(v, "no value")
+            judged = _words(v, plain=agreeing)
             if v == "agree" and not agreeing:
                 z_ours = _at_our_error(claim, ours, a)
                 if z_ours >= AGREE_BELOW:
                     judged = f"agrees only through its larger error: at our error z = {z_ours:.2f}"
-            parts.append(f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.2f}: {judged})")
+            parts.append(_part(claim, a, z, judged))
         clauses.append(f"{factor}: " + " / ".join(parts))
     return "; ".join(clauses)
 
