@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shutil
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -17,6 +18,7 @@ from tensegrity_rigidity.paper.comparison import _evidence
 from tensegrity_rigidity.paper.figures import fig_fss
 from tensegrity_rigidity.paper.report import _pc_smallest, fss_section
 from tensegrity_rigidity.paper.reproduce import reproduce
+from tensegrity_rigidity.paper.studies import SCALES
 
 from .conftest import SERIAL, TINY
 
@@ -119,7 +121,9 @@ def test_rods_only_threshold_error_counts_samples_not_strains(runs):
     bootstrap draws samples (all their strains at once), not (sample, strain) rows."""
     _, _, out = runs
     n = TINY.fss_sizes[-1]
-    frame, _ = fs.headline(out, n, fs.DEFAULT_DELTA, TINY.fss_samples(n), 20, **SERIAL)
+    frame, _ = fs.headline(
+        out, n, fs.DEFAULT_DELTA, TINY.fss_samples(n), TINY.fss_energy_samples(n), 20, **SERIAL
+    )
     rods = load_results(out / "studies" / f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods")
     assert rods.phi.nunique() == 3
     got = frame.set_index("key").loc["rods_only_pc"]
@@ -256,14 +260,34 @@ def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():
 
 
 def test_energy_sweeps_share_the_threshold_samples_without_displacements():
-    sweeps = fs.energy_sweeps(64, 0.2, 400)
+    sweeps = fs.energy_sweeps(64, 0.2, 24)
     head = fs.headline_sweeps(64, 0.2, 400)["headline_n64_delta0.2_pcrit"]
     assert len(sweeps) == len(fs.PT4)
     for p_t, spec in zip(fs.PT4, sweeps.values(), strict=True):
         assert (spec["seed"], spec["n"], spec["delta"]) == (head["seed"], 64, 0.2)
         assert spec["solver"] == {"min_norm": False} and spec["f_c"] == 1.0
-        assert spec["samples"] == fs.ENERGY_SAMPLES and spec["p_t"] == p_t
+        assert spec["samples"] == 24 and spec["p_t"] == p_t
         assert max(spec["p_r"]) + p_t <= 1 + 1e-12 and min(spec["p_r"]) == 0.45
+
+
+def test_energy_grids_have_their_own_sample_count():
+    """The fss scale's energy grids at n = 64 have 24 samples where its threshold sweeps have 8
+    (bootstrap errors from 8 samples were too small to trust); by default a size's energy
+    grids read the first ENERGY_SAMPLES of its threshold samples at most."""
+    fss = SCALES["fss"]
+    assert fss.fss_samples(64) == 8 and fss.fss_energy_samples(64) == 24
+    sweeps = fs.fss_sweeps(fss)
+    assert sweeps["energy_n64_delta0.2_pt0.2"]["samples"] == 24
+    assert sweeps["headline_n64_delta0.2_pcrit"]["samples"] == 8
+    assert [TINY.fss_energy_samples(n) for n in TINY.fss_sizes] == [
+        min(TINY.fss_samples(n), fs.ENERGY_SAMPLES) for n in TINY.fss_sizes
+    ]
+    cluster = SCALES["fss-cluster"]
+    assert cluster.fss_energy_samples(128) == 8 and cluster.fss_energy_samples(64) == 24
+    per_size = replace(TINY, samples_energy=(1, 2, 3, 4))
+    assert [per_size.fss_energy_samples(n) for n in TINY.fss_sizes] == [1, 2, 3, 4]
+    with pytest.raises(ValueError, match="samples_energy has 2 counts for 4 sizes"):
+        replace(TINY, samples_energy=(1, 2))
 
 
 def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
@@ -271,7 +295,7 @@ def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
     keys = {m.claim for m in fss.measured}
     assert {"alpha_compression_0.1", "taut_cables_transition"} <= keys
     systems = {m.claim: m.system for m in fss.measured if m.factor == "finite size"}
-    energy = [min(TINY.fss_samples(n), fs.ENERGY_SAMPLES) for n in TINY.fss_sizes]
+    energy = [TINY.fss_energy_samples(n) for n in TINY.fss_sizes]
     assert systems["alpha_dilation_0.2"].startswith(
         str(energy[0]) if len(set(energy)) == 1 else ", ".join(map(str, energy))
     )
@@ -292,7 +316,7 @@ def test_every_claim_at_every_size_is_a_replication_of_that_size(runs):
         if m.claim == "rods_only_pc":
             count = dict(TINY.fss_pc)[m.size]
         elif m.claim in fs.ENERGY_KEYS:
-            count = fs.energy_samples(TINY.fss_samples(m.size))
+            count = TINY.fss_energy_samples(m.size)
         else:
             count = TINY.fss_samples(m.size)
         assert m.system == f"n = {m.size}, {count} samples per point"
@@ -374,7 +398,7 @@ def _synthetic_fss(monkeypatch) -> tuple[fs.FiniteSizeResult, dict]:
         "p_crit_compression_0.1": (0.6 - 0.5 * n ** (-1 / 1.16), np.full(n.size, 1e-3)),
     }
 
-    def headline(out, size, delta, samples, n_boot, **kw):
+    def headline(out, size, delta, samples, energy, n_boot, **kw):
         k = SIZES.index(size)
         rows = [{"key": key, "value": y[k], "err": e[k]} for key, (y, e) in series.items()]
         return pd.DataFrame(rows), {}

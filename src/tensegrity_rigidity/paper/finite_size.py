@@ -46,6 +46,7 @@ from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS, REFERENCES, REPLICATION, Measurement
 from .comparison import verdict, z_score
 from .studies import (
+    ENERGY_SAMPLES,
     FIG1C_PT,
     PT4,
     Scale,
@@ -121,28 +122,19 @@ def rods_pc_sweep(n: int, delta: float, samples: int) -> dict[str, dict]:
 #: p_r grid of the energy sweeps: every p_crit of rods + cables lies above 0.45 and the power
 #: law is fitted within 0.25 above it (``fit_energy_power_law``)
 ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
-#: most samples per point of the energy sweeps (the threshold sweeps have up to 400): the
-#: paper scale's count at n = 32, and what keeps the fss scale near its budget
-ENERGY_SAMPLES = 24
 
 
-def energy_samples(samples: int) -> int:
-    """Samples per point of the energy sweeps at a size whose threshold sweeps have
-    ``samples``: the first :data:`ENERGY_SAMPLES` of them at most."""
-    return min(samples, ENERGY_SAMPLES)
-
-
-def energy_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
+def energy_sweeps(n: int, delta: float, count: int) -> dict[str, dict]:
     """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
 
     Per p_t of :data:`~tensegrity_rigidity.paper.studies.PT4`, f_c = 1 under dilation and
     compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
     fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
     The same seed as :func:`headline_sweeps`, so sample k is the disorder whose thresholds give
-    p_crit (common random numbers). At most :data:`ENERGY_SAMPLES` samples; no minimum-norm
+    p_crit (common random numbers). ``count`` samples per point
+    (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
-    count = energy_samples(samples)
     base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
     base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
     base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
@@ -203,9 +195,10 @@ def energy_claims(
     return out
 
 
-def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
-    """The headline claims at one (n, delta) from the sweeps of :func:`headline_sweeps`, and
-    the energy claims from those of :func:`energy_sweeps` (:func:`energy_claims`).
+def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, **kw):
+    """The headline claims at one (n, delta) from the sweeps of :func:`headline_sweeps`
+    (``samples`` per point), and the energy claims from those of :func:`energy_sweeps`
+    (``energy`` per point; :func:`energy_claims`).
 
     Returns (frame with columns key, value, err; excluded counts).
     """
@@ -240,7 +233,7 @@ def headline(out, n: int, delta: float, samples: int, n_boot: int, **kw):
             v, e = an.critical_point(crit[strain, p_t].threshold_p_r.to_numpy())
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
     grids = []
-    for name, spec in energy_sweeps(n, delta, samples).items():
+    for name, spec in energy_sweeps(n, delta, energy).items():
         grid, excluded[name] = sweep_rows(out, name, spec, **kw)
         grids.append(grid)
     rows += energy_claims(pd.concat(grids, ignore_index=True), crit, n_boot)
@@ -292,6 +285,8 @@ class FiniteSizeResult:
     nu_at_bound : bool
         Whether the free fit's nu ended at a bound of its allowed range (the sizes do not
         determine it).
+    energy_samples : tuple of int
+        Samples per point of the energy grids at each of ``sizes``.
     pc_sizes, pc_samples : tuple of int
         Sizes of the rods-only extrapolation and its samples at each (the headline sweeps'
         unless the scale gives ``fss_pc``).
@@ -319,6 +314,7 @@ class FiniteSizeResult:
     sizes: tuple[int, ...]
     samples: tuple[int, ...]  # per size
     excluded: dict[str, int]
+    energy_samples: tuple[int, ...] = ()  # per size, of the energy grids
     measured: tuple[Measurement, ...] = ()
     pc_at_check_nu: an.FiniteSizeFit | None = None
     pc_at_check_nu_z: float = float("nan")
@@ -396,7 +392,15 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     frames: list[pd.DataFrame] = []
     excluded: dict[str, int] = {}
     for n in scale.fss_sizes:
-        f, ex = headline(out, n, DEFAULT_DELTA, scale.fss_samples(n), scale.bootstrap, **kw)
+        f, ex = headline(
+            out,
+            n,
+            DEFAULT_DELTA,
+            scale.fss_samples(n),
+            scale.fss_energy_samples(n),
+            scale.bootstrap,
+            **kw,
+        )
         frames.append(f.assign(n=n))
         excluded |= ex
     by_size = (
@@ -506,6 +510,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_z=pc_z,
         sizes=tuple(scale.fss_sizes),
         samples=tuple(scale.fss_samples(n) for n in scale.fss_sizes),
+        energy_samples=tuple(scale.fss_energy_samples(n) for n in scale.fss_sizes),
         pc_sizes=scale.pc_sizes,
         pc_samples=tuple(scale.pc_samples(n) for n in scale.pc_sizes),
         excluded=excluded,
@@ -552,8 +557,8 @@ def replications(by_size: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]
         n = int(row.n)
         count = getattr(row, "samples", np.nan)
         if not np.isfinite(count):
-            count = scale.fss_samples(n)
-            count = energy_samples(count) if row.key in ENERGY_KEYS else count
+            energy = row.key in ENERGY_KEYS
+            count = scale.fss_energy_samples(n) if energy else scale.fss_samples(n)
         out.append(
             Measurement.scalar(
                 row.key,
@@ -612,9 +617,8 @@ def misfit(chi2: float, dof: int) -> str:
 def _samples_text(scale: Scale, energy: bool = False) -> str:
     """The sample counts per size (of the energy sweeps when ``energy``): one number when they
     are equal, else one per size."""
-    counts = [scale.fss_samples(n) for n in scale.fss_sizes]
-    if energy:
-        counts = [energy_samples(c) for c in counts]
+    count = scale.fss_energy_samples if energy else scale.fss_samples
+    counts = [count(n) for n in scale.fss_sizes]
     if len(set(counts)) == 1:
         return str(counts[0])
     return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, scale.fss_sizes))})"
@@ -625,10 +629,16 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
     out: dict[str, dict] = {}
     for n in scale.fss_sizes:
         out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
-        out |= energy_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
+        out |= energy_sweeps(n, DEFAULT_DELTA, scale.fss_energy_samples(n))
     for n, samples in scale.fss_pc:
         out |= rods_pc_sweep(n, DEFAULT_DELTA, samples)
     return out
+
+
+def delta_energy_samples(scale: Scale) -> int:
+    """Samples per point of the node-disorder study's energy grids: the first
+    :data:`~tensegrity_rigidity.paper.studies.ENERGY_SAMPLES` of its samples at most."""
+    return min(scale.samples_delta, ENERGY_SAMPLES)
 
 
 def delta_sweeps(scale: Scale) -> dict[str, dict]:
@@ -636,7 +646,7 @@ def delta_sweeps(scale: Scale) -> dict[str, dict]:
     out: dict[str, dict] = {}
     for delta in scale.deltas:
         out |= headline_sweeps(scale.n_delta, delta, scale.samples_delta)
-        out |= energy_sweeps(scale.n_delta, delta, scale.samples_delta)
+        out |= energy_sweeps(scale.n_delta, delta, delta_energy_samples(scale))
     return out
 
 
@@ -679,7 +689,15 @@ def study_delta(out, scale: Scale, **kw) -> DeltaResult:
     frames: list[pd.DataFrame] = []
     excluded: dict[str, int] = {}
     for delta in scale.deltas:
-        f, ex = headline(out, scale.n_delta, delta, scale.samples_delta, scale.bootstrap, **kw)
+        f, ex = headline(
+            out,
+            scale.n_delta,
+            delta,
+            scale.samples_delta,
+            delta_energy_samples(scale),
+            scale.bootstrap,
+            **kw,
+        )
         frames.append(f.assign(delta=delta))
         excluded |= ex
     by_delta = pd.concat(frames, ignore_index=True)

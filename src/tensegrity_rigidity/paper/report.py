@@ -22,7 +22,7 @@ from ..analysis.single_node import class_weights, qbar_table
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS
 from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame, shared_measurements
-from .finite_size import NU_CHECK, PC_CHECK, energy_samples, nu_dependent
+from .finite_size import NU_CHECK, PC_CHECK, nu_dependent
 
 
 def _md_table(df: pd.DataFrame) -> str:
@@ -372,7 +372,7 @@ def fss_section(r) -> Section:
             f"({', '.join(map(str, r.samples))} samples per point at these sizes; exact "
             f"per-sample thresholds, node disorder delta = {DEFAULT_DELTA}; the energy "
             "exponents alpha and the taut-cable fraction from grids of energies on the first "
-            f"{', '.join(str(energy_samples(k)) for k in r.samples)} of those samples), "
+            f"{', '.join(map(str, r.energy_samples))} samples), "
             "each extrapolated with y(n) = y_inf + a n^(-1/nu). "
             if r.sizes
             else "Only the rods-only P = 1/2 point (exact per-sample thresholds, node disorder "

@@ -56,6 +56,11 @@ PT4 = [0.0, 0.1, 0.2, 0.3]
 STRAIN_NAMES = {phi: name for name, phi in NAMED_STRAINS.items()}
 
 
+#: most samples per point of the finite-size study's energy grids by default (its threshold
+#: sweeps have up to 400): the paper scale's count at n = 32 (:meth:`Scale.fss_energy_samples`)
+ENERGY_SAMPLES = 24
+
+
 @dataclass(frozen=True)
 class Scale:
     """System sizes and sample counts of a reproduction, and which studies it runs.
@@ -91,12 +96,22 @@ class Scale:
     studies: tuple[str, ...] = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
     samples_curve: int | None = None  # Fig. 1C at f_c = 0.25, 0.75 (None: samples_threshold)
     samples_fig1b: int | None = None  # Fig. 1B (None: samples_threshold)
+    # energy grids of the finite-size study per size: one count, or one per size of fss_sizes
+    # (None: the first ENERGY_SAMPLES of the size's samples_fss at most)
+    samples_energy: int | tuple[int, ...] | None = None
     budget_minutes: float | None = None  # the estimated wall time on 2 workers stays below
 
     def __post_init__(self):
         if isinstance(self.samples_fss, tuple) and len(self.samples_fss) != len(self.fss_sizes):
             raise ValueError(
                 f"scale {self.name}: samples_fss has {len(self.samples_fss)} counts for "
+                f"{len(self.fss_sizes)} sizes"
+            )
+        if isinstance(self.samples_energy, tuple) and len(self.samples_energy) != len(
+            self.fss_sizes
+        ):
+            raise ValueError(
+                f"scale {self.name}: samples_energy has {len(self.samples_energy)} counts for "
                 f"{len(self.fss_sizes)} sizes"
             )
 
@@ -114,6 +129,16 @@ class Scale:
         if isinstance(self.samples_fss, int):
             return self.samples_fss
         return self.samples_fss[self.fss_sizes.index(n)]
+
+    def fss_energy_samples(self, n: int) -> int:
+        """Samples per point of the finite-size study's energy grids at size ``n``
+        (:attr:`samples_energy`; by default the first :data:`ENERGY_SAMPLES` of
+        :meth:`fss_samples` at most)."""
+        if self.samples_energy is None:
+            return min(self.fss_samples(n), ENERGY_SAMPLES)
+        if isinstance(self.samples_energy, int):
+            return self.samples_energy
+        return self.samples_energy[self.fss_sizes.index(n)]
 
     @property
     def curve_samples(self) -> int:
@@ -171,10 +196,12 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #:   (fss-cluster, pc) narrows it. delta = 0.2 reads the first 24 samples of the fss sweeps at
 #:   n = 32.
 #:   The energy grids of alpha and the taut-cable fraction (2026-11-27, finite_size.energy_sweeps:
-#:   24 samples per point, 8 at n = 64, no minimum-norm displacements) add 12 CPU min, 7 min on 2
-#:   workers by the estimate: 115 in all. The budget is 118 min: the model errs long on this
-#:   scale (the threshold sweeps' estimate was 109 min, their clean run took 97, 2026-11-26), so
-#:   118 estimated stays inside the limit of 120 with that margin.
+#:   24 samples per point, no minimum-norm displacements) add 21 CPU min, 11 min on 2 workers
+#:   by the estimate: 119 in all. n = 64 had 8 until 2026-11-29 (its threshold count), and
+#:   bootstrap errors from 8 samples came out implausibly small (the taut-cable fraction's
+#:   0.003) and dominated the extrapolations; 16 more cost about 9 CPU min (the 8 took 4.5
+#:   in the run of 2026-11-28). The budget is 120 min, the limit: the model errs long on this
+#:   scale (the threshold sweeps' estimate was 109 min, their clean run took 97, 2026-11-26).
 #:
 #: fss-cluster: fss plus n = 128 (8 samples: one threshold search there is extrapolated to
 #:   30 min at p_t = 0.3; 61 CPU hours in all with the energy grids) and 32 samples at n = 64
@@ -211,10 +238,10 @@ SCALES = {
     ),
     "fss": Scale(
         "fss", 32, 32, 0, 0, 0, 0.025, 0, 200,
-        fss_sizes=(8, 16, 32, 64), samples_fss=(400, 160, 64, 8),
+        fss_sizes=(8, 16, 32, 64), samples_fss=(400, 160, 64, 8), samples_energy=24,
         fss_pc=FSS_PC_NO_128,
         deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=24,
-        studies=("fss", "delta"), budget_minutes=118,
+        studies=("fss", "delta"), budget_minutes=120,
     ),
     "pc": Scale(
         "pc", 32, 32, 0, 0, 0, 0.025, 0, 200,
