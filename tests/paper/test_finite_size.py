@@ -15,7 +15,7 @@ from tensegrity_rigidity.paper import finite_size as fs
 from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS, REPLICATION, Measurement
 from tensegrity_rigidity.paper.comparison import _evidence
-from tensegrity_rigidity.paper.figures import fig_fss
+from tensegrity_rigidity.paper.figures import fig_fss, fss_panels
 from tensegrity_rigidity.paper.report import _pc_smallest, fss_section
 from tensegrity_rigidity.paper.reproduce import reproduce
 from tensegrity_rigidity.paper.studies import SCALES
@@ -268,6 +268,27 @@ def test_energy_sweeps_share_the_threshold_samples_without_displacements():
         assert spec["solver"] == {"min_norm": False} and spec["f_c"] == 1.0
         assert spec["samples"] == 24 and spec["p_t"] == p_t
         assert max(spec["p_r"]) + p_t <= 1 + 1e-12 and min(spec["p_r"]) == 0.45
+
+
+def test_figure_fs_has_a_panel_per_kind_of_claim(runs, tmp_path):
+    """Fig. FS plots every kind of claim the study extrapolates: the rods-only point, S_t/S_r,
+    alpha under compression and under dilation (one line per p_t), the taut-cable fraction;
+    the pc scale's result (rods-only only) gets its one panel."""
+    fss, _, _ = runs
+    panels = fss_panels(fss)
+    assert [ylabel for _, _, ylabel in panels] == [
+        "rods-only P = 1/2 point",
+        "S_t / S_r",
+        "energy exponent alpha, compression",
+        "energy exponent alpha, dilation",
+        "taut cables at p_crit",
+    ]
+    assert panels[2][0] == tuple(f"alpha_compression_{p_t}" for p_t in fs.PT4)
+    assert all(p.exists() for p in fig_fss(fss, tmp_path))
+    rods_only = SimpleNamespace(
+        extrapolated=fss.extrapolated[fss.extrapolated.key == "rods_only_pc"]
+    )
+    assert [keys for keys, _, _ in fss_panels(rods_only)] == [("rods_only_pc",)]
 
 
 def test_energy_grids_have_their_own_sample_count():

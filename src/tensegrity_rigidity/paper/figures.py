@@ -17,6 +17,7 @@ from matplotlib.colors import LogNorm  # noqa: E402
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
 from .plotting import bond_segments, draw_network  # noqa: E402
+from .studies import PT4  # noqa: E402
 
 if TYPE_CHECKING:
     from .finite_size import FiniteSizeResult
@@ -398,36 +399,69 @@ def fig4c(r: Fig4Result, figdir: Path):
     return _save(fig, figdir, "4C")
 
 
+#: the panels of Fig. FS that plot claims against n^(-1/nu): (claim keys, legend labels, y label)
+FSS_PANELS = (
+    (("rods_only_pc",), ("rods only",), "rods-only P = 1/2 point"),
+    (
+        ("st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear"),
+        ("rods + cables, compression", "rods + cables, dilation", "f_c = 0.5, shear"),
+        "S_t / S_r",
+    ),
+    (
+        tuple(f"alpha_compression_{p_t}" for p_t in PT4),
+        tuple(f"p_t = {p_t:g}" for p_t in PT4),
+        "energy exponent alpha, compression",
+    ),
+    (
+        tuple(f"alpha_dilation_{p_t}" for p_t in PT4),
+        tuple(f"p_t = {p_t:g}" for p_t in PT4),
+        "energy exponent alpha, dilation",
+    ),
+    (("taut_cables_transition",), ("rods + cables, compression",), "taut cables at p_crit"),
+)
+
+
+def fss_panels(r: FiniteSizeResult) -> list[tuple[tuple[str, ...], tuple[str, ...], str]]:
+    """The panels of :data:`FSS_PANELS` with at least one claim extrapolated in ``r``, each
+    reduced to those claims."""
+    ex = set(r.extrapolated.key)
+    out = []
+    for keys, labels, ylabel in FSS_PANELS:
+        kept = [(k, lab) for k, lab in zip(keys, labels, strict=True) if k in ex]
+        if kept:
+            out.append((tuple(k for k, _ in kept), tuple(lab for _, lab in kept), ylabel))
+    return out
+
+
 def fig_fss(r: FiniteSizeResult, figdir: Path):
-    """Finite size: the rods-only P = 1/2 point and S_t/S_r of the one-sided systems versus
-    n^(-1/nu), with the extrapolations to n -> infinity and the paper's values, and the widths
-    of the rods-only threshold distributions against n (log-log) where they were measured."""
+    """Finite size: each claim of :data:`FSS_PANELS` that the study measured (the rods-only
+    P = 1/2 point, S_t/S_r of the one-sided systems, the energy exponents under compression and
+    dilation, the taut-cable fraction) versus n^(-1/nu), with the extrapolations to
+    n -> infinity (squares at 0) and the paper's values (dotted), and the widths of the
+    rods-only threshold distributions against n (log-log) where they were measured. Three
+    panels per row."""
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
     nu = pc.nu if np.isfinite(pc.nu) else 1.0
-    st_sr = [
-        k
-        for k in ("st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear")
-        if k in ex.index
-    ]
+    panels = fss_panels(r)
     w = r.pc_widths
     widths = w is not None and np.isfinite(w.nu)
-    # the rods-only point, then S_t/S_r where measured, then the threshold distributions' widths
-    count = 1 + bool(st_sr) + widths
-    fig, axes = plt.subplots(1, count, figsize=(5 * count, 4.2))
-    axes = np.atleast_1d(axes)
-    panels = [(axes[0], ["rods_only_pc"], "rods-only P = 1/2 point")]
-    if st_sr:
-        panels.append((axes[1], st_sr, "S_t / S_r"))
-    if widths:
-        _width_panel(axes[-1], w)
-    fig.subplots_adjust(wspace=0.3)
-    for ax, keys, ylabel in panels:
-        for key in keys:
+    count = len(panels) + widths
+    cols = min(count, 3)
+    rows = -(-count // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, 4.2 * rows), squeeze=False)
+    flat = list(axes.ravel())
+    for ax in flat[count:]:
+        ax.set_visible(False)
+    if widths:  # after the rods-only point, beside the point it is a second reading of
+        _width_panel(flat.pop(1), w)
+    fig.subplots_adjust(wspace=0.3, hspace=0.35)
+    for ax, (keys, labels, ylabel) in zip(flat, panels, strict=False):
+        for key, label in zip(keys, labels, strict=True):
             ref = CLAIMS[key].value
             s = r.by_size[r.by_size.key == key].sort_values("n")
             x = s.n.to_numpy(float) ** (-1 / nu)
-            line = ax.errorbar(x, s.value, yerr=s.err, marker="o", capsize=3, label=key)
+            line = ax.errorbar(x, s.value, yerr=s.err, marker="o", capsize=3, label=label)
             colour = line[0].get_color()
             f = ex.loc[key]
             if np.isfinite(f.y_inf):
@@ -438,7 +472,7 @@ def fig_fss(r: FiniteSizeResult, figdir: Path):
         ax.set_xlabel(f"n^(-1/nu), nu = {nu:.2f} (fitted to the rods-only points)")
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7)
-    axes[0].set_title(
+    axes.ravel()[0].set_title(
         f"FS  n = {', '.join(map(str, r.sizes or r.pc_sizes))}; dotted: literature / paper",
         fontsize=9,
     )

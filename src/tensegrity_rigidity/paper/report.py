@@ -64,12 +64,14 @@ FIGURE_CAPTIONS = {
     "4A": "P versus f_c for strains from dilation (phi = 0) to compression (phi = pi).",
     "4B": "Efficacies of cables and struts relative to rods, averaged over strains.",
     "4C": "Combined efficacy (S_c + S_s)/S_r versus f_c.",
-    "FS": "Not in the paper: finite size. First, the rods-only P = 1/2 point; then (not at the "
-    "pc scale) S_t/S_r of rods + cables (compression, dilation) and of f_c = 0.5 under "
-    "shear; against n^(-1/nu) "
-    "with the extrapolation to n -> infinity (squares) and the paper's or the literature's "
-    "value (dotted). Last, log-log, the standard deviation of the rods-only thresholds "
-    "against n with its fitted n^(-1/nu), and p_c from the P = 1/2 point against that width.",
+    "FS": "Not in the paper: finite size. Against n^(-1/nu), with the extrapolation to "
+    "n -> infinity (squares at 0) and the paper's or the literature's value (dotted): the "
+    "rods-only P = 1/2 point; then (not at the pc scale) S_t/S_r of rods + cables "
+    "(compression, dilation) and of f_c = 0.5 under shear, the energy exponent alpha of "
+    "rods + cables under compression and under dilation (one line per p_t), and the fraction "
+    "of taut cables at p_crit. Beside the rods-only point, log-log, the standard deviation of "
+    "the rods-only thresholds against n with its fitted n^(-1/nu), and p_c from the P = 1/2 "
+    "point against that width.",
 }
 
 
