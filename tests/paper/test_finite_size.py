@@ -121,7 +121,7 @@ def test_rods_only_threshold_error_counts_samples_not_strains(runs):
     bootstrap draws samples (all their strains at once), not (sample, strain) rows."""
     _, _, out = runs
     n = TINY.fss_sizes[-1]
-    frame, _ = fs.headline(
+    frame, _, _ = fs.headline(
         out, n, fs.DEFAULT_DELTA, TINY.fss_samples(n), TINY.fss_energy_samples(n), 20, **SERIAL
     )
     rods = load_results(out / "studies" / f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods")
@@ -422,7 +422,7 @@ def _synthetic_fss(monkeypatch) -> tuple[fs.FiniteSizeResult, dict]:
     def headline(out, size, delta, samples, energy, n_boot, **kw):
         k = SIZES.index(size)
         rows = [{"key": key, "value": y[k], "err": e[k]} for key, (y, e) in series.items()]
-        return pd.DataFrame(rows), {}
+        return pd.DataFrame(rows), {}, {}
 
     monkeypatch.setattr(fs, "headline", headline)
     scale = studies.Scale(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -12,7 +13,7 @@ import pytest
 from tensegrity_rigidity.model.strain import NAMED_STRAINS
 from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS
-from tensegrity_rigidity.paper.report import excluded_samples
+from tensegrity_rigidity.paper.report import _bracketed_sentence, bracketed_rows, excluded_samples
 from tensegrity_rigidity.paper.studies import (
     interval_straddles,
     keep_decided,
@@ -42,6 +43,75 @@ def test_undecided_grid_and_old_threshold_rows_are_dropped_and_counted():
     old = _threshold_rows([True, False, True], [0.6, np.nan, 0.7])
     kept, n = keep_decided(old)
     assert n == 1 and list(kept["sample"]) == [1, 3]
+
+
+def test_undecided_grid_rows_with_energy_bracketed_near_zero_enter_only_the_energies():
+    """An undecided grid row whose relaxed energy (an upper bound on E*) is at most
+    ENERGY_BRACKETED of its affine energy is kept for the energy analyses; one above it, and
+    every undecided row for the others, is dropped and counted."""
+    grid = pd.DataFrame(
+        {
+            "decided": [True, False, False, True],
+            "rigid": [True, False, False, False],
+            "energy": [2.0, 5e-13, 1.0, 0.0],
+            "affine_energy": [5e3, 5e3, 5e3, 5e3],
+        }
+    )
+    assert studies.energy_bracketed(grid).tolist() == [False, True, False, False]
+    kept, n = keep_decided(grid, energy=True)
+    assert n == 1 and kept.energy.tolist() == [2.0, 5e-13, 0.0]
+    kept, n = keep_decided(grid)
+    assert n == 2 and kept.energy.tolist() == [2.0, 0.0]
+    # threshold rows are never kept on their energy
+    th = _threshold_rows([False], [np.nan]).assign(energy=0.0, affine_energy=1.0)
+    assert keep_decided(th, energy=True)[1] == 1
+
+
+def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeypatch):
+    """Fig. 2's mean energy at a point includes an undecided sample whose energy is bracketed
+    near zero; P, Gamma and the taut cables there do not; both counts travel in the result."""
+    rows = []
+    for k in range(1, 5):
+        for p_r in (0.5, 0.6):
+            undecided = k == 4 and p_r == 0.5
+            rigid = p_r == 0.6 and not undecided
+            rows.append(
+                {
+                    "sample": k, "p_r": p_r, "p_t": 0.0, "phi": math.pi, "f_c": 1.0,
+                    "decided": not undecided, "rigid": rigid,
+                    "energy": 3.0 if rigid else (1e-14 if undecided else 0.0),
+                    "energy_lower": 3.0 if rigid else 0.0, "affine_energy": 10.0,
+                    "nonaffinity": np.nan if undecided else 2.0, "nonaffinity_lower": np.nan,
+                    "min_norm_ok": not undecided, "frac_cables_taut": 0.4 if rigid else np.nan,
+                }
+            )  # fmt: skip
+    frame = pd.DataFrame(rows)
+
+    def fake_rows(out, name, spec, workers, scheduler, progress, energy=False):
+        if name.startswith("fig2_pt0.0"):
+            return keep_decided(frame, energy)
+        if name == "fig2_thresholds":
+            return pd.DataFrame(
+                {"sample": range(1, 5), "p_t": 0.0, "phi": math.pi, "threshold_p_r": 0.55}
+            ), 0
+        return frame.iloc[:0], 0
+
+    monkeypatch.setattr(studies, "sweep_rows", fake_rows)
+    monkeypatch.setattr(studies, "PT4", [0.0])
+    monkeypatch.setattr(studies, "_displacement_field", lambda out, scale, **kw: (None, 0, 0))
+    r = studies.study_fig2(None, TINY, **SERIAL)
+    at = r.curves.set_index("p_r").loc[0.5]
+    assert at.energy == pytest.approx(1e-14 / 4) and at.N == 3 and at.P == 0
+    assert r.bracketed == {"fig2_pt0.0": 1} and r.excluded["fig2_pt0.0"] == 1
+    assert len(r.rows) == 7
+
+
+def test_the_report_counts_the_bracketed_rows():
+    results = {"a": SimpleNamespace(bracketed={"x": 2, "y": 0}), "b": SimpleNamespace()}
+    assert bracketed_rows(results) == {"x": 2, "y": 0}
+    text = _bracketed_sentence(bracketed_rows(results))
+    assert "at most 1e-09 of the affine energy" in text and text.endswith(": 2 (x: 2).")
+    assert _bracketed_sentence({"y": 0}) == ""
 
 
 def test_threshold_interval_keeps_undecided_samples():

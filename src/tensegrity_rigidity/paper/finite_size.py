@@ -34,7 +34,7 @@ comparison sets beside our own measurement of the same size.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -50,6 +50,7 @@ from .studies import (
     FIG1C_PT,
     PT4,
     Scale,
+    energy_bracketed,
     energy_exponent,
     mask_uncertified_tensions,
     p_r_grid,
@@ -160,7 +161,10 @@ def energy_claims(
     Parameters
     ----------
     rows : DataFrame
-        Decided grid rows of :func:`energy_sweeps` (every p_t, both strains).
+        Grid rows of :func:`energy_sweeps` (every p_t, both strains): the decided ones and the
+        undecided ones whose energy is bracketed near zero
+        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`), which enter the mean
+        energies and, not being rigid, not the taut fraction.
     thresholds : dict
         (strain name, p_t) -> threshold rows (``sample``, ``threshold_p_r``) of the same
         samples at the same size and delta; their median is p_crit.
@@ -200,9 +204,10 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
     (``samples`` per point), and the energy claims from those of :func:`energy_sweeps`
     (``energy`` per point; :func:`energy_claims`).
 
-    Returns (frame with columns key, value, err; excluded counts).
+    Returns (frame with columns key, value, err; excluded counts; counts of the undecided rows
+    that enter the energy analyses, :func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
     """
-    frames, excluded = {}, {}
+    frames, excluded, bracketed = {}, {}, {}
     for name, spec in headline_sweeps(n, delta, samples).items():
         part = name.rsplit("_", 1)[1]
         frames[part], excluded[name] = sweep_rows(out, name, spec, **kw)
@@ -234,10 +239,11 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
     grids = []
     for name, spec in energy_sweeps(n, delta, energy).items():
-        grid, excluded[name] = sweep_rows(out, name, spec, **kw)
+        grid, excluded[name] = sweep_rows(out, name, spec, energy=True, **kw)
+        bracketed[name] = int(np.sum(energy_bracketed(grid)))
         grids.append(grid)
     rows += energy_claims(pd.concat(grids, ignore_index=True), crit, n_boot)
-    return pd.DataFrame(rows), excluded
+    return pd.DataFrame(rows), excluded, bracketed
 
 
 def _z(key: str, value: float, err: float) -> float:
@@ -287,6 +293,10 @@ class FiniteSizeResult:
         determine it).
     energy_samples : tuple of int
         Samples per point of the energy grids at each of ``sizes``.
+    excluded, bracketed : dict
+        Sweep name -> undecided rows excluded; -> undecided rows whose energy is bracketed near
+        zero, which enter the energy analyses
+        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
     pc_sizes, pc_samples : tuple of int
         Sizes of the rods-only extrapolation and its samples at each (the headline sweeps'
         unless the scale gives ``fss_pc``).
@@ -315,6 +325,7 @@ class FiniteSizeResult:
     samples: tuple[int, ...]  # per size
     excluded: dict[str, int]
     energy_samples: tuple[int, ...] = ()  # per size, of the energy grids
+    bracketed: dict[str, int] = field(default_factory=dict)
     measured: tuple[Measurement, ...] = ()
     pc_at_check_nu: an.FiniteSizeFit | None = None
     pc_at_check_nu_z: float = float("nan")
@@ -391,8 +402,9 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     """The headline claims at each of ``scale.fss_sizes`` and their n -> infinity limits."""
     frames: list[pd.DataFrame] = []
     excluded: dict[str, int] = {}
+    bracketed: dict[str, int] = {}
     for n in scale.fss_sizes:
-        f, ex = headline(
+        f, ex, br = headline(
             out,
             n,
             DEFAULT_DELTA,
@@ -403,6 +415,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         )
         frames.append(f.assign(n=n))
         excluded |= ex
+        bracketed |= br
     by_size = (
         pd.concat(frames, ignore_index=True)
         if frames  # the pc scale measures only the rods-only point
@@ -514,6 +527,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_sizes=scale.pc_sizes,
         pc_samples=tuple(scale.pc_samples(n) for n in scale.pc_sizes),
         excluded=excluded,
+        bracketed=bracketed,
         measured=measured,
         pc_at_check_nu=at_check,
         pc_at_check_nu_z=at_check_z,
@@ -669,6 +683,7 @@ class DeltaResult:
     samples: int
     excluded: dict[str, int]
     measured: tuple[Measurement, ...] = ()
+    bracketed: dict[str, int] = field(default_factory=dict)  # as FiniteSizeResult's
 
 
 def delta_label(delta: float) -> str:
@@ -688,8 +703,9 @@ def study_delta(out, scale: Scale, **kw) -> DeltaResult:
     """The headline claims at n = ``scale.n_delta`` for each delta of ``scale.deltas``."""
     frames: list[pd.DataFrame] = []
     excluded: dict[str, int] = {}
+    bracketed: dict[str, int] = {}
     for delta in scale.deltas:
-        f, ex = headline(
+        f, ex, br = headline(
             out,
             scale.n_delta,
             delta,
@@ -700,6 +716,7 @@ def study_delta(out, scale: Scale, **kw) -> DeltaResult:
         )
         frames.append(f.assign(delta=delta))
         excluded |= ex
+        bracketed |= br
     by_delta = pd.concat(frames, ignore_index=True)
     by_delta["z_paper"] = [_z(row.key, row.value, row.err) for row in by_delta.itertuples()]
     system = f"n = {scale.n_delta}, {scale.samples_delta} samples per point"
@@ -717,4 +734,5 @@ def study_delta(out, scale: Scale, **kw) -> DeltaResult:
         samples=scale.samples_delta,
         excluded=excluded,
         measured=measured,
+        bracketed=bracketed,
     )

@@ -23,6 +23,7 @@ from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS
 from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame, shared_measurements
 from .finite_size import NU_CHECK, PC_CHECK, nu_dependent
+from .studies import ENERGY_BRACKETED
 
 
 def _md_table(df: pd.DataFrame) -> str:
@@ -81,6 +82,29 @@ def excluded_samples(results: dict) -> dict[str, int]:
     for r in results.values():
         out.update(r.excluded)
     return out
+
+
+def bracketed_rows(results: dict) -> dict[str, int]:
+    """Sweep name -> undecided grid rows that enter the energy analyses
+    (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`), over every study result."""
+    out: dict[str, int] = {}
+    for r in results.values():
+        out.update(getattr(r, "bracketed", {}))
+    return out
+
+
+def _bracketed_sentence(bracketed: dict[str, int]) -> str:
+    """The report's count of the undecided rows kept in the energy analyses ("" when none)."""
+    if not any(bracketed.values()):
+        return ""
+    return (
+        " Of the undecided grid configurations, those whose relaxed energy (an upper bound on "
+        f"E*) is at most {ENERGY_BRACKETED:g} of the affine energy still enter the mean "
+        "energies and alpha at that bound, E* being zero to that precision, and nothing else "
+        f"(P, Gamma, taut cables): {sum(bracketed.values())} ("
+        + ", ".join(f"{k}: {v}" for k, v in bracketed.items() if v)
+        + ")."
+    )
 
 
 def straddling_of(results: dict) -> dict[str, int | None]:
@@ -613,6 +637,7 @@ def write_report(
             )
             + "."
         )
+        + _bracketed_sentence(bracketed_rows(results))
         + intervals
     )
     notes = (

@@ -29,6 +29,7 @@ straddles a grid value are counted as a stated uncertainty of P.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -269,17 +270,44 @@ def strain_name(phi: float) -> str:
     return f"{phi:.3f}"
 
 
-def keep_decided(df: pd.DataFrame) -> tuple[pd.DataFrame, int]:
+#: An undecided grid configuration still enters the energy analyses (mean energies, alpha)
+#: when its relaxed energy, an upper bound on E*, is at most this fraction of its affine
+#: energy: E* is then bracketed in [energy_lower, energy] and zero at that precision, and the
+#: row enters at its ``energy`` as a rigid row whose energy is not certified does. Its P,
+#: nonaffinity and taut cables stay unknown, so every other analysis excludes it. Near a
+#: sample's own threshold such rows are the ones at the transition: at n = 64, p_t = 0.3,
+#: dilation, p_r = 0.5 (the fss run of 2026-11-29) 5 of 24 samples are undecided with
+#: energies of 8e-18 to 5e-13 (affine energy 5.2e3), and dropping them raised that point's
+#: mean energy from 282 to 356.
+ENERGY_BRACKETED = 1e-9
+
+
+def energy_bracketed(df: pd.DataFrame) -> np.ndarray:
+    """(rows,) bool: undecided grid rows whose energy is bracketed near zero
+    (:data:`ENERGY_BRACKETED`)."""
+    if df.empty or not {"decided", "energy", "affine_energy"} <= set(df.columns):
+        return np.zeros(len(df), dtype=bool)
+    undecided = ~df["decided"].to_numpy(bool)
+    energy, affine = df["energy"].to_numpy(float), df["affine_energy"].to_numpy(float)
+    with np.errstate(invalid="ignore"):
+        return undecided & (energy <= ENERGY_BRACKETED * affine)
+
+
+def keep_decided(df: pd.DataFrame, energy: bool = False) -> tuple[pd.DataFrame, int]:
     """Rows to analyse and the number of samples excluded as undecided.
 
-    Grid rows: samples with ``decided == False`` are dropped. Threshold rows with the interval
-    columns (:data:`INTERVAL`): an undecided sample is kept when its interval is finite, at the
-    row's estimate ``threshold_p_r`` (the interval's midpoint if the estimate is missing);
-    without them every undecided sample is dropped.
+    Grid rows: samples with ``decided == False`` are dropped, except, with ``energy`` (rows
+    for the energy analyses only), those whose energy is bracketed near zero
+    (:func:`energy_bracketed`). Threshold rows with the interval columns (:data:`INTERVAL`):
+    an undecided sample is kept when its interval is finite, at the row's estimate
+    ``threshold_p_r`` (the interval's midpoint if the estimate is missing); without them
+    every undecided sample is dropped.
     """
     if df.empty or "decided" not in df:
         return df.reset_index(drop=True), 0
     bad = ~df["decided"].astype(bool)
+    if energy and "threshold_p_r" not in df:
+        bad = bad & ~energy_bracketed(df)
     if "threshold_p_r" in df and all(c in df for c in INTERVAL):
         lo, hi = df[INTERVAL[0]].to_numpy(float), df[INTERVAL[1]].to_numpy(float)
         usable = bad.to_numpy() & np.isfinite(lo) & np.isfinite(hi)
@@ -317,8 +345,12 @@ def interval_straddles(df: pd.DataFrame, grid) -> int | None:
 STORED = "stored"
 
 
-def sweep_rows(out: Path, name: str, spec: dict, workers, scheduler, progress):
-    """Run (or resume) one sweep; return its rows to analyse and the count excluded.
+def sweep_rows(
+    out: Path, name: str, spec: dict, workers, scheduler, progress, energy: bool = False
+):
+    """Run (or resume) one sweep; return its rows to analyse and the count excluded
+    (:func:`keep_decided`; ``energy``: rows for the energy analyses, which keep undecided
+    rows whose energy is bracketed near zero).
 
     With ``workers=STORED`` the rows of ``spec`` are read from ``out`` without running
     anything.
@@ -326,9 +358,9 @@ def sweep_rows(out: Path, name: str, spec: dict, workers, scheduler, progress):
     path = out / "studies" / name
     parsed = parse_spec({"delta": DEFAULT_DELTA} | spec)
     if workers == STORED:
-        return keep_decided(load_results(path, parsed))
+        return keep_decided(load_results(path, parsed), energy)
     run_sweep(parsed, path, executor=workers, scheduler=scheduler, progress=progress)
-    return keep_decided(load_results(path))
+    return keep_decided(load_results(path), energy)
 
 
 def p_r_grid(step: float, lo: float = 0.2, hi: float = 0.95) -> list[float]:
@@ -732,6 +764,9 @@ class Fig2Result:
     excluded: dict[str, int]
     straddling: int | None = None
     measured: tuple[Measurement, ...] = ()
+    # sweep name -> undecided rows excluded from P, Gamma and the taut cables but kept in the
+    # energy analyses (:func:`energy_bracketed`; counted in ``excluded`` too)
+    bracketed: dict[str, int] = dataclasses.field(default_factory=dict)
 
 
 def fig2_sweeps(scale: Scale) -> dict[str, dict]:
@@ -773,24 +808,35 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     """Rods + cables (f_c = 1): nonaffinity, energies and engaged cables versus p_r."""
     sweeps = fig2_sweeps(scale)
     p_r = p_r_grid(scale.p_r_step, 0.3, 0.95)
-    grids, excluded = [], {}
+    grids, excluded, bracketed = [], {}, {}
     for p_t in PT4:
         name = f"fig2_pt{p_t:.1f}"
-        rows, excluded[name] = sweep_rows(out, name, sweeps[name], **kw)
+        rows, unbracketed = sweep_rows(out, name, sweeps[name], energy=True, **kw)
+        bracketed[name] = int(np.sum(energy_bracketed(rows)))
+        excluded[name] = unbracketed + bracketed[name]  # from P, Gamma and the taut cables
         grids.append(rows)
-    rows, min_norm_failed = mask_min_norm(pd.concat(grids, ignore_index=True))
+    # the energy analyses read every row kept, the others only the decided ones
+    energy_rows = pd.concat(grids, ignore_index=True)
+    rows = energy_rows[energy_rows.decided.astype(bool)].reset_index(drop=True)
+    rows, min_norm_failed = mask_min_norm(rows)
     rows, tensions_uncertified = mask_uncertified_tensions(rows)
     th, excluded["fig2_thresholds"] = sweep_rows(
         out, "fig2_thresholds", sweeps["fig2_thresholds"], **kw
     )
-    curves = (
-        rows.groupby(["phi", "p_t", "p_r"])
+    energies = (
+        energy_rows.groupby(["phi", "p_t", "p_r"])
         .agg(
             energy=("energy", "mean"),
             energy_sem=("energy", "sem"),
             energy_median=("energy", "median"),
             energy_q25=("energy", _q25),
             energy_q75=("energy", _q75),
+        )
+        .reset_index()
+    )
+    curves = (
+        rows.groupby(["phi", "p_t", "p_r"])
+        .agg(
             gamma=("nonaffinity", "mean"),
             gamma_sem=("nonaffinity", "sem"),
             gamma_median=("nonaffinity", "median"),
@@ -802,6 +848,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         )
         .reset_index()
     )
+    curves = energies.merge(curves, on=["phi", "p_t", "p_r"], how="left")
     curves = curves.merge(gamma_median_brackets(rows), on=["phi", "p_t", "p_r"], how="left")
     taut = (
         rows[rows.rigid]
@@ -812,7 +859,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     fits, crit, paper_est = [], [], []
     for (phi, p_t), sub in curves.groupby(["phi", "p_t"]):
         one = np.isclose(th.phi, phi) & np.isclose(th.p_t, p_t)
-        grid = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
+        grid = energy_rows[np.isclose(energy_rows.phi, phi) & np.isclose(energy_rows.p_t, p_t)]
         pc, pc_err = an.critical_point(th[one].threshold_p_r.to_numpy())
         fit = energy_exponent(grid, th[one], scale.bootstrap)
         fits.append(
@@ -870,6 +917,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         rows=rows,
         field=field_,
         excluded=excluded,
+        bracketed=bracketed,
         straddling=interval_straddles(th, p_r),
         measured=_fig2_measurements(scale, fits, paper_est, peaks, taut_tr),
     )
