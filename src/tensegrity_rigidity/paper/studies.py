@@ -873,9 +873,11 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
         )
         g = sub.set_index("p_r").gamma
         crit.append({"phi": phi, "p_t": p_t, "p_crit": pc, "gamma_peak_p_r": float(g.idxmax())})
-        # the paper's estimators on the same grid rows: p_crit where the mean energy first
-        # becomes positive, and the power law fitted from that p_crit
-        e, x = per_sample(grid, "energy")
+        # the paper's estimators on the decided grid rows: p_crit where the mean energy first
+        # becomes positive, and the power law fitted from that p_crit (an undecided row's
+        # bracketed energy could make a mean positive that is not)
+        decided = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
+        e, x = per_sample(decided, "energy")
         first = an.first_positive(e, x, n_boot=scale.bootstrap)
         pfit = an.fit_energy_exponent(
             x, e, lambda idx, e=e, x=x: an.first_positive(e[idx], x, n_boot=0).value,
