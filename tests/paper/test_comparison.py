@@ -20,9 +20,19 @@ from tensegrity_rigidity.paper.comparison import (
     AGREE_BELOW,
     compare,
     comparison_frame,
+    fmt,
     verdict,
     z_score,
 )
+
+
+def test_values_show_two_significant_digits_of_their_error():
+    """The rods-only replication at n = 32 read 0.657 ± 0.001 where its error is 0.0008."""
+    assert fmt(0.65662, 0.00078) == "0.65662 ± 0.00078"
+    assert fmt(0.5, 0.013) == "0.500 ± 0.013"
+    assert fmt(1.0, 1e-12) == "1.000000 ± 0.000000"  # at most 6 decimals
+    assert fmt(2.0, 0.0) == "2.000 ± 0.000" and fmt(2.0) == "2.000"
+    assert fmt(0.25, 0.004, 2) == "0.2500 ± 0.0040" and fmt(float("nan"), 0.1) == "n/a"
 
 
 @dataclass(frozen=True)

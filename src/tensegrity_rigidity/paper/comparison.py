@@ -124,11 +124,15 @@ TABLE_COLUMNS = ["claim", "paper", "ours", "system", "z", "verdict", "explanatio
 
 
 def fmt(value, err=None, digits=3) -> str:
-    """``value ± err`` to ``digits`` decimals ("n/a" for a missing or non-finite value)."""
+    """``value ± err`` to ``digits`` decimals, more (up to 6) where the error needs them to
+    show two significant digits ("n/a" for a missing or non-finite value): ``0.65662 ± 0.00078``,
+    not ``0.657 ± 0.001``."""
     if value is None or not np.isfinite(value):
         return "n/a"
     if err is None or not np.isfinite(err):
         return f"{value:.{digits}f}"
+    if err > 0:
+        digits = int(np.clip(1 - np.floor(np.log10(err)), digits, max(digits, 6)))
     return f"{value:.{digits}f} ± {err:.{digits}f}"
 
 

@@ -21,7 +21,14 @@ import pandas as pd
 from ..analysis.single_node import class_weights, qbar_table
 from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS
-from .comparison import RULE, TABLE_COLUMNS, compare, comparison_frame, shared_measurements
+from .comparison import (
+    RULE,
+    TABLE_COLUMNS,
+    compare,
+    comparison_frame,
+    fmt,
+    shared_measurements,
+)
 from .finite_size import NU_CHECK, PC_CHECK, nu_dependent
 from .studies import ENERGY_BRACKETED
 
@@ -277,19 +284,9 @@ def method_section(r) -> Section:
     claims = r.claims.copy()
     claims.insert(1, "claim", [CLAIMS[k].text for k in claims.key])
     for col in ("exact", "paper", "shift"):
-        claims[col] = [_fmt(v, e) for v, e in zip(claims[col], claims[f"{col}_err"], strict=True)]
+        claims[col] = [fmt(v, e) for v, e in zip(claims[col], claims[f"{col}_err"], strict=True)]
     claims = claims[["claim", "exact", "paper", "shift", "note"]]
     return Section("The paper's method beside ours", paragraphs, (dis, claims))
-
-
-def _fmt(v: float, e: float) -> str:
-    """``v ± e`` with 3 decimals, more when the error needs them to show two digits."""
-    if not np.isfinite(v):
-        return "n/a"
-    if not np.isfinite(e):
-        return f"{v:.3f}"
-    digits = 3 if e <= 0 else int(np.clip(1 - np.floor(np.log10(e)), 3, 6))
-    return f"{v:.{digits}f} ± {e:.{digits}f}"
 
 
 def _pc_widths(r) -> str:
@@ -305,10 +302,10 @@ def _pc_widths(r) -> str:
         + " at n = "
         + ", ".join(str(int(n)) for n in w.n)
         + ", scale as n^(-1/nu); the P = 1/2 point is a "
-        f"straight line in the width whose intercept is p_c): nu = {_fmt(w.nu, w.nu_err)} "
+        f"straight line in the width whose intercept is p_c): nu = {fmt(w.nu, w.nu_err)} "
         f"(chi-square {w.nu_chi2:.2f} with {dof} degrees of freedom), z = "
         f"{r.pc_widths_nu_z:.2f} against "
-        f"{NU_CHECK.value}; p_c = {_fmt(w.p_c, w.p_c_err)} (chi-square {w.p_c_chi2:.2f} with "
+        f"{NU_CHECK.value}; p_c = {fmt(w.p_c, w.p_c_err)} (chi-square {w.p_c_chi2:.2f} with "
         f"{dof}), z = {r.pc_widths_z:.2f} against {PC_CHECK.value}."
     )
 
@@ -355,11 +352,11 @@ def _pc_smallest(r) -> tuple[str, tuple[pd.DataFrame, ...]]:
         [
             {
                 "sizes used": f"n >= {int(row.n_min)} ({int(row.sizes)})",
-                "p_c, nu fitted": _fmt(row.p_c, row.p_c_err),
-                "nu": _fmt(row.nu, row.nu_err) + (" (at bound)" if row.nu_at_bound else ""),
+                "p_c, nu fitted": fmt(row.p_c, row.p_c_err),
+                "nu": fmt(row.nu, row.nu_err) + (" (at bound)" if row.nu_at_bound else ""),
                 "chi-square / dof, nu fitted": f"{row.chi2:.2f} / {row.dof}",
                 "z, nu fitted": f"{row.z:.2f}",
-                f"p_c, nu = {NU_CHECK.value}": _fmt(row.p_c_fixed, row.p_c_fixed_err),
+                f"p_c, nu = {NU_CHECK.value}": fmt(row.p_c_fixed, row.p_c_fixed_err),
                 "chi-square / dof, nu fixed": f"{row.chi2_fixed:.2f} / {row.dof_fixed}",
                 "z, nu fixed": f"{row.z_fixed:.2f}",
             }
@@ -413,8 +410,8 @@ def fss_section(r) -> Section:
             else "Its errors resample samples, all strains of one sample together. "
         )
         + "For the "
-        f"rods-only P = 1/2 point nu is fitted: p_c = {_fmt(pc.y_inf, pc.y_inf_err)}, "
-        f"nu = {_fmt(pc.nu, pc.nu_err)} (chi-square {pc.chi2:.2f} with {pc.dof} degree(s) of "
+        f"rods-only P = 1/2 point nu is fitted: p_c = {fmt(pc.y_inf, pc.y_inf_err)}, "
+        f"nu = {fmt(pc.nu, pc.nu_err)} (chi-square {pc.chi2:.2f} with {pc.dof} degree(s) of "
         "freedom; errors from a parametric bootstrap). Checks, not inputs: nu against "
         f"{NU_CHECK.value} ± {NU_CHECK.error} ({NU_CHECK.citation.split(',')[0]}): "
         f"z = {r.nu_z:.2f}; p_c against {PC_CHECK.value} ({PC_CHECK.citation.split(',')[0]}): "
@@ -427,7 +424,7 @@ def fss_section(r) -> Section:
         )
         + (
             f" With nu fixed at the literature's {NU_CHECK.value} ± {NU_CHECK.error} instead, "
-            f"p_c = {_fmt(r.pc_at_check_nu.y_inf, r.pc_at_check_nu.y_inf_err)} (chi-square "
+            f"p_c = {fmt(r.pc_at_check_nu.y_inf, r.pc_at_check_nu.y_inf_err)} (chi-square "
             f"{r.pc_at_check_nu.chi2:.2f} with {r.pc_at_check_nu.dof} degrees of freedom), "
             f"z = {r.pc_at_check_nu_z:.2f} against {PC_CHECK.value}."
             if r.pc_at_check_nu is not None
@@ -465,12 +462,12 @@ def fss_section(r) -> Section:
     table = pd.DataFrame({"claim": [CLAIMS[k].text for k in wide.index]})
     table["paper"] = [CLAIMS[k].paper for k in wide.index]
     for n in wide.columns:
-        table[f"n = {n}"] = [_fmt(v, e) for v, e in zip(wide[n], err[n], strict=True)]
-    table["n -> infinity"] = [_fmt(ex.loc[k].y_inf, ex.loc[k].y_inf_err) for k in wide.index]
+        table[f"n = {n}"] = [fmt(v, e) for v, e in zip(wide[n], err[n], strict=True)]
+    table["n -> infinity"] = [fmt(ex.loc[k].y_inf, ex.loc[k].y_inf_err) for k in wide.index]
     table["chi-square / dof"] = [f"{ex.loc[k].chi2:.1f} / {ex.loc[k].dof}" for k in wide.index]
     table["z_paper"] = [f"{ex.loc[k].z_paper:.2f}" for k in wide.index]
     table[f"n -> infinity, nu = {NU_CHECK.value}"] = [
-        _fmt(ex.loc[k].y_inf_nu_check, ex.loc[k].y_inf_nu_check_err) for k in wide.index
+        fmt(ex.loc[k].y_inf_nu_check, ex.loc[k].y_inf_nu_check_err) for k in wide.index
     ]
     table[f"z_paper, nu = {NU_CHECK.value}"] = [
         f"{ex.loc[k].z_paper_nu_check:.2f}" for k in wide.index
@@ -492,7 +489,7 @@ def delta_section(r) -> Section:
     table["paper"] = [CLAIMS[k].paper for k in wide.index]
     for d in wide.columns:
         table[f"delta = {d:g}"] = [
-            f"{_fmt(v, e)} (z = {zz:.1f})" for v, e, zz in zip(wide[d], err[d], z[d], strict=True)
+            f"{fmt(v, e)} (z = {zz:.1f})" for v, e, zz in zip(wide[d], err[d], z[d], strict=True)
         ]
     return Section("Node disorder delta", paragraphs, (table,))
 
