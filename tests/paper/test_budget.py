@@ -98,9 +98,10 @@ def test_every_scale_fits_its_budget_on_two_workers(name):
 
 
 def test_paper_and_fss_budgets_leave_a_margin():
-    """The issue's limits are 60 and 120 min; the scales aim at 50 and 120 for the model's
-    error. On fss the model errs long: 109 min estimated for the threshold sweeps against 97
-    measured from a clean clone (2026-11-26), so 120 estimated is about 107 measured."""
+    """The issue's limits are 60 and 120 min; the scales aim at 50 and 120. On fss the model
+    errs long on the threshold sweeps (109 min estimated, 97 measured from a clean clone,
+    2026-11-26) and short on the energy grids (10 estimated, about 15 measured): the measured
+    pieces add to about 113 min."""
     assert SCALES["paper"].budget_minutes <= 50 and SCALES["fss"].budget_minutes <= 120
     assert SCALES["quick"].budget_minutes <= 10
 

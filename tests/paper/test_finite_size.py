@@ -186,7 +186,7 @@ def test_the_two_studies_share_their_sweeps_where_they_meet():
     scale = studies.SCALES["fss"]
     shared = set(fs.fss_sweeps(scale)) & set(fs.delta_sweeps(scale))
     assert shared == set(fs.headline_sweeps(scale.n_delta, 0.2, 1)) | set(
-        fs.energy_sweeps(scale.n_delta, 0.2, 1)
+        fs.energy_sweeps(scale.n_delta, 0.2, count=1)
     )
     assert scale.samples_delta <= scale.fss_samples(scale.n_delta)
 
@@ -260,7 +260,7 @@ def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():
 
 
 def test_energy_sweeps_share_the_threshold_samples_without_displacements():
-    sweeps = fs.energy_sweeps(64, 0.2, 24)
+    sweeps = fs.energy_sweeps(64, 0.2, count=24)
     head = fs.headline_sweeps(64, 0.2, 400)["headline_n64_delta0.2_pcrit"]
     assert len(sweeps) == len(fs.PT4)
     for p_t, spec in zip(fs.PT4, sweeps.values(), strict=True):
@@ -304,7 +304,7 @@ def test_energy_grids_have_their_own_sample_count():
         min(TINY.fss_samples(n), fs.ENERGY_SAMPLES) for n in TINY.fss_sizes
     ]
     cluster = SCALES["fss-cluster"]
-    assert cluster.fss_energy_samples(128) == 8 and cluster.fss_energy_samples(64) == 24
+    assert cluster.fss_energy_samples(128) == 24 and cluster.fss_energy_samples(64) == 24
     per_size = replace(TINY, samples_energy=(1, 2, 3, 4))
     assert [per_size.fss_energy_samples(n) for n in TINY.fss_sizes] == [1, 2, 3, 4]
     with pytest.raises(ValueError, match="samples_energy has 2 counts for 4 sizes"):

@@ -45,23 +45,26 @@ def test_undecided_grid_and_old_threshold_rows_are_dropped_and_counted():
     assert n == 1 and list(kept["sample"]) == [1, 3]
 
 
-def test_undecided_grid_rows_with_energy_bracketed_near_zero_enter_only_the_energies():
+def test_undecided_grid_rows_with_a_bracketed_energy_enter_only_the_energies():
     """An undecided grid row whose relaxed energy (an upper bound on E*) is at most
-    ENERGY_BRACKETED of its affine energy is kept for the energy analyses; one above it, and
-    every undecided row for the others, is dropped and counted."""
+    ENERGY_BRACKETED of its affine energy is kept for the energy analyses at E = 0, one whose
+    energy is certified at that energy; others are dropped. Every undecided row is counted."""
     grid = pd.DataFrame(
         {
-            "decided": [True, False, False, True],
-            "rigid": [True, False, False, False],
-            "energy": [2.0, 5e-13, 1.0, 0.0],
-            "affine_energy": [5e3, 5e3, 5e3, 5e3],
+            "decided": [True, False, False, False, True],
+            "rigid": [True, False, False, False, False],
+            "energy": [2.0, 5e-13, 1.0, 7.5, 0.0],
+            "energy_lower": [2.0, 1e-32, 1e-20, 7.5, 0.0],
+            "affine_energy": [5e3] * 5,
         }
     )
-    assert studies.energy_bracketed(grid).tolist() == [False, True, False, False]
+    near_zero, certified = studies.energy_bracketed(grid)
+    assert near_zero.tolist() == [False, True, False, False, False]
+    assert certified.tolist() == [False, False, False, True, False]
     kept, n = keep_decided(grid, energy=True)
-    assert n == 1 and kept.energy.tolist() == [2.0, 5e-13, 0.0]
+    assert n == 3 and kept.energy.tolist() == [2.0, 0.0, 7.5, 0.0]
     kept, n = keep_decided(grid)
-    assert n == 2 and kept.energy.tolist() == [2.0, 0.0]
+    assert n == 3 and kept.energy.tolist() == [2.0, 0.0]
     # threshold rows are never kept on their energy
     th = _threshold_rows([False], [np.nan]).assign(energy=0.0, affine_energy=1.0)
     assert keep_decided(th, energy=True)[1] == 1
@@ -69,11 +72,12 @@ def test_undecided_grid_rows_with_energy_bracketed_near_zero_enter_only_the_ener
 
 def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeypatch):
     """Fig. 2's mean energy at a point includes an undecided sample whose energy is bracketed
-    near zero; P, Gamma and the taut cables there do not; both counts travel in the result."""
+    near zero (at E = 0); P, Gamma and the taut cables there do not; both counts travel in the
+    result."""
     rows = []
     for k in range(1, 5):
         for p_r in (0.5, 0.6):
-            undecided = k == 4 and p_r == 0.5
+            undecided = k == 4 and p_r == 0.6
             rigid = p_r == 0.6 and not undecided
             rows.append(
                 {
@@ -100,8 +104,8 @@ def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeyp
     monkeypatch.setattr(studies, "PT4", [0.0])
     monkeypatch.setattr(studies, "_displacement_field", lambda out, scale, **kw: (None, 0, 0))
     r = studies.study_fig2(None, TINY, **SERIAL)
-    at = r.curves.set_index("p_r").loc[0.5]
-    assert at.energy == pytest.approx(1e-14 / 4) and at.N == 3 and at.P == 0
+    at = r.curves.set_index("p_r").loc[0.6]  # three rigid samples at E = 3, one at E ~ 0
+    assert at.energy == pytest.approx(2.25) and at.energy_n == 4 and at.N == 3 and at.P == 1
     assert r.bracketed == {"fig2_pt0.0": 1} and r.excluded["fig2_pt0.0"] == 1
     assert len(r.rows) == 7
 
@@ -110,7 +114,8 @@ def test_the_report_counts_the_bracketed_rows():
     results = {"a": SimpleNamespace(bracketed={"x": 2, "y": 0}), "b": SimpleNamespace()}
     assert bracketed_rows(results) == {"x": 2, "y": 0}
     text = _bracketed_sentence(bracketed_rows(results))
-    assert "at most 1e-09 of the affine energy" in text and text.endswith(": 2 (x: 2).")
+    assert text.startswith(" Of these, 2 grid configurations") and text.endswith("(x: 2).")
+    assert "at most 1e-09 of the affine energy" in text
     assert _bracketed_sentence({"y": 0}) == ""
 
 

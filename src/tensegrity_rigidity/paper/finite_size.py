@@ -7,8 +7,9 @@ n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
   one-sided elements at p_t = 0.3 with f_c = 0, 0.5, 1; rods + cables at p_t = 0.1, 0.2; see
   :func:`headline_sweeps`) under dilation, shear and compression, giving the headline claims
   at that size: the rods-only P = 1/2 point, S_t/S_r for f_c = 0.5 per strain and for the
-  one-sided systems, and p_crit of rods + cables per p_t. On the same samples, grid sweeps
-  of rods + cables (:func:`energy_sweeps`) give the energy exponents alpha per strain and p_t
+  one-sided systems, and p_crit of rods + cables per p_t. On the first 24 of the same
+  samples (more than the thresholds have at n = 64), grid sweeps of rods + cables
+  (:func:`energy_sweeps`) give the energy exponents alpha per strain and p_t
   and the fraction of taut cables at the transition, as Fig. 2 measures them at n = 32.
   Where the scale gives ``fss_pc``, the rods-only point comes instead from one-strain sweeps
   of its own (:func:`rods_pc_sweep`) with more samples and sizes up to 128: a rods-only
@@ -50,7 +51,6 @@ from .studies import (
     FIG1C_PT,
     PT4,
     Scale,
-    energy_bracketed,
     energy_exponent,
     mask_uncertified_tensions,
     p_r_grid,
@@ -125,14 +125,16 @@ def rods_pc_sweep(n: int, delta: float, samples: int) -> dict[str, dict]:
 ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
 
 
-def energy_sweeps(n: int, delta: float, count: int) -> dict[str, dict]:
+def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
 
     Per p_t of :data:`~tensegrity_rigidity.paper.studies.PT4`, f_c = 1 under dilation and
     compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
     fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
-    The same seed as :func:`headline_sweeps`, so sample k is the disorder whose thresholds give
-    p_crit (common random numbers). ``count`` samples per point
+    The same seed as :func:`headline_sweeps`, so sample k is the disorder of threshold sample k
+    (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
+    others have none). ``count`` samples per point, keyword-only (until 2026-11-29 the third
+    argument was the thresholds' count, capped at 24)
     (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
@@ -162,7 +164,7 @@ def energy_claims(
     ----------
     rows : DataFrame
         Grid rows of :func:`energy_sweeps` (every p_t, both strains): the decided ones and the
-        undecided ones whose energy is bracketed near zero
+        undecided ones whose E* is bracketed
         (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`), which enter the mean
         energies and, not being rigid, not the taut fraction.
     thresholds : dict
@@ -204,8 +206,9 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
     (``samples`` per point), and the energy claims from those of :func:`energy_sweeps`
     (``energy`` per point; :func:`energy_claims`).
 
-    Returns (frame with columns key, value, err; excluded counts; counts of the undecided rows
-    that enter the energy analyses, :func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
+    Returns (frame with columns key, value, err; counts of the undecided rows per sweep; of
+    those, the counts that still enter the energy analyses,
+    :func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
     """
     frames, excluded, bracketed = {}, {}, {}
     for name, spec in headline_sweeps(n, delta, samples).items():
@@ -238,9 +241,9 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
             v, e = an.critical_point(crit[strain, p_t].threshold_p_r.to_numpy())
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
     grids = []
-    for name, spec in energy_sweeps(n, delta, energy).items():
+    for name, spec in energy_sweeps(n, delta, count=energy).items():
         grid, excluded[name] = sweep_rows(out, name, spec, energy=True, **kw)
-        bracketed[name] = int(np.sum(energy_bracketed(grid)))
+        bracketed[name] = int((~grid.decided.astype(bool)).sum())
         grids.append(grid)
     rows += energy_claims(pd.concat(grids, ignore_index=True), crit, n_boot)
     return pd.DataFrame(rows), excluded, bracketed
@@ -294,8 +297,8 @@ class FiniteSizeResult:
     energy_samples : tuple of int
         Samples per point of the energy grids at each of ``sizes``.
     excluded, bracketed : dict
-        Sweep name -> undecided rows excluded; -> undecided rows whose energy is bracketed near
-        zero, which enter the energy analyses
+        Sweep name -> undecided rows; -> of those, the rows whose E* is bracketed, which still
+        enter the energy analyses
         (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
     pc_sizes, pc_samples : tuple of int
         Sizes of the rods-only extrapolation and its samples at each (the headline sweeps'
@@ -643,7 +646,7 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
     out: dict[str, dict] = {}
     for n in scale.fss_sizes:
         out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
-        out |= energy_sweeps(n, DEFAULT_DELTA, scale.fss_energy_samples(n))
+        out |= energy_sweeps(n, DEFAULT_DELTA, count=scale.fss_energy_samples(n))
     for n, samples in scale.fss_pc:
         out |= rods_pc_sweep(n, DEFAULT_DELTA, samples)
     return out
@@ -660,7 +663,7 @@ def delta_sweeps(scale: Scale) -> dict[str, dict]:
     out: dict[str, dict] = {}
     for delta in scale.deltas:
         out |= headline_sweeps(scale.n_delta, delta, scale.samples_delta)
-        out |= energy_sweeps(scale.n_delta, delta, delta_energy_samples(scale))
+        out |= energy_sweeps(scale.n_delta, delta, count=delta_energy_samples(scale))
     return out
 
 

@@ -101,14 +101,16 @@ def bracketed_rows(results: dict) -> dict[str, int]:
 
 
 def _bracketed_sentence(bracketed: dict[str, int]) -> str:
-    """The report's count of the undecided rows kept in the energy analyses ("" when none)."""
+    """The report's count of the excluded grid rows kept in the energy analyses ("" when
+    none)."""
     if not any(bracketed.values()):
         return ""
     return (
-        " Of the undecided grid configurations, those whose relaxed energy (an upper bound on "
-        f"E*) is at most {ENERGY_BRACKETED:g} of the affine energy still enter the mean "
-        "energies and alpha at that bound, E* being zero to that precision, and nothing else "
-        f"(P, Gamma, taut cables): {sum(bracketed.values())} ("
+        f" Of these, {sum(bracketed.values())} grid configurations still enter the mean "
+        "energies and the alpha fits from p_crit at P = 1/2 (not P, Gamma, the taut cables, the "
+        "tails at p_crit or the paper's first-positive estimator), their E* being bracketed "
+        "without a verdict: at E = 0 where their relaxed energy, an upper bound on E*, is at "
+        f"most {ENERGY_BRACKETED:g} of the affine energy, else at their certified energy ("
         + ", ".join(f"{k}: {v}" for k, v in bracketed.items() if v)
         + ")."
     )

@@ -34,7 +34,7 @@ EXPECTED = {
     "continue",
     "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
     "minutes measured on 2026-11-25 (estimated 33 minutes)",
-    "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 61 CPU hours "
+    "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 62 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }
 

@@ -182,32 +182,34 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #:   Energy exponents alpha and the nonaffinity peak are not set by S (least-squares errors over
 #:   4-5 grid points; the p_r grid).
 #:
-#: fss (110 min on 2 workers, estimate 109 min): per size 12.5 threshold searches per sample
-#:   (in units of one at p_t = 0.3: 3 rods-only, cheap, 9 at p_t = 0.3, 4 at p_t = 0.1, 0.2 x
-#:   0.75), priced by the costs measured in the finite-size run of 2026-11-26 (paper.budget):
-#:   1.0, 4.1, 36 and about 880 CPU s per sample at n = 8, 16, 32, 64. That run had the former
-#:   counts (12 samples at n = 64, 200 at 16, 96 at 32, 32 per delta) and was stopped after 97
-#:   min with n = 64 two thirds done (about 150 min in all). The counts are now chosen from the
-#:   error targets (S_t/S_r +-0.013, p_crit +-0.005; `budget.expected_errors`) within the
-#:   budget: n = 64 takes 8 samples (S_t/S_r +-0.0106, p_crit +-0.0044), n = 32 64 (+-0.0050),
-#:   node disorder 24 per delta (S_t/S_r +-0.0082, p_c +-0.0038); n = 8: 400 (S_t/S_r
+#: fss (119 min on 2 workers by the estimate, 109 of them the threshold sweeps): per size 12.5
+#:   threshold searches per sample (in units of one at p_t = 0.3: 3 rods-only, cheap, 9 at p_t =
+#:   0.3, 4 at p_t = 0.1, 0.2 x 0.75), priced by the costs measured in the finite-size run of
+#:   2026-11-26 (paper.budget): 1.0, 4.1, 36 and about 880 CPU s per sample at n = 8, 16, 32, 64.
+#:   That run had the former counts (12 samples at n = 64, 200 at 16, 96 at 32, 32 per delta) and
+#:   was stopped after 97 min with n = 64 two thirds done (about 150 min in all). The counts are now
+#:   chosen from the error targets (S_t/S_r +-0.013, p_crit +-0.005; `budget.expected_errors`)
+#:   within the budget: n = 64 takes 8 samples (S_t/S_r +-0.0106, p_crit +-0.0044), n = 32 64
+#:   (+-0.0050), node disorder 24 per delta (S_t/S_r +-0.0082, p_c +-0.0038); n = 8: 400 (S_t/S_r
 #:   +-0.0126), n = 16: 160 (+-0.0042), which cost little. The extrapolations rest most on the
-#:   largest sizes; with 12 samples at n = 64 a synthetic extrapolation p_c(n) = p_c + a
-#:   n^(-1/nu) (nu fitted) scattered by +-0.010 around the true p_c (60 draws): only n = 128
-#:   (fss-cluster, pc) narrows it. delta = 0.2 reads the first 24 samples of the fss sweeps at
-#:   n = 32.
-#:   The energy grids of alpha and the taut-cable fraction (2026-11-27, finite_size.energy_sweeps:
-#:   24 samples per point, no minimum-norm displacements) add 21 CPU min, 11 min on 2 workers
-#:   by the estimate: 119 in all. n = 64 had 8 until 2026-11-29 (its threshold count), and
-#:   bootstrap errors from 8 samples came out implausibly small (the taut-cable fraction's
-#:   0.003) and dominated the extrapolations; 16 more cost about 9 CPU min (the 8 took 4.5
-#:   in the run of 2026-11-28). The budget is 120 min, the limit: the model errs long on this
-#:   scale (the threshold sweeps' estimate was 109 min, their clean run took 97, 2026-11-26).
+#:   largest sizes; with 12 samples at n = 64 a synthetic extrapolation p_c(n) = p_c + a n^(-1/nu)
+#:   (nu fitted) scattered by +-0.010 around the true p_c (60 draws): only n = 128 (fss-cluster, pc)
+#:   narrows it. delta = 0.2 reads the first 24 samples of the fss sweeps at n = 32.
+#:   The energy grids of alpha and the taut-cable fraction (2026-11-27,
+#:   finite_size.energy_sweeps: 24 samples per point, no minimum-norm displacements) add 20
+#:   CPU min, 10 min on 2 workers by the estimate (about 15 measured: the model errs short on
+#:   them): 119 in all. n = 64 had 8 until 2026-11-29 (its threshold count), and bootstrap
+#:   errors from 8 samples came out implausibly small (the taut-cable fraction's 0.003) and
+#:   dominated the extrapolations; 16 more cost about 9 CPU min (the 8 took 4.5 in the run of
+#:   2026-11-28; 6.5 min on 2 workers alone on 2026-11-29). The budget is 120 min, the limit;
+#:   the measured pieces add to about 113 min (the threshold sweeps' estimate was 109 min,
+#:   their clean run took 97, 2026-11-26).
 #:
 #: fss-cluster: fss plus n = 128 (8 samples: one threshold search there is extrapolated to
-#:   30 min at p_t = 0.3; 61 CPU hours in all with the energy grids) and 32 samples at n = 64
-#:   (S_t/S_r +-0.0053, p_crit +-0.0022); meant for a Dask cluster (--scheduler; --estimate
-#:   --workers N gives the wall time). Its sweeps extend those of fss in the same output directory.
+#:   30 min at p_t = 0.3; 62 CPU hours in all with the energy grids, 24 samples at every size)
+#:   and 32 samples at n = 64 (S_t/S_r +-0.0053, p_crit +-0.0022); meant for a Dask cluster
+#:   (--scheduler; --estimate --workers N gives the wall time). Its sweeps extend those of fss in
+#:   the same output directory.
 #: (n, samples) of the rods-only thresholds of the p_c extrapolation at the fss scales: the
 #: median's error is about 1.25 x the spread of the thresholds / sqrt(S), spreads 0.037,
 #: 0.019, 0.010 and about 0.006 at n = 8 to 64 (the fss run), 0.003 expected at 128; these
@@ -251,7 +253,7 @@ SCALES = {
     ),
     "fss-cluster": Scale(
         "fss-cluster", 32, 32, 0, 0, 0, 0.025, 0, 200,
-        fss_sizes=(8, 16, 32, 64, 128), samples_fss=(400, 200, 96, 32, 8),
+        fss_sizes=(8, 16, 32, 64, 128), samples_fss=(400, 200, 96, 32, 8), samples_energy=24,
         fss_pc=FSS_PC,
         deltas=(0.1, 0.2, 0.3), n_delta=32, samples_delta=32,
         studies=("fss", "delta"),
@@ -270,44 +272,68 @@ def strain_name(phi: float) -> str:
     return f"{phi:.3f}"
 
 
-#: An undecided grid configuration still enters the energy analyses (mean energies, alpha)
-#: when its relaxed energy, an upper bound on E*, is at most this fraction of its affine
-#: energy: E* is then bracketed in [energy_lower, energy] and zero at that precision, and the
-#: row enters at its ``energy`` as a rigid row whose energy is not certified does. Its P,
-#: nonaffinity and taut cables stay unknown, so every other analysis excludes it. Near a
-#: sample's own threshold such rows are the ones at the transition: at n = 64, p_t = 0.3,
-#: dilation, p_r = 0.5 (the fss run of 2026-11-29) 5 of 24 samples are undecided with
-#: energies of 8e-18 to 5e-13 (affine energy 5.2e3), and dropping them raised that point's
-#: mean energy from 282 to 356.
+#: An undecided grid configuration still enters the energy analyses (the mean energies and
+#: the alpha fits from p_crit at P = 1/2) when its E* is known without its verdict: its relaxed
+#: energy ``energy`` (of an actual displacement, an upper bound on E*) and the certified lower
+#: bound ``energy_lower`` bracket E*. Two cases: ``energy`` at most this fraction of the affine
+#: energy, where E* is zero to that precision and the row enters at E = 0 (at its ``energy``,
+#: 1e-15 against a mean of 0 would put a grid point of floppy samples into the log-log fit);
+#: and an energy certified to ``ENERGY_GAP`` (:func:`energy_certified`), where it enters at
+#: ``energy`` as a decided row does. Its verdict, nonaffinity and taut cables stay unknown, so
+#: P, Gamma, the taut fraction, the tails at p_crit and the paper's first-positive estimator
+#: leave it out. Near a sample's own threshold such rows are the ones at the transition: at
+#: n = 64, p_t = 0.3, dilation, p_r = 0.5 (the fss run of 2026-11-29) 5 of 24 samples are
+#: undecided with energies of 8e-18 to 5e-13 (affine energy 5.2e3), and dropping them raised
+#: that point's mean energy from 282 to 356.
 ENERGY_BRACKETED = 1e-9
 
 
-def energy_bracketed(df: pd.DataFrame) -> np.ndarray:
-    """(rows,) bool: undecided grid rows whose energy is bracketed near zero
-    (:data:`ENERGY_BRACKETED`)."""
+def energy_bracketed(df: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
+    """Undecided grid rows whose E* is bracketed (:data:`ENERGY_BRACKETED`).
+
+    Returns
+    -------
+    near_zero, certified : (rows,) bool
+        Undecided rows whose relaxed energy is at most :data:`ENERGY_BRACKETED` of the affine
+        energy (they enter the energy analyses at E = 0), and the others whose relaxed energy
+        is certified (they enter at it).
+    """
+    none = np.zeros(len(df), dtype=bool)
     if df.empty or not {"decided", "energy", "affine_energy"} <= set(df.columns):
-        return np.zeros(len(df), dtype=bool)
+        return none, none
     undecided = ~df["decided"].to_numpy(bool)
     energy, affine = df["energy"].to_numpy(float), df["affine_energy"].to_numpy(float)
     with np.errstate(invalid="ignore"):
-        return undecided & (energy <= ENERGY_BRACKETED * affine)
+        near_zero = undecided & (energy <= ENERGY_BRACKETED * affine)
+    certified = none.copy()
+    if "energy_lower" in df:
+        lower = df["energy_lower"].to_numpy(float)
+        with np.errstate(invalid="ignore"):
+            certified = undecided & ~near_zero & energy_certified(energy, lower) & (energy > 0)
+    return near_zero, certified
 
 
 def keep_decided(df: pd.DataFrame, energy: bool = False) -> tuple[pd.DataFrame, int]:
     """Rows to analyse and the number of samples excluded as undecided.
 
-    Grid rows: samples with ``decided == False`` are dropped, except, with ``energy`` (rows
-    for the energy analyses only), those whose energy is bracketed near zero
-    (:func:`energy_bracketed`). Threshold rows with the interval columns (:data:`INTERVAL`):
-    an undecided sample is kept when its interval is finite, at the row's estimate
-    ``threshold_p_r`` (the interval's midpoint if the estimate is missing); without them
-    every undecided sample is dropped.
+    Grid rows: samples with ``decided == False`` are dropped and counted, except, with
+    ``energy`` (rows for the energy analyses only), those whose E* is bracketed
+    (:func:`energy_bracketed`): they are kept (still undecided; those near zero with
+    ``energy`` set to 0) and still counted. Threshold rows with the interval columns
+    (:data:`INTERVAL`): an undecided sample is kept when its interval is finite, at the row's
+    estimate ``threshold_p_r`` (the interval's midpoint if the estimate is missing); without
+    them every undecided sample is dropped.
     """
     if df.empty or "decided" not in df:
         return df.reset_index(drop=True), 0
     bad = ~df["decided"].astype(bool)
+    count = int(bad.sum())
     if energy and "threshold_p_r" not in df:
-        bad = bad & ~energy_bracketed(df)
+        near_zero, certified = energy_bracketed(df)
+        if near_zero.any():
+            df = df.copy()
+            df.loc[near_zero, "energy"] = 0.0
+        return df[~(bad & ~(near_zero | certified))].reset_index(drop=True), count
     if "threshold_p_r" in df and all(c in df for c in INTERVAL):
         lo, hi = df[INTERVAL[0]].to_numpy(float), df[INTERVAL[1]].to_numpy(float)
         usable = bad.to_numpy() & np.isfinite(lo) & np.isfinite(hi)
@@ -765,7 +791,8 @@ class Fig2Result:
     straddling: int | None = None
     measured: tuple[Measurement, ...] = ()
     # sweep name -> undecided rows excluded from P, Gamma and the taut cables but kept in the
-    # energy analyses (:func:`energy_bracketed`; counted in ``excluded`` too)
+    # energy analyses (:func:`energy_bracketed`; counted in ``excluded`` too; the curves'
+    # ``energy_n`` counts them, ``N`` does not)
     bracketed: dict[str, int] = dataclasses.field(default_factory=dict)
 
 
@@ -811,9 +838,8 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
     grids, excluded, bracketed = [], {}, {}
     for p_t in PT4:
         name = f"fig2_pt{p_t:.1f}"
-        rows, unbracketed = sweep_rows(out, name, sweeps[name], energy=True, **kw)
-        bracketed[name] = int(np.sum(energy_bracketed(rows)))
-        excluded[name] = unbracketed + bracketed[name]  # from P, Gamma and the taut cables
+        rows, excluded[name] = sweep_rows(out, name, sweeps[name], energy=True, **kw)
+        bracketed[name] = int((~rows.decided.astype(bool)).sum())
         grids.append(rows)
     # the energy analyses read every row kept, the others only the decided ones
     energy_rows = pd.concat(grids, ignore_index=True)
@@ -831,6 +857,7 @@ def study_fig2(out, scale: Scale, **kw) -> Fig2Result:
             energy_median=("energy", "median"),
             energy_q25=("energy", _q25),
             energy_q75=("energy", _q75),
+            energy_n=("energy", "size"),
         )
         .reset_index()
     )
