@@ -133,9 +133,9 @@ def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
     The same seed as :func:`headline_sweeps`, so sample k is the disorder of threshold sample k
     (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
-    others have none). ``count`` samples per point, keyword-only (until 2026-11-29 the third
-    argument was the thresholds' count, capped at 24)
-    (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`); no minimum-norm
+    others have none). ``count`` samples per point
+    (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`), keyword-only (until
+    2026-11-29 the third argument was the thresholds' count, capped at 24); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
     base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
