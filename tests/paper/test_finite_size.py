@@ -301,7 +301,7 @@ def test_energy_grids_have_their_own_sample_count():
     assert sweeps["energy_n64_delta0.2_pt0.2"]["samples"] == 24
     assert sweeps["headline_n64_delta0.2_pcrit"]["samples"] == 8
     assert [TINY.fss_energy_samples(n) for n in TINY.fss_sizes] == [
-        min(TINY.fss_samples(n), fs.ENERGY_SAMPLES) for n in TINY.fss_sizes
+        min(TINY.fss_samples(n), studies.ENERGY_SAMPLES) for n in TINY.fss_sizes
     ]
     cluster = SCALES["fss-cluster"]
     assert cluster.fss_energy_samples(128) == 24 and cluster.fss_energy_samples(64) == 24

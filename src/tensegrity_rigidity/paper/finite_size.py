@@ -47,7 +47,6 @@ from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS, REFERENCES, REPLICATION, Measurement
 from .comparison import verdict, z_score
 from .studies import (
-    ENERGY_SAMPLES,
     FIG1C_PT,
     PT4,
     Scale,
@@ -652,18 +651,12 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
     return out
 
 
-def delta_energy_samples(scale: Scale) -> int:
-    """Samples per point of the node-disorder study's energy grids: the first
-    :data:`~tensegrity_rigidity.paper.studies.ENERGY_SAMPLES` of its samples at most."""
-    return min(scale.samples_delta, ENERGY_SAMPLES)
-
-
 def delta_sweeps(scale: Scale) -> dict[str, dict]:
     """Sweep name -> spec of the node-disorder study (every delta at n_delta)."""
     out: dict[str, dict] = {}
     for delta in scale.deltas:
         out |= headline_sweeps(scale.n_delta, delta, scale.samples_delta)
-        out |= energy_sweeps(scale.n_delta, delta, count=delta_energy_samples(scale))
+        out |= energy_sweeps(scale.n_delta, delta, count=scale.delta_energy_samples)
     return out
 
 
@@ -713,7 +706,7 @@ def study_delta(out, scale: Scale, **kw) -> DeltaResult:
             scale.n_delta,
             delta,
             scale.samples_delta,
-            delta_energy_samples(scale),
+            scale.delta_energy_samples,
             scale.bootstrap,
             **kw,
         )

@@ -142,6 +142,12 @@ class Scale:
         return self.samples_energy[self.fss_sizes.index(n)]
 
     @property
+    def delta_energy_samples(self) -> int:
+        """Samples per point of the node-disorder study's energy grids: the first
+        :data:`ENERGY_SAMPLES` of :attr:`samples_delta` at most."""
+        return min(self.samples_delta, ENERGY_SAMPLES)
+
+    @property
     def curve_samples(self) -> int:
         return self.samples_threshold if self.samples_curve is None else self.samples_curve
 
