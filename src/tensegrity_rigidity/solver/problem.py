@@ -118,12 +118,27 @@ class Problem:
         csc.sum_duplicates()
         uniq = np.repeat(np.arange(self.n2, dtype=np.int64), np.diff(csc.indptr)) * self.n2
         uniq += csc.indices
-        self._inverse = np.searchsorted(uniq, colsf.astype(np.int64) * self.n2 + rows)
-        self._rr = rr_vals[keep]  # values per kept entry, ordered like rr_rows[keep]
-        self._bond_of_entry = np.nonzero(keep)[0]
+        inverse = np.searchsorted(uniq, colsf.astype(np.int64) * self.n2 + rows)
         self._indices = csc.indices.astype(np.int32)
         self._indptr = csc.indptr.astype(np.int32)
         self._nnz = len(uniq)
+        # the values as one sparse product: row e of ``_assemble`` holds the contributions
+        # ``rr`` to pattern entry e in their order above (a stable sort by entry; a bond from a
+        # node to its own image contributes more than once to an entry), the order in which
+        # np.bincount over them added: the same sums to the last bit, in a third of the time
+        # (0.25 -> 0.08 ms a call at n = 64, for about 1.5 ms more here)
+        n_rr = rr_rows[keep].size
+        slot = inverse[:n_rr]
+        order = np.argsort(slot, kind="stable")
+        self._assemble = sp.csr_matrix(
+            (
+                rr_vals[keep][order],
+                np.nonzero(keep)[0][order],
+                np.r_[0, np.cumsum(np.bincount(slot, minlength=self._nnz))],
+            ),
+            shape=(self._nnz, self.sites.size),
+        )
+        self._diagonal = inverse[n_rr:]  # pattern entries of the diagonal
 
     def values(self, weights: np.ndarray, shift: float | None = None) -> np.ndarray:
         """Entries of ``R^T diag(weights) R + shift I`` in the fixed upper-triangular pattern.
@@ -140,9 +155,9 @@ class Problem:
         (nnz,) float
             Values in the pattern's CSC order.
         """
-        shift = self.mu if shift is None else shift
-        w = np.r_[weights[self._bond_of_entry] * self._rr, np.full(self.n2, shift)]
-        return np.bincount(self._inverse, weights=w, minlength=self._nnz)
+        out = self._assemble @ np.asarray(weights, dtype=float)
+        out[self._diagonal] += self.mu if shift is None else shift
+        return out
 
     def factor(self, weights: np.ndarray) -> PatternFactor:
         """The factorisation of ``R^T diag(weights) R + mu I``, reused while the weights do
