@@ -291,6 +291,31 @@ def test_figure_fs_has_a_panel_per_kind_of_claim(runs, tmp_path):
     assert [keys for keys, _, _ in fss_panels(rods_only)] == [("rods_only_pc",)]
 
 
+def test_figure_fs_draws_sizes_on_a_log_axis_and_the_limit_beyond_them(runs, tmp_path, monkeypatch):
+    """Fig. FS's claims are drawn against n on a log axis, each size at its own tick, and the
+    extrapolations (squares) at a tick "inf" to the right of every size: against n^(-1/nu)
+    (nu about 0.6) the points of n >= 32 and the extrapolations crowded near 0."""
+    import matplotlib.pyplot as plt
+
+    fss, _, _ = runs
+    close = plt.close
+    monkeypatch.setattr(plt, "close", lambda *a, **k: None)  # keep the figure to inspect it
+    before = set(plt.get_fignums())
+    fig_fss(fss, tmp_path)
+    (num,) = set(plt.get_fignums()) - before
+    fig = plt.figure(num)
+    sizes = sorted(set(fss.by_size.n))
+    claims = [ax for ax in fig.axes if ax.get_visible() and ax.get_yscale() == "linear"]
+    assert len(claims) == len(fss_panels(fss))
+    for ax in claims:
+        assert ax.get_xscale() == "log"
+        labels = [t.get_text() for t in ax.get_xticklabels()]
+        assert labels == [f"{n:g}" for n in sizes] + ["inf"]
+        squares = [ln for ln in ax.get_lines() if ln.get_marker() == "s"]
+        assert squares and all(np.all(ln.get_xdata() > max(sizes)) for ln in squares)
+    close(fig)
+
+
 def test_energy_grids_have_their_own_sample_count():
     """The fss scale's energy grids at n = 64 have 24 samples where its threshold sweeps have 8
     (bootstrap errors from 8 samples were too small to trust); by default a size's energy

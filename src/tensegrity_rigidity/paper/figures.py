@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
+from matplotlib.ticker import NullLocator  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
@@ -399,7 +400,8 @@ def fig4c(r: Fig4Result, figdir: Path):
     return _save(fig, figdir, "4C")
 
 
-#: the panels of Fig. FS that plot claims against n^(-1/nu): (claim keys, legend labels, y label)
+#: the panels of Fig. FS that plot claims against n, each with its fitted y_inf + a n^(-1/nu):
+#: (claim keys, legend labels, y label)
 FSS_PANELS = (
     (("rods_only_pc",), ("rods only",), "rods-only P = 1/2 point"),
     (
@@ -436,10 +438,12 @@ def fss_panels(r: FiniteSizeResult) -> list[tuple[tuple[str, ...], tuple[str, ..
 def fig_fss(r: FiniteSizeResult, figdir: Path):
     """Finite size: each claim of :data:`FSS_PANELS` that the study measured (the rods-only
     P = 1/2 point, S_t/S_r of the one-sided systems, the energy exponents under compression and
-    dilation, the taut-cable fraction) versus n^(-1/nu), with the extrapolations to
-    n -> infinity (squares at 0) and the paper's values (dotted), and the widths of the
+    dilation, the taut-cable fraction) against n on a log axis, with the fitted
+    ``y_inf + a n^(-1/nu)`` (dashed), the extrapolations to n -> infinity (squares at the
+    axis' right end, marked "inf") and the paper's values (dotted), and the widths of the
     rods-only threshold distributions against n (log-log) where they were measured. Three
-    panels per row."""
+    panels per row. (Against n^(-1/nu) itself, with nu about 0.6, the points of n >= 32 and
+    the extrapolations crowd within a few per cent of the axis at 0.)"""
     ex = r.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
     nu = pc.nu if np.isfinite(pc.nu) else 1.0
@@ -456,20 +460,26 @@ def fig_fss(r: FiniteSizeResult, figdir: Path):
     if widths:  # after the rods-only point, beside the point it is a second reading of
         _width_panel(flat.pop(1), w)
     fig.subplots_adjust(wspace=0.3, hspace=0.35)
+    sizes = np.unique(r.by_size.n.to_numpy(float))
+    n_inf = 4.0 * sizes.max() if sizes.size else 1.0  # where n -> infinity is drawn
     for ax, (keys, labels, ylabel) in zip(flat, panels, strict=False):
         for key, label in zip(keys, labels, strict=True):
             ref = CLAIMS[key].value
             s = r.by_size[r.by_size.key == key].sort_values("n")
-            x = s.n.to_numpy(float) ** (-1 / nu)
-            line = ax.errorbar(x, s.value, yerr=s.err, marker="o", capsize=3, label=label)
+            n = s.n.to_numpy(float)
+            line = ax.errorbar(n, s.value, yerr=s.err, marker="o", capsize=3, label=label)
             colour = line[0].get_color()
             f = ex.loc[key]
             if np.isfinite(f.y_inf):
-                xs = np.linspace(0, x.max(), 50)
-                ax.plot(xs, f.y_inf + f.a * xs, "--", color=colour, lw=1)
-                ax.errorbar([0], [f.y_inf], yerr=[f.y_inf_err], fmt="s", color=colour, capsize=3)
+                ns = np.geomspace(n.min(), n_inf, 60)
+                ax.plot(ns, f.y_inf + f.a * ns ** (-1 / nu), "--", color=colour, lw=1)
+                ax.errorbar([n_inf], [f.y_inf], yerr=[f.y_inf_err], fmt="s", color=colour,
+                            capsize=3)  # fmt: skip
             ax.axhline(ref, color=colour, ls=":", lw=1)
-        ax.set_xlabel(f"n^(-1/nu), nu = {nu:.2f} (fitted to the rods-only points)")
+        ax.set_xscale("log")
+        ax.set_xticks([*sizes, n_inf], [*(f"{v:g}" for v in sizes), "inf"])
+        ax.xaxis.set_minor_locator(NullLocator())
+        ax.set_xlabel(f"n; dashed: y_inf + a n^(-1/nu), nu = {nu:.2f} (rods-only fit)")
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7)
     axes.ravel()[0].set_title(
@@ -491,6 +501,8 @@ def _width_panel(ax, w) -> None:
             label=f"n^(-1/nu), nu = {w.nu:.2f} ± {w.nu_err:.2f}")  # fmt: skip
     ax.set_xscale("log")
     ax.set_yscale("log")
+    ax.set_xticks(w.n, [f"{v:g}" for v in w.n])
+    ax.xaxis.set_minor_locator(NullLocator())
     ax.set_xlabel("n")
     ax.set_ylabel("std of the rods-only thresholds")
     ax.set_title(f"p_c from centre vs width: {w.p_c:.4f} ± {w.p_c_err:.4f}", fontsize=9)

@@ -72,8 +72,9 @@ FIGURE_CAPTIONS = {
     "4A": "P versus f_c for strains from dilation (phi = 0) to compression (phi = pi).",
     "4B": "Efficacies of cables and struts relative to rods, averaged over strains.",
     "4C": "Combined efficacy (S_c + S_s)/S_r versus f_c.",
-    "FS": "Not in the paper: finite size. Against n^(-1/nu), with the extrapolation to "
-    "n -> infinity (squares at 0) and the paper's or the literature's value (dotted): the "
+    "FS": "Not in the paper: finite size. Against n (log axis), with the fitted "
+    "y_inf + a n^(-1/nu) (dashed), the extrapolation to n -> infinity (squares at 'inf') and "
+    "the paper's or the literature's value (dotted): the "
     "rods-only P = 1/2 point; then (not at the pc scale) S_t/S_r of rods + cables "
     "(compression, dilation) and of f_c = 0.5 under shear, the energy exponent alpha of "
     "rods + cables under compression and under dilation (one line per p_t), and the fraction "
