@@ -32,6 +32,20 @@ def _self_image_instance() -> Instance:
     return Instance(net, np.array([[0.01, 0.003], [0.003, -0.02]]))
 
 
+def test_values_without_elements_are_the_shift():
+    net = _self_image_instance().network
+    empty = PeriodicNetwork(
+        box=net.box,
+        positions=net.positions,
+        bonds=net.bonds,
+        shifts=net.shifts,
+        kinds=np.full(net.n_sites, Element.EMPTY),
+    )
+    p = Problem(Instance(empty, np.eye(2) * 0.01))
+    assert p.sites.size == 0
+    np.testing.assert_array_equal(_dense_upper(p, p.values(np.zeros(0), 0.5)), 0.5 * np.eye(p.n2))
+
+
 @pytest.mark.parametrize("seed", range(12))
 def test_values_are_the_newton_matrix_in_its_pattern(seed):
     rng = np.random.default_rng(seed)
