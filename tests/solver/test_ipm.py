@@ -11,7 +11,7 @@ from tensegrity_rigidity.ensemble.spec import parse_spec
 from tensegrity_rigidity.model.elements import place_elements
 from tensegrity_rigidity.model.network import Instance
 from tensegrity_rigidity.model.strain import strain_tensor
-from tensegrity_rigidity.solver.ipm import interior_point, step_to_boundary
+from tensegrity_rigidity.solver.ipm import IpmState, interior_point, step_to_boundary
 from tensegrity_rigidity.solver.problem import Problem
 
 
@@ -46,3 +46,61 @@ def test_step_to_boundary_with_a_vanishing_direction_is_a_full_step():
         warnings.simplefilter("error", RuntimeWarning)
         assert step_to_boundary(x, np.array([-1e-320, 0.0])) == 1.0
     assert step_to_boundary(x, np.array([-4.0, 1.0])) == 0.25
+
+
+def _factorizations(p: Problem, run):
+    """``run()`` and the numeric factorisations it took on ``p``."""
+    before = p.factorizations
+    out = run()
+    return out, p.factorizations - before
+
+
+def test_a_run_resumed_where_an_earlier_one_ended_ends_where_the_cold_start_does():
+    """The verdict search's interior point (tolerance 1e-9, checkpoints offered to a callback)
+    and the relaxation's (1e-10): started where the first ended, the second returns the very
+    iterate it returns from the cold start, and skips the steps the first took."""
+    p = Problem(_fig4_quick_sample())
+    cold, cold_steps = _factorizations(p, lambda: interior_point(p, max_iter=60, tol=1e-10))
+    for stop_at in (None, 2):  # run to its tolerance; stopped by the callback at a checkpoint
+        offers = []
+
+        def callback(u, lam, stop_at=stop_at, offers=offers):
+            offers.append(u)
+            return len(offers) == stop_at
+
+        end: list[IpmState] = []
+        interior_point(
+            p, max_iter=60, tol=1e-9, checkpoints=(1e-3, 1e-5, 1e-7), callback=callback, record=end
+        )
+        assert len(offers) == (stop_at or 3)
+        (state,) = end
+        assert 0 < state.steps < cold[3] and state.resumes(p, 60, 1e-10, False)
+        resumed, resumed_steps = _factorizations(
+            p, lambda state=state: interior_point(p, max_iter=60, tol=1e-10, start=state)
+        )
+        for a, b in zip(cold, resumed, strict=True):
+            np.testing.assert_array_equal(a, b)
+        assert resumed_steps == cold_steps - state.steps
+
+
+def test_a_state_the_run_would_not_pass_through_is_ignored():
+    """A state from another problem, a looser run (a tolerance this run would stop before),
+    more steps than this run allows, or another objective: the run starts cold."""
+    inst = _fig4_quick_sample()
+    p = Problem(inst)
+    end: list[IpmState] = []
+    interior_point(p, max_iter=60, tol=1e-9, record=end)
+    (state,) = end
+    other = Problem(inst)
+    assert state.resumes(p, 60, 1e-9, False)
+    for q, max_iter, tol, anchored in (
+        (other, 60, 1e-9, False),
+        (p, 60, 1e-8, False),
+        (p, state.steps - 1, 1e-9, False),
+        (p, 60, 1e-9, True),
+    ):
+        assert not state.resumes(q, max_iter, tol, anchored)
+        cold = interior_point(q, max_iter=max_iter, tol=tol, anchored=anchored)
+        given = interior_point(q, max_iter=max_iter, tol=tol, anchored=anchored, start=state)
+        for a, b in zip(cold, given, strict=True):
+            np.testing.assert_array_equal(a, b)

@@ -39,7 +39,7 @@ from ..model.mechanics import affine_extensions, energy_from_extensions, rigidit
 from ..model.network import Instance
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
 from .displacements import project
-from .ipm import interior_point
+from .ipm import IpmState, interior_point
 from .linalg import one_blas_thread
 from .newton import CROSSOVER_TAUS, crossover, newton
 from .problem import Problem
@@ -482,11 +482,17 @@ FINAL_CROSSOVER_TAU = 1e-9
 
 
 def _relax(
-    p: Problem, u: np.ndarray, opts: SolverOptions, ipm: tuple[int, float] = RELAX_IPM[0]
+    p: Problem,
+    u: np.ndarray,
+    opts: SolverOptions,
+    ipm: tuple[int, float] = RELAX_IPM[0],
+    ipm_start: IpmState | None = None,
 ) -> tuple[np.ndarray, float, int]:
     """Minimise the energy from u: Newton, then (if not stationary) the interior point with
     ``ipm`` = (iterations, tolerance) + crossover, and a final exact solve on the active set (a
-    crossover) when it lowers the force residual."""
+    crossover) when it lowers the force residual. The interior point goes on from
+    ``ipm_start`` where it passes through it (the verdict search's own run, which the cold
+    start would retrace step for step: :class:`~.ipm.IpmState`)."""
 
     def residual(x):
         _, _, t = p.state(x)
@@ -494,7 +500,7 @@ def _relax(
 
     u, E, it = newton(p, u, opts.max_iter)
     if E > 0 and residual(u) > STATIONARY:
-        x, _, _, _ = interior_point(p, max_iter=ipm[0], tol=ipm[1])
+        x, _, _, _ = interior_point(p, max_iter=ipm[0], tol=ipm[1], start=ipm_start)
         for tau in CROSSOVER_TAUS:  # the first that does not raise the energy
             y = crossover(p, x, tau=tau)
             if y is not None and p.energy(y) <= p.energy(x):
@@ -519,8 +525,10 @@ def _relaxed(
     opts: SolverOptions,
     certificate: RigidCertificate | None,
     ipm: tuple[int, float] = RELAX_IPM[0],
+    ipm_start: IpmState | None = None,
 ) -> tuple[np.ndarray, float, int, np.ndarray, np.ndarray, float]:
-    """The relaxation from ``u`` (2N,) and what certifies it.
+    """The relaxation from ``u`` (2N,) and what certifies it (``ipm_start``: see
+    :func:`_relax`).
 
     Returns
     -------
@@ -537,7 +545,7 @@ def _relaxed(
     E_lower : float
         Certified lower bound on E*, at most ``E``.
     """
-    u, E, more = _relax(p, u, opts, ipm)
+    u, E, more = _relax(p, u, opts, ipm, ipm_start)
     _, _, t_relaxed = p.state(u)
     t_n, tensions_bound = _balanced_tensions(p, t_relaxed)
     E_lower = min(_energy_lower(p, tensions_bound, certificate), E)
@@ -742,7 +750,9 @@ def solve(
             E_lower = 0.0
             iterations = s.iterations
         else:
-            u_n, E_n, more, t_relaxed, t_n, E_lower = _relaxed(pe, s.u, opts, verdict.rigid)
+            u_n, E_n, more, t_relaxed, t_n, E_lower = _relaxed(
+                pe, s.u, opts, verdict.rigid, ipm_start=s.ipm_end
+            )
             if not energy_certified(E_n, E_lower):  # near the threshold: see RELAX_IPM
                 long, extra_factorizations = _long_relaxation(
                     instance, opts, uniform, u_n, verdict.rigid

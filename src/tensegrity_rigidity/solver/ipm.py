@@ -29,9 +29,58 @@ displacements over to an exact point, and offer both to the certificates.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .problem import Problem
+
+
+@dataclass(frozen=True)
+class IpmState:
+    """Where a run of :func:`interior_point` ended: its iterate after ``steps`` Newton steps
+    from the cold start, in the run's own units (``e0`` divided by its largest magnitude).
+
+    The iteration is a function of its iterate alone, so a later run on the same problem
+    (``problem``, ``anchored``) that would have taken those same steps may start there and
+    end exactly where it would have ended from the cold start: a run with at most this one's
+    tolerance (it would not have stopped earlier) and at least ``steps`` iterations allowed.
+    Checkpoint callbacks do not move the iterate; one that stopped the run leaves a state like
+    any other. :func:`~tensegrity_rigidity.solver.core.solve` starts its relaxation's interior
+    point where the verdict search's (the ``ipm`` stage) ended, instead of retracing it.
+
+    Attributes
+    ----------
+    problem : Problem
+        The problem it ran on.
+    anchored : bool
+        Its ``anchored`` setting.
+    tol : float
+        Its tolerance.
+    steps : int
+        Newton steps taken.
+    u : (2N,) float
+        Displacements.
+    w, lam : (k,) float
+        Slacks and multipliers of the ``k`` one-sided sites.
+    """
+
+    problem: Problem
+    anchored: bool
+    tol: float
+    steps: int
+    u: np.ndarray
+    w: np.ndarray
+    lam: np.ndarray
+
+    def resumes(self, p: Problem, max_iter: int, tol: float, anchored: bool) -> bool:
+        """Whether a run on ``p`` with these settings passes through this state."""
+        return (
+            self.problem is p
+            and self.anchored == anchored
+            and self.steps <= max_iter
+            and tol <= self.tol
+        )
 
 
 def interior_point(
@@ -41,6 +90,8 @@ def interior_point(
     checkpoints: tuple[float, ...] = (),
     callback=None,
     anchored: bool = False,
+    start: IpmState | None = None,
+    record: list[IpmState] | None = None,
 ):
     """Approximately minimise the energy of problem ``p`` (a :class:`~.problem.Problem`).
 
@@ -55,6 +106,11 @@ def interior_point(
     would not be finite (a ``tol`` below what the iterates resolve: the relaxation's long run
     to 1e-14 on about one sample in 20,000 of the quick Fig. 4 sweeps); the iterate returned
     was NaN before.
+
+    ``start``: an earlier run's end (:class:`IpmState`) through which this run passes
+    (:meth:`IpmState.resumes`; otherwise ignored): the iteration goes on from there, with the
+    same result as from the cold start and fewer steps. ``record``: a list to which the run's
+    own end state is appended.
     """
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
     os_ = p.one_sided
@@ -63,15 +119,20 @@ def interior_point(
     k = k_all[os_]
     scale = max(float(np.abs(p.e0).max()), 1e-300)
     e0 = p.e0 / scale  # solve the unit-scale problem; displacements scale back linearly
-    u = np.zeros(p.n2)
-    e = e0 + p.R @ u
-    # cold start: slacks that make every one-sided element slightly slack, unit multipliers
-    w = np.maximum(-sig * e[os_], 0.0) + 1.0
-    lam = np.ones_like(w)
-    m_os = max(w.size, 1)
+    m_os = max(int(os_.sum()), 1)
     anchor = p.mu if anchored else 0.0
-    it = 0
-    for it in range(1, max_iter + 1):  # noqa: B007 (reported)
+    if start is not None and start.resumes(p, max_iter, tol, anchored):
+        steps, u, w, lam = start.steps, start.u, start.w, start.lam
+    else:
+        steps = 0
+        u = np.zeros(p.n2)
+        e = e0 + p.R @ u
+        # cold start: slacks that make every one-sided element slightly slack, unit multipliers
+        w = np.maximum(-sig * e[os_], 0.0) + 1.0
+        lam = np.ones_like(w)
+    e = e0 + p.R @ u
+    it = steps
+    for it in range(steps + 1, max_iter + 1):  # noqa: B007 (reported)
         eps_el = e.copy()
         eps_el[os_] += sig * w  # elastic extensions
         t = k_all * eps_el
@@ -113,6 +174,9 @@ def interior_point(
         w = w + a_p * dw
         lam = lam + a_d * dlam
         e = e0 + p.R @ u
+        steps += 1
+    if record is not None:
+        record.append(IpmState(p, anchored, tol, steps, u, w, lam))
     return u * scale, w * scale, lam * scale, it
 
 

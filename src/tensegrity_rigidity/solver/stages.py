@@ -66,7 +66,7 @@ import numpy as np
 from ..errors import InputError
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
 from .displacements import min_norm_minimizer
-from .ipm import interior_point
+from .ipm import IpmState, interior_point
 from .newton import CROSSOVER_TAUS, crossover, newton
 from .problem import Problem
 from .selfstress import kept, purify, rebalance
@@ -112,6 +112,9 @@ class Search:
         never; :func:`search` uses :data:`BALANCE`).
     balanced : int
         Candidates balanced so far.
+    ipm_end : IpmState or None
+        Where the ``ipm`` stage's interior point ended (:class:`~.ipm.IpmState`), for the
+        relaxation of :func:`~tensegrity_rigidity.solver.core.solve` to go on from.
     """
 
     p: Problem
@@ -126,6 +129,7 @@ class Search:
     polished: int = 0
     balance: Balance | None = None
     balanced: int = 0
+    ipm_end: IpmState | None = None
 
     def __post_init__(self):
         if self.u.size == 0:  # start at the origin
@@ -356,13 +360,16 @@ class InteriorPoint:
                 or s.crossovers(u, self.name, taus=(1e-7,))
             )
 
+        end: list[IpmState] = []
         u, _, lam, _ = interior_point(
             s.p,
             max_iter=self.max_iter,
             tol=self.tol,
             checkpoints=self.checkpoints,
             callback=on_checkpoint,
+            record=end,
         )
+        s.ipm_end = end[0]
         if not s.decided:
             s.offer_u(u, self.name)
         if not s.decided:
