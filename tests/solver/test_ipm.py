@@ -104,3 +104,51 @@ def test_a_state_the_run_would_not_pass_through_is_ignored():
         given = interior_point(q, max_iter=max_iter, tol=tol, anchored=anchored, start=state)
         for a, b in zip(cold, given, strict=True):
             np.testing.assert_array_equal(a, b)
+
+
+def test_resumes_from_a_run_stopped_by_its_limit_or_by_an_underflow():
+    """A run cut at 5 iterations, resumed with 60 allowed; a run stopped at its last finite
+    iterate (the unreachable 1e-14 above), resumed with the same settings: each ends where the
+    cold start ends."""
+    p = Problem(_fig4_quick_sample())
+    for first, then in (((5, 1e-10), (60, 1e-10)), ((200, 1e-14), (200, 1e-14))):
+        end: list[IpmState] = []
+        interior_point(p, max_iter=first[0], tol=first[1], record=end)
+        cold, cold_steps = _factorizations(
+            p, lambda then=then: interior_point(p, max_iter=then[0], tol=then[1])
+        )
+        resumed, steps = _factorizations(
+            p,
+            lambda end=end, then=then: interior_point(
+                p, max_iter=then[0], tol=then[1], start=end[0]
+            ),
+        )
+        for a, b in zip(cold, resumed, strict=True):
+            np.testing.assert_array_equal(a, b)
+        assert steps == cold_steps - end[0].steps
+
+
+def test_a_run_offering_checkpoints_does_not_resume():
+    """Its callback would miss the checkpoints of the steps skipped."""
+    p = Problem(_fig4_quick_sample())
+    end: list[IpmState] = []
+    interior_point(p, max_iter=60, tol=1e-9, record=end)
+
+    def offers(seen):
+        def callback(u, lam):
+            seen.append(u)
+            return False
+
+        return callback
+
+    cold_seen: list = []
+    cold = interior_point(p, tol=1e-10, checkpoints=(1e-3, 1e-5), callback=offers(cold_seen))
+    seen: list = []
+    given = interior_point(
+        p, tol=1e-10, checkpoints=(1e-3, 1e-5), callback=offers(seen), start=end[0]
+    )
+    for a, b in zip(cold, given, strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert len(seen) == len(cold_seen) == 2
+    for a, b in zip(cold_seen, seen, strict=True):
+        np.testing.assert_array_equal(a, b)

@@ -32,16 +32,15 @@ def _self_image_instance() -> Instance:
     return Instance(net, np.array([[0.01, 0.003], [0.003, -0.02]]))
 
 
+def _empty_instance() -> Instance:
+    """The three-node network with every site empty: the pattern is the diagonal alone."""
+    inst = _self_image_instance()
+    net = inst.network
+    return Instance(net.with_kinds(np.full(net.n_sites, Element.EMPTY)), inst.strain)
+
+
 def test_values_without_elements_are_the_shift():
-    net = _self_image_instance().network
-    empty = PeriodicNetwork(
-        box=net.box,
-        positions=net.positions,
-        bonds=net.bonds,
-        shifts=net.shifts,
-        kinds=np.full(net.n_sites, Element.EMPTY),
-    )
-    p = Problem(Instance(empty, np.eye(2) * 0.01))
+    p = Problem(_empty_instance())
     assert p.sites.size == 0
     np.testing.assert_array_equal(_dense_upper(p, p.values(np.zeros(0), 0.5)), 0.5 * np.eye(p.n2))
 
@@ -113,7 +112,11 @@ def test_pattern_is_the_per_entry_construction_to_the_last_bit(seed):
     """The per-node-pair construction gives the same pattern, the same assembly matrix (its
     terms in the same order, so the same sums to the last bit) and the same diagonal."""
     rng = np.random.default_rng(seed)
-    inst = {0: _self_image_instance(), 1: _isolated_node_instance()}.get(seed)
+    inst = {
+        0: _self_image_instance(),
+        1: _isolated_node_instance(),
+        2: _empty_instance(),
+    }.get(seed)
     p = Problem(inst if inst is not None else random_instance(rng))
     indptr, indices, assemble, diagonal = _reference_pattern(p)
     np.testing.assert_array_equal(p._indptr, indptr)

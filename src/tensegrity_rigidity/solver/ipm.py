@@ -36,7 +36,7 @@ import numpy as np
 from .problem import Problem
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class IpmState:
     """Where a run of :func:`interior_point` ended: its iterate after ``steps`` Newton steps
     from the cold start, in the run's own units (``e0`` divided by its largest magnitude).
@@ -46,8 +46,10 @@ class IpmState:
     end exactly where it would have ended from the cold start: a run with at most this one's
     tolerance (it would not have stopped earlier) and at least ``steps`` iterations allowed.
     Checkpoint callbacks do not move the iterate; one that stopped the run leaves a state like
-    any other. :func:`~tensegrity_rigidity.solver.core.solve` starts its relaxation's interior
-    point where the verdict search's (the ``ipm`` stage) ended, instead of retracing it.
+    any other. A later run that offers checkpoints to a callback does not resume (the
+    callback would miss the offers of the steps skipped).
+    :func:`~tensegrity_rigidity.solver.core.solve` starts its relaxation's interior point
+    where the verdict search's (the ``ipm`` stage) ended, instead of retracing it.
 
     Attributes
     ----------
@@ -74,7 +76,9 @@ class IpmState:
     lam: np.ndarray
 
     def resumes(self, p: Problem, max_iter: int, tol: float, anchored: bool) -> bool:
-        """Whether a run on ``p`` with these settings passes through this state."""
+        """Whether a run on ``p`` with these settings certainly passes through this state (a
+        sufficient condition: the same problem object and objective, a tolerance at most this
+        run's, at least ``steps`` iterations)."""
         return (
             self.problem is p
             and self.anchored == anchored
@@ -108,9 +112,10 @@ def interior_point(
     was NaN before.
 
     ``start``: an earlier run's end (:class:`IpmState`) through which this run passes
-    (:meth:`IpmState.resumes`; otherwise ignored): the iteration goes on from there, with the
-    same result as from the cold start and fewer steps. ``record``: a list to which the run's
-    own end state is appended.
+    (:meth:`IpmState.resumes`, and no checkpoint offered to a callback; otherwise ignored): the
+    iteration goes on from there, with the same result as from the cold start and fewer steps
+    (the iterations returned count the earlier run's steps too). ``record``: a list to which
+    the run's own end state is appended.
     """
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
     os_ = p.one_sided
@@ -121,16 +126,21 @@ def interior_point(
     e0 = p.e0 / scale  # solve the unit-scale problem; displacements scale back linearly
     m_os = max(int(os_.sum()), 1)
     anchor = p.mu if anchored else 0.0
-    if start is not None and start.resumes(p, max_iter, tol, anchored):
+    resume = (
+        start is not None
+        and (callback is None or not pending)
+        and start.resumes(p, max_iter, tol, anchored)
+    )
+    if resume:
+        assert start is not None
         steps, u, w, lam = start.steps, start.u, start.w, start.lam
     else:
-        steps = 0
-        u = np.zeros(p.n2)
-        e = e0 + p.R @ u
+        steps, u = 0, np.zeros(p.n2)
+    e = e0 + p.R @ u
+    if not resume:
         # cold start: slacks that make every one-sided element slightly slack, unit multipliers
         w = np.maximum(-sig * e[os_], 0.0) + 1.0
         lam = np.ones_like(w)
-    e = e0 + p.R @ u
     it = steps
     for it in range(steps + 1, max_iter + 1):  # noqa: B007 (reported)
         eps_el = e.copy()

@@ -145,8 +145,9 @@ class Problem:
         on or above the diagonal (:data:`_BOND_TERMS`). ``_assemble`` is the sparse matrix
         (entries x sites) whose row ``e`` holds entry ``e``'s terms ordered by bond, then by
         ``k = 4p + q``, so that ``_assemble @ w`` adds them in that order, as the ``np.bincount``
-        of eeb682e did and the per-entry construction of 4228468 (a sort of all ``10 m``
-        terms by entry) did: the same matrices to the last bit (tests/solver/test_problem.py
+        of eeb682e did and the per-entry construction of 4228468 did (a sort of every term,
+        10 per bond and 12 for a bond to its own image, and of the ``2N`` diagonal entries,
+        into the entries): the same matrices to the last bit (tests/solver/test_problem.py
         keeps that construction as the reference). Paired on the 27 n = 64 phase-diagram
         instances of ``benchmarks/bench_solver.py`` (scratch, 2026-11-29), the whole
         ``Problem`` build takes 6.9 ms against 10.6 ms (medians, best of 7).
@@ -208,7 +209,8 @@ class Problem:
             if b.size == 0:
                 continue
             dx, dy = dhat[b, 0], dhat[b, 1]
-            products = {(0, 0): dx * dx, (0, 1): dx * dy, (1, 0): dy * dx, (1, 1): dy * dy}
+            dxdy = dx * dy  # dy * dx to the last bit
+            products = {(0, 0): dx * dx, (0, 1): dxdy, (1, 0): dxdy, (1, 1): dy * dy}
             for t, (where, a, c, sign, pa, qc) in enumerate(terms):
                 at = start[b] + t
                 if where == _OFF_DIAGONAL:
