@@ -126,18 +126,16 @@ def interior_point(
     e0 = p.e0 / scale  # solve the unit-scale problem; displacements scale back linearly
     m_os = max(int(os_.sum()), 1)
     anchor = p.mu if anchored else 0.0
-    resume = (
+    if (
         start is not None
         and (callback is None or not pending)
         and start.resumes(p, max_iter, tol, anchored)
-    )
-    if resume:
-        assert start is not None
+    ):
         steps, u, w, lam = start.steps, start.u, start.w, start.lam
+        e = e0 + p.R @ u
     else:
         steps, u = 0, np.zeros(p.n2)
-    e = e0 + p.R @ u
-    if not resume:
+        e = e0 + p.R @ u
         # cold start: slacks that make every one-sided element slightly slack, unit multipliers
         w = np.maximum(-sig * e[os_], 0.0) + 1.0
         lam = np.ones_like(w)
