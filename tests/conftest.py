@@ -22,3 +22,23 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """Distribute the tests over pytest-xdist's workers (pyproject's default options: ``-n 2
+    --dist loadfile``) by file, as ``loadfile`` does, except that tests/paper/ goes to one
+    worker whole: its files share the session's tiny reproduction (``tiny_out``, about 80 s),
+    which each worker running one of them would otherwise build again. (``--dist loadgroup``
+    with ``xdist_group`` marks would say the same, but pytest-xdist 3.8 cannot group under
+    pytest 9: it renames the items' private ``_nodeid``, which pytest 9 no longer reads.)
+    """
+    if config.getvalue("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    class SharedFixtureScheduling(LoadFileScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            path = nodeid.split("::", 1)[0]
+            return "tests/paper/" if path.startswith("tests/paper/") else path
+
+    return SharedFixtureScheduling(config, log)
