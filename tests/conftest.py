@@ -24,13 +24,14 @@ def rng():
     return np.random.default_rng(12345)
 
 
+@pytest.hookimpl(optionalhook=True)  # a hook of pytest-xdist: unknown without it
 def pytest_xdist_make_scheduler(config, log):
     """Distribute the tests over pytest-xdist's workers (pyproject's default options: ``-n 2
     --dist loadfile``) by file, as ``loadfile`` does, except that tests/paper/ goes to one
     worker whole: its files share the session's tiny reproduction (``tiny_out``, about 80 s),
     which each worker running one of them would otherwise build again. (``--dist loadgroup``
     with ``xdist_group`` marks would say the same, but pytest-xdist 3.8 cannot group under
-    pytest 9: it renames the items' private ``_nodeid``, which pytest 9 no longer reads.)
+    pytest 9.2: it renames the items' private ``_nodeid``, which pytest 9.2 no longer reads.)
     """
     if config.getvalue("dist") != "loadfile":
         return None

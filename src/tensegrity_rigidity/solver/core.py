@@ -455,11 +455,12 @@ def energy_certified(energy, energy_lower):
 #: where its energy is lower (the lower bound kept is the larger of the two runs'); the long run
 #: alone is not a replacement for the short one: its last iterate can be worse (an at-threshold
 #: n = 32 sample whose energy 60 iterations certify ends 1e-4 higher, uncertified, after 200).
-#: The long run starts cold: started from where the short run ended (its iterate, slacks and
-#: multipliers, on the shifted matrix), it took 20 to 121 fewer factorisations on the 6 rigid
-#: at-threshold configurations that reach it (of 8; n = 32 and 64), but ended at a higher
-#: energy on 4 of them (up to 1.8 times; lower on one) and certified none more, and left an
-#: n = 32 energy uncertified that the cold start certifies (scratch, 2026-11-29).
+#: The long run's interior point starts cold: started from where the short run's ended (its
+#: iterate, slacks and multipliers, on the shifted matrix), it took 20 to 121 fewer
+#: factorisations on the 6 rigid at-threshold configurations that reach it (of 8; n = 32 and
+#: 64), but ended at a higher energy on 4 of them (up to 1.8 times; lower on one), certified
+#: none more, and left an n = 32 energy uncertified that the cold start certifies (scratch,
+#: 2026-11-29).
 RELAX_IPM = ((60, 1e-10), (200, 1e-14))
 
 #: Diagonal shift of the Newton matrix ``R^T D R + mu I`` (relative to the mean stiffness) in
