@@ -1,4 +1,4 @@
-"""Shared fixtures, and the Hypothesis profiles.
+"""Shared fixtures, the Hypothesis profiles, and how pytest-xdist distributes the tests.
 
 The default profile is derandomised: every run (CI included) draws the same examples, so a
 property test fails on a commit or not at all, never at random. ``HYPOTHESIS_PROFILE=explore``
