@@ -13,7 +13,7 @@ Flat keys (each a scalar or a list of distinct values; the grid is the product o
     verdict = "exact"       # "paper": decide grid samples the paper's way instead
                             # (solver.inexact: L-BFGS-B from u = 0, E > 1e-8 E(u = 0))
 
-Optional sections (defaults shown)::
+Optional sections (defaults shown, but for ``[solver]``, whose line is an example)::
 
     [lattice]
     kind = "triangular"     # or "square"
@@ -22,8 +22,8 @@ Optional sections (defaults shown)::
     gamma = 1.0             # magnitude; E scales as gamma^2, verdicts do not depend on it
     angles = "golden"       # principal-axis angle of sample k: "golden" or "uniform" (below)
 
-    [solver]                # any field of SolverOptions (finite values)
-    max_iter = 100
+    [solver]                # any field of SolverOptions (finite values); none by default
+    max_iter = 100          # e.g. Newton's iterations (SolverOptions' default is 40)
 
     [output]
     chunk_size = 32         # samples per result file (the unit of resumption)
