@@ -219,6 +219,26 @@ def test_an_agreement_that_a_replication_at_the_same_size_contradicts_says_so():
     assert _replication_sentence(list(_rows(ours, near).values())) == ""
 
 
+def test_a_disagreement_that_a_replication_at_the_same_size_does_not_repeat_is_counted():
+    """The headline names the disagreements the finite-size study's samples of the same size
+    do not repeat, as it names the agreements they contradict: 0.40 +- 0.005 against the
+    paper's 0.372 +- 0.013 disagrees (z = 2.01), 0.39 +- 0.01 of the replication agrees."""
+    from tensegrity_rigidity.paper.report import _replication_sentence
+
+    key = "st_sr_cables_compression"
+    ours = Measurement.scalar(key, 0.40, 0.005, "n = 32", size=32)
+    rep = Measurement.scalar(key, 0.39, 0.01, "", factor=REPLICATION, label="fss", size=32)
+    row = _rows(ours, rep)[key]
+    assert (row.verdict, row.replication) == ("disagree", "agree")
+    assert _replication_sentence([row]) == (
+        f"1 of the disagreements ({CLAIMS[key].text}) is not replicated: the same claim at the "
+        "same size on the finite-size study's samples agrees (explanation column). "
+    )
+    # replicated, it is not named
+    same = Measurement.scalar(key, 0.41, 0.005, "", factor=REPLICATION, label="fss", size=32)
+    assert _replication_sentence(list(_rows(ours, same).values())) == ""
+
+
 def test_a_disagreement_lists_its_replication_first():
     key = "st_sr_cables_compression"
     ours = Measurement.scalar(key, 0.451, 0.01, "n = 32", size=32)

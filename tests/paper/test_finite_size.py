@@ -351,6 +351,11 @@ def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
     )
     assert fs.ENERGY_KEYS == {k for k in KEYS if k.startswith(("alpha", "taut"))}
     assert {m.claim for m in delta.measured} >= {"alpha_dilation_0.3"}
+    # the rods-only p_c extrapolation quotes the counts of its own sweeps (fss_pc)
+    pc = [TINY.pc_samples(n) for n in TINY.pc_sizes]
+    assert systems["rods_only_pc"].startswith(
+        str(pc[0]) if len(set(pc)) == 1 else ", ".join(map(str, pc))
+    )
 
 
 def test_every_claim_at_every_size_is_a_replication_of_that_size(runs):

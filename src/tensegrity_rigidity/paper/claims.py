@@ -267,7 +267,9 @@ def _claims() -> list[Claim]:
         Claim(
             "rods_only_pc",
             "rods only: p_c (Jacobs & Thorpe 1995: 0.6602)",
-            "0.66",
+            "0.66 (compared: {0.value} ± {0.error}, Jacobs & Thorpe)".format(
+                REFERENCES["pc_jacobs_thorpe"]
+            ),
             REFERENCES["pc_jacobs_thorpe"].value,
             _quoted_error("pc_jacobs_thorpe"),
             "stated",

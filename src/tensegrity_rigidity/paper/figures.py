@@ -160,7 +160,7 @@ def fig2a(r: Fig2Result, figdir: Path):
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_title(
-        f"2A  rods + cables, compression, p_r = {field.p_r:.2f}, p_t = {field.p_t}; "
+        f"2A  rods + cables, compression, p_r = {field.p_r:g}, p_t = {field.p_t}; "
         f"max |u| = {mag_c.max() / np.median(mag_c):.0f} x median",
         fontsize=8,
     )
@@ -267,7 +267,7 @@ def fig2e(r: Fig2Result, figdir: Path):
         if not v.size:
             continue
         ccdf = 1.0 - np.arange(v.size) / v.size  # fraction of samples with Gamma >= v
-        ax.step(v, ccdf, where="post", label=f"p_t = {p_t:.1f}, p_r = {sub.p_r.iloc[0]:.2f}")
+        ax.step(v, ccdf, where="post", label=f"p_t = {p_t:.1f}, p_r = {sub.p_r.iloc[0]:g}")
         drawn = True
     if drawn:
         ax.set_xscale("log")

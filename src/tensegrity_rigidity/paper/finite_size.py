@@ -500,7 +500,8 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             row.key,
             value,
             err,
-            f"{_samples_text(scale, energy=row.key in ENERGY_KEYS)} samples per point",
+            f"{_samples_text(scale, row.key in ENERGY_KEYS, row.key == 'rods_only_pc')} "
+            "samples per point",
             factor="finite size",
             label=text + misfit(chi2, dof),
         )
@@ -630,14 +631,18 @@ def misfit(chi2: float, dof: int) -> str:
     return f" [chi-square {chi2:.0f} with {dof} dof: the form does not fit these sizes]"
 
 
-def _samples_text(scale: Scale, energy: bool = False) -> str:
-    """The sample counts per size (of the energy sweeps when ``energy``): one number when they
-    are equal, else one per size."""
-    count = scale.fss_energy_samples if energy else scale.fss_samples
-    counts = [count(n) for n in scale.fss_sizes]
+def _samples_text(scale: Scale, energy: bool = False, pc: bool = False) -> str:
+    """The sample counts per size (of the energy sweeps when ``energy``, of the rods-only p_c
+    sweeps when ``pc``): one number when they are equal, else one per size."""
+    if pc:
+        count, sizes = scale.pc_samples, scale.pc_sizes
+    else:
+        count = scale.fss_energy_samples if energy else scale.fss_samples
+        sizes = tuple(scale.fss_sizes)
+    counts = [count(n) for n in sizes]
     if len(set(counts)) == 1:
         return str(counts[0])
-    return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, scale.fss_sizes))})"
+    return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, sizes))})"
 
 
 def fss_sweeps(scale: Scale) -> dict[str, dict]:

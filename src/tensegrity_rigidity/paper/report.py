@@ -188,7 +188,7 @@ def _bracket_sentence(curves: pd.DataFrame) -> str:
         high = "inf" if np.isposinf(w.gamma_median_high) else _g(w.gamma_median_high)
         text += (
             f"; the widest bracket is [{_g(w.gamma_median_low)}, {high}] "
-            f"(p_t = {w.p_t:.1f}, p_r = {w.p_r:.2f}; median over the certified samples "
+            f"(p_t = {w.p_t:.1f}, p_r = {w.p_r:g}; median over the certified samples "
             f"{_g(w.gamma_median)})"
         )
     return text + "."
@@ -220,7 +220,7 @@ def tails_section(r) -> Section:
         paragraphs.append(
             f"Near the transition Gamma is heavy-tailed, so a mean over samples (what the paper "
             f"plots in Fig. 2B) is set by its few largest samples. At p_crit "
-            f"(p_t = {w['p_t']:.1f}, p_r = {w['p_r']:.2f}) the largest of {w['N']} samples carries "
+            f"(p_t = {w['p_t']:.1f}, p_r = {w['p_r']:g}) the largest of {w['N']} samples carries "
             f"{100 * w['top_share']:.0f} % of the summed Gamma: leaving it out moves the mean "
             f"from {_g(w['mean'])} to {_g(w['mean_without_top'])}, while the median is "
             f"{_g(w['median'])} (quartiles {_g(w['q25'])}, {_g(w['q75'])}). The paper's mean is "
@@ -397,8 +397,9 @@ def fss_section(r) -> Section:
             f"The headline claims at n = {', '.join(map(str, r.sizes))} "
             f"({', '.join(map(str, r.samples))} samples per point at these sizes; exact "
             f"per-sample thresholds, node disorder delta = {DEFAULT_DELTA}; the energy "
-            "exponents alpha and the taut-cable fraction from grids of energies on the first "
-            f"{', '.join(map(str, r.energy_samples))} samples), "
+            "exponents alpha and the taut-cable fraction from grids of energies on "
+            f"{', '.join(map(str, r.energy_samples))} samples, sample k with the disorder of "
+            "threshold sample k), "
             "each extrapolated with y(n) = y_inf + a n^(-1/nu). "
             if r.sizes
             else "Only the rods-only P = 1/2 point (exact per-sample thresholds, node disorder "
@@ -406,7 +407,8 @@ def fss_section(r) -> Section:
         )
         + (
             "The rods-only P = 1/2 point comes from its own sweeps, one strain (a rods-only "
-            "threshold does not depend on it), at n = "
+            "threshold depends on it only where it is an interval: identical under dilation, "
+            "shear and compression for all 400 samples at n = 8 and 96 % at n = 32), at n = "
             f"{', '.join(map(str, r.pc_sizes))} with {', '.join(map(str, r.pc_samples))} "
             "samples. "
             if r.pc_sizes and tuple(r.pc_sizes) != tuple(r.sizes)
@@ -527,17 +529,27 @@ def _html_section(sec: Section) -> str:
 
 
 def _replication_sentence(rows) -> str:
-    """The agreements that a replication at the same size contradicts, counted and named
+    """The verdicts that a replication at the same size contradicts, counted and named:
+    agreements it turns into disagreements and disagreements it turns into agreements
     (empty when there is none)."""
     weak = [r for r in rows if r.verdict == "agree" and r.replication == "disagree"]
-    if not weak:
-        return ""
-    verb = "holds" if len(weak) == 1 else "hold"
-    return (
-        f"{len(weak)} of the agreements ({'; '.join(r.claim for r in weak)}) {verb} only at "
-        "our precision or on our samples: the same claim at the same size on the finite-size "
-        "study's samples disagrees (explanation column). "
-    )
+    fragile = [r for r in rows if r.verdict == "disagree" and r.replication == "agree"]
+    text = ""
+    if weak:
+        verb = "holds" if len(weak) == 1 else "hold"
+        text += (
+            f"{len(weak)} of the agreements ({'; '.join(r.claim for r in weak)}) {verb} only at "
+            "our precision or on our samples: the same claim at the same size on the "
+            "finite-size study's samples disagrees (explanation column). "
+        )
+    if fragile:
+        verb = "is" if len(fragile) == 1 else "are"
+        text += (
+            f"{len(fragile)} of the disagreements ({'; '.join(r.claim for r in fragile)}) {verb} "
+            "not replicated: the same claim at the same size on the finite-size study's samples "
+            "agrees (explanation column). "
+        )
+    return text
 
 
 def _shared_sentence(rows, total: int) -> str:
