@@ -86,8 +86,13 @@ class SweepReport:
 class SweepInterrupted(KeyboardInterrupt):
     """Raised on Ctrl-C after pending work was cancelled; finished chunks are kept.
 
-    ``cause`` is the interrupt that ended the sweep (a KeyboardInterrupt or a subclass, such
-    as the command line's SIGTERM).
+    Parameters
+    ----------
+    report : SweepReport
+        What the sweep did before it was interrupted (kept as ``exc.report``).
+    cause : BaseException, optional
+        The interrupt that ended the sweep (a KeyboardInterrupt or a subclass, such as the
+        command line's SIGTERM; kept as ``exc.cause``).
     """
 
     def __init__(self, report: SweepReport, cause: BaseException | None = None):
@@ -99,8 +104,16 @@ class SweepInterrupted(KeyboardInterrupt):
 class SweepFailed(TensegrityError):
     """Some chunks could not be computed or saved; every finished chunk is kept.
 
-    ``exit_status`` is 2 when the cause is the user's to fix (a full or read-only disk) and 1
-    otherwise (a chunk raised, a worker or the scheduler died).
+    Parameters
+    ----------
+    message : str
+        What failed, one line.
+    report : SweepReport
+        What the sweep did (kept as ``exc.report``).
+    exit_status : int, optional
+        The command line's exit status (kept as ``exc.exit_status``): 2 when the cause is the
+        user's to fix (a full or read-only disk), 1 otherwise (a chunk raised, a worker or the
+        scheduler died).
     """
 
     def __init__(self, message: str, report: SweepReport, exit_status: int = 1):

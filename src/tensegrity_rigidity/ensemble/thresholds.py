@@ -130,7 +130,18 @@ class EventPath:
         self.cable = v < f_c
 
     def kinds(self, i: int) -> np.ndarray:
-        """Element kinds of configuration ``i`` (after the first i events), shape (m,)."""
+        """Element kinds of configuration ``i``.
+
+        Parameters
+        ----------
+        i : int
+            The configuration: the first ``i`` events applied (0 to ``n_events``).
+
+        Returns
+        -------
+        (m,) int64
+            :class:`~tensegrity_rigidity.model.network.Element` codes per site.
+        """
         rod = self.rod_event < i
         one_sided = (self.os_event < i) & ~rod
         kinds = np.full(self.cable.size, Element.EMPTY, dtype=np.int64)
@@ -140,7 +151,20 @@ class EventPath:
         return kinds
 
     def first_admitting(self, t: np.ndarray) -> int:
-        """First configuration in which self-stress ``t`` ((m,), all sites) is admissible."""
+        """First configuration in which a self-stress is admissible.
+
+        Parameters
+        ----------
+        t : (m,) float
+            Tensions on all sites.
+
+        Returns
+        -------
+        int
+            The smallest ``i`` such that every site where ``t != 0`` holds, in configuration
+            ``i``, a rod or the one-sided kind whose sign ``t`` has (every later configuration
+            admits it too).
+        """
         on = t != 0
         sign_ok = np.where(self.cable, t >= 0, t <= 0)  # the one-sided kind admits t
         first = np.where(sign_ok, np.minimum(self.os_event, self.rod_event), self.rod_event)
@@ -149,8 +173,18 @@ class EventPath:
     def last_admitting(self, viol_rod: np.ndarray, viol_os: np.ndarray) -> int:
         """Last configuration in which a displacement stays a floppy certificate.
 
-        ``viol_rod``, ``viol_os`` ((m,) bool): whether the displacement violates a rod, resp.
-        the site's one-sided kind, there.
+        Parameters
+        ----------
+        viol_rod, viol_os : (m,) bool
+            Whether the displacement violates a rod, respectively the site's one-sided kind,
+            at each site.
+
+        Returns
+        -------
+        int
+            The largest ``i`` (at most ``n_events + 1``) such that in configuration ``i``,
+            and so in every earlier one, no site the displacement violates holds the kind it
+            violates.
         """
         bad = np.where(viol_os, np.minimum(self.os_event, self.rod_event), self.n_events + 1)
         bad = np.where(viol_rod & ~viol_os, self.rod_event, bad)

@@ -115,10 +115,11 @@ def lattice_instance(
         Strain magnitude (positive); energies scale as ``gamma^2``, verdicts do not change.
     delta : float
         Node disorder, in lattice constants (:data:`~.lattice.DEFAULT_DELTA`).
-    seed : int or numpy.random.Generator
-        Randomness of the geometry and the site uniforms; an integer must be non-negative.
-        The same seed gives the same geometry and uniforms for every ``(p_r, p_t, f_c)`` and
-        strain (common random numbers).
+    seed : int, numpy.random.Generator or None
+        Randomness of the geometry and the site uniforms; an integer must be non-negative,
+        None draws fresh entropy (a different sample on every call). The same seed gives the
+        same geometry and uniforms for every ``(p_r, p_t, f_c)`` and strain (common random
+        numbers).
     lattice : {"triangular", "square"}
         The lattice builder.
 
