@@ -169,7 +169,7 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
         One row per sample: :func:`key_columns`, ``path``, ``threshold_p_r`` (the estimate,
         NaN if never rigid), ``threshold_p_t``, the interval ``threshold_p_r_low``,
         ``threshold_p_r_high`` (equal unless ``threshold_undecided`` probes on the
-        bisection path were within resolution of the boundary), ``solves``, ``decided`` (the
+        bisection path were undecided), ``solves``, ``decided`` (the
         interval is a single event) and ``solve_seconds``.
     """
     assert spec.threshold is not None, "threshold_chunk needs a threshold spec"

@@ -63,7 +63,8 @@ class Threshold:
         configuration and the event that made the first certified rigid one rigid. Equal to
         ``s`` when every probe was decided.
     undecided : int
-        Probes that were undecided (within resolution of the boundary).
+        Probes that were undecided (within resolution of the boundary, or not resolved by the
+        stages).
     jumps : int
         Bracket moves made by certificate transfer instead of a probe.
     """
