@@ -532,23 +532,20 @@ def _replication_sentence(rows) -> str:
     """The verdicts that a replication at the same size contradicts, counted and named:
     agreements it turns into disagreements and disagreements it turns into agreements
     (empty when there is none)."""
-    weak = [r for r in rows if r.verdict == "agree" and r.replication == "disagree"]
-    fragile = [r for r in rows if r.verdict == "disagree" and r.replication == "agree"]
+    cases = (
+        ("agree", "disagree", "agreements", ("holds", "hold"), "only at our precision or on our "
+         "samples"),
+        ("disagree", "agree", "disagreements", ("is", "are"), "not replicated"),
+    )  # fmt: skip
     text = ""
-    if weak:
-        verb = "holds" if len(weak) == 1 else "hold"
-        text += (
-            f"{len(weak)} of the agreements ({'; '.join(r.claim for r in weak)}) {verb} only at "
-            "our precision or on our samples: the same claim at the same size on the "
-            "finite-size study's samples disagrees (explanation column). "
-        )
-    if fragile:
-        verb = "is" if len(fragile) == 1 else "are"
-        text += (
-            f"{len(fragile)} of the disagreements ({'; '.join(r.claim for r in fragile)}) {verb} "
-            "not replicated: the same claim at the same size on the finite-size study's samples "
-            "agrees (explanation column). "
-        )
+    for ours, theirs, noun, verbs, what in cases:
+        named = [r.claim for r in rows if r.verdict == ours and r.replication == theirs]
+        if named:
+            text += (
+                f"{len(named)} of the {noun} ({'; '.join(named)}) "
+                f"{verbs[len(named) > 1]} {what}: the same claim at the same size on the "
+                f"finite-size study's samples {theirs}s (explanation column). "
+            )
     return text
 
 
