@@ -26,7 +26,8 @@ certificate says more than its own configuration:
   event that adds a constraint it violates: the lower end jumps there.
 
 Thresholds never drop a sample. When a probe is undecided (within resolution of the
-boundary, see :mod:`tensegrity_rigidity.solver.certificates`), the search goes on bisecting
+boundary, see :mod:`tensegrity_rigidity.solver.certificates`, or not resolved by the
+stages), the search goes on bisecting
 on both sides of it, for the last certified floppy configuration below it and the first
 certified rigid one above it, and reports the threshold as the interval of events between them
 (:attr:`Threshold.s_low`, :attr:`Threshold.s_high`) with the number of undecided probes. The

@@ -381,7 +381,7 @@ def _pc_intervals(r) -> str:
         if row.intervals > 0
     ]
     return (
-        " Rods-only thresholds that are intervals (probes within resolution of the boundary; "
+        " Rods-only thresholds that are intervals (undecided probes on their paths; "
         "the median uses their midpoints): " + ", ".join(parts) + "."
     )
 
@@ -406,9 +406,9 @@ def fss_section(r) -> Section:
             f"delta = {DEFAULT_DELTA}), extrapolated with y(n) = y_inf + a n^(-1/nu). "
         )
         + (
-            "The rods-only P = 1/2 point comes from its own sweeps, one strain (a rods-only "
-            "threshold depends on it only where it is an interval: identical under dilation, "
-            "shear and compression for all 400 samples at n = 8 and 96 % at n = 32), at n = "
+            "The rods-only P = 1/2 point comes from its own sweeps, one strain (in a "
+            "finite-size run the rods-only thresholds were identical under dilation, shear and "
+            "compression for all 400 samples at n = 8 and 96 % at n = 32), at n = "
             f"{', '.join(map(str, r.pc_sizes))} with {', '.join(map(str, r.pc_samples))} "
             "samples. "
             if r.pc_sizes and tuple(r.pc_sizes) != tuple(r.sizes)

@@ -47,7 +47,8 @@ and stay valid), and the bound is added to each test:
   ``|dhat_bx| + |dhat_by| <= sqrt(2)`` and two ends per bond ``|R^T t|_1`` is off by less than
   ``2 sqrt(2) (D + 6) eps |t|_1``; the work is a pairwise sum over ``m`` sites divided by
   ``|t|_1`` (itself a pairwise sum), off by less than ``(2 ceil(log2 m) + 3) eps``. Both are
-  below ``roundoff = (3 (D + 6) + 2 ceil(log2 m) + 3) eps`` (:attr:`ExactGeometry.roundoff`;
+  below ``roundoff = (3 (D + 6) + 2 ceil(log2 max(m, 2N)) + 3) eps``
+  (:attr:`ExactGeometry.roundoff`, which also covers sums over the ``2N`` displacements;
   3.6e-18 on the triangular lattice at n = 64; earlier releases added a fixed 1e-15, a margin
   rather than a bound: their bond vectors were plain sums, off by ``eps |x| / |d|``, up to
   ``1e-16`` at n = 64, and the margin would not have held where ``longdouble`` is a double).
