@@ -190,8 +190,8 @@ def main():
         keys[n] = [key for key, _ in cases]
         # every method on one LP before the next LP: a passing slowdown of the machine then
         # hits all methods on a few LPs, not one method on many (a run that took them one
-        # method at a time read 3 to 13 times the usual time on 15 consecutive LPs, which
-        # fell to two methods)
+        # method at a time read 3 to 13 times the usual time for three methods: one on three
+        # LPs of one size, the two others on twelve consecutive LPs of the next)
         res = {}  # (method, instance index) -> (seconds, ok, optimum) or None (too large)
         for i, (key, lp) in enumerate(cases):
             for method in methods:
