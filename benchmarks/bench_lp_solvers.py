@@ -33,6 +33,7 @@ same instances for both sides of its ratio.
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import time
 import warnings
@@ -91,8 +92,7 @@ def highs(A, c, lo, hi, mode, limit):
 def copt(A, c, lo, hi, mode, limit):
     import coptpy
 
-    env = _ENVS.get("copt") or _ENVS.setdefault("copt", coptpy.Envr())
-    m = env.createModel()
+    m = _copt_env().createModel()
     for key, value in {"Logging": 0, "Threads": 1, "TimeLimit": limit}.items():
         m.setParam(key, value)
     m.setParam("LpMethod", 2 if mode == "barrier" else 1)
@@ -111,8 +111,7 @@ def copt(A, c, lo, hi, mode, limit):
 def gurobi(A, c, lo, hi, mode, limit):
     import gurobipy
 
-    env = _ENVS.get("gurobi") or _ENVS.setdefault("gurobi", gurobipy.Env(params={"OutputFlag": 0}))
-    m = gurobipy.Model(env=env)
+    m = gurobipy.Model(env=_gurobi_env())
     m.Params.Threads, m.Params.TimeLimit = 1, limit
     m.Params.Method = 2 if mode == "barrier" else 1
     x = m.addMVar(A.shape[1], lb=lo, ub=hi, obj=c)
@@ -152,9 +151,29 @@ def xpress(A, c, lo, hi, mode, limit):
     return seconds, ok, p.attributes.lpobjval if ok else np.nan
 
 
-_ENVS: dict = {}
-SOLVERS = {"HiGHS": (None, highs), "COPT": ("coptpy", copt), "Gurobi": ("gurobipy", gurobi)}
-SOLVERS["Xpress"] = ("xpress", xpress)
+@functools.cache
+def _copt_env():
+    """One COPT environment for the whole run (each prints its licence banner once)."""
+    import coptpy
+
+    return coptpy.Envr()
+
+
+@functools.cache
+def _gurobi_env():
+    """One silent Gurobi environment for the whole run."""
+    import gurobipy
+
+    return gurobipy.Env(params={"OutputFlag": 0})
+
+
+#: name -> (the package it needs, or None for a dependency; the function timing one LP)
+SOLVERS = {
+    "HiGHS": (None, highs),
+    "COPT": ("coptpy", copt),
+    "Gurobi": ("gurobipy", gurobi),
+    "Xpress": ("xpress", xpress),
+}
 
 
 def available() -> list[tuple[str, str]]:
