@@ -1,9 +1,12 @@
-"""Write a benchmark's table into its own section of BENCHMARKS.md (between markers)."""
+"""Add a benchmark run's tables to its own section of BENCHMARKS.md (between markers), above the
+earlier runs."""
 
 from __future__ import annotations
 
 import platform
 import re
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -47,20 +50,59 @@ def machine() -> str:
 
 
 def record(section: str, title: str, body: str) -> None:
+    """Add a run's ``body`` at the top of its section of BENCHMARKS.md, above the earlier runs.
+
+    The section is the text between ``<!-- bench:{section} -->`` and ``<!-- /bench:{section} -->``
+    under the heading ``## {title}``; a missing section is appended to the file. The new entry
+    opens with the date, the commit (``+ changes`` when tracked files differ from it) and the
+    command line, so that every table names what produced it. Earlier entries, and the
+    analyses written between them, stay as they are: a re-run adds to the record, never
+    replaces it.
+    """
     path = ROOT / "BENCHMARKS.md"
     text = (
         path.read_text()
         if path.exists()
-        else "# Benchmarks\n\nTables written by the scripts in `benchmarks/`; "
-        "re-run a script to refresh its section.\n"
+        else "# Benchmarks\n\nTables written by the scripts in `benchmarks/`, each run added "
+        "at the top of its section above the earlier ones.\n"
     )
-    block = f"<!-- bench:{section} -->\n## {title}\n\n{body.strip()}\n<!-- /bench:{section} -->"
-    pattern = re.compile(rf"<!-- bench:{section} -->.*?<!-- /bench:{section} -->", re.S)
-    text = (
-        pattern.sub(block, text) if pattern.search(text) else text.rstrip() + "\n\n" + block + "\n"
-    )
+    opening, closing = f"<!-- bench:{section} -->", f"<!-- /bench:{section} -->"
+    command = " ".join(["python", *sys.argv]) if sys.argv and sys.argv[0] else "python"
+    entry = f"**Run of {time.strftime('%Y-%m-%d')} at {_commit()}:** `{command}`.\n\n{body.strip()}"
+    pattern = re.compile(rf"{re.escape(opening)}\n(.*?){re.escape(closing)}", re.S)
+    match = pattern.search(text)
+    if match:
+        earlier = match.group(1)
+        if earlier.startswith("## "):  # the heading, written anew
+            earlier = earlier.split("\n", 1)[1] if "\n" in earlier else ""
+        earlier = earlier.strip()
+        block = f"{opening}\n## {title}\n\n{entry}\n\n" + (f"{earlier}\n" if earlier else "")
+        text = text[: match.start()] + block + closing + text[match.end() :]
+    else:
+        block = f"{opening}\n## {title}\n\n{entry}\n{closing}"
+        text = text.rstrip() + "\n\n" + block + "\n"
     path.write_text(text)
-    print(block)
+    print(entry)
+
+
+def _commit() -> str:
+    """The checkout's short commit, with ``+ changes`` when tracked files differ from it
+    (``no git checkout`` outside one)."""
+    try:
+        head = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True
+        )
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+        )
+    except OSError:
+        return "no git checkout"
+    if head.returncode != 0:
+        return "no git checkout"
+    return head.stdout.strip() + (" + changes" if dirty.stdout.strip() else "")
 
 
 def table(header: list[str], rows: list[list]) -> str:

@@ -1,0 +1,69 @@
+"""benchmarks/_record.py: a run is added to its section of BENCHMARKS.md, never replaces it."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from benchmarks import _record
+
+EARLIER = """# Benchmarks
+
+Intro.
+
+<!-- bench:solver -->
+## Solver (old title)
+
+**An analysis written by hand (2026-11-29).** Numbers that must survive.
+
+Machine: old. | table |
+<!-- /bench:solver -->
+
+<!-- bench:sweep -->
+## Sweep throughput
+
+Sweep text.
+<!-- /bench:sweep -->
+"""
+
+
+@pytest.fixture
+def tmp_root(tmp_path, monkeypatch):
+    monkeypatch.setattr(_record, "ROOT", tmp_path)
+    monkeypatch.setattr(_record, "_commit", lambda: "abc1234")
+    return tmp_path
+
+
+def test_a_run_is_added_above_the_earlier_ones_and_keeps_them(tmp_root):
+    (tmp_root / "BENCHMARKS.md").write_text(EARLIER)
+    _record.record("solver", "Solver: new title", "Machine: new.\n\n| new table |")
+    text = (tmp_root / "BENCHMARKS.md").read_text()
+    section = re.search(r"<!-- bench:solver -->\n(.*?)<!-- /bench:solver -->", text, re.S)
+    assert section is not None
+    body = section.group(1)
+    assert body.startswith("## Solver: new title\n\n**Run of ")
+    assert "at abc1234:** `python" in body
+    assert body.count("## ") == 1  # the heading once, the old one replaced
+    new, old = body.index("| new table |"), body.index("Numbers that must survive.")
+    assert new < old  # the newest run first
+    assert "Machine: old. | table |" in body
+    # the other section and the text around are untouched
+    assert text.startswith("# Benchmarks\n\nIntro.\n\n<!-- bench:solver -->")
+    assert "<!-- bench:sweep -->\n## Sweep throughput\n\nSweep text.\n<!-- /bench:sweep -->" in text
+
+
+def test_two_runs_stack_and_a_missing_section_is_appended(tmp_root):
+    _record.record("lp", "LP", "first")
+    _record.record("lp", "LP", "second")
+    _record.record("other", "Other", "third")
+    text = (tmp_root / "BENCHMARKS.md").read_text()
+    assert text.startswith("# Benchmarks\n")
+    assert text.count("<!-- bench:lp -->") == 1 and text.count("<!-- /bench:lp -->") == 1
+    assert text.index("second") < text.index("first") < text.index("<!-- bench:other -->")
+    assert text.rstrip().endswith("third\n<!-- /bench:other -->")
+
+
+def test_the_commit_is_named():
+    commit = _record._commit()
+    assert re.fullmatch(r"[0-9a-f]{7,}( \+ changes)?|no git checkout", commit)
