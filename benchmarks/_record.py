@@ -19,7 +19,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def machine() -> str:
     """One line naming what a run's timings and last bits depend on: the CPU, the libraries,
     and each BLAS with the kernel it picked for this CPU and its thread count (a verdict
-    within resolution of the boundary can change with any of these; docs/model.md)."""
+    within resolution of the boundary can change with any of these; docs/model.md), then how
+    steady the machine was where the script probed it (:func:`probe`)."""
     import os
 
     import highspy
@@ -45,8 +46,48 @@ def machine() -> str:
     return (
         f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, NumPy "
         f"{np.__version__}, SciPy {scipy.__version__}, HiGHS {highs}, BLAS: {blas}, "
-        f"{time.strftime('%Y-%m-%d')}"
+        f"{time.strftime('%Y-%m-%d')}" + (f". {STEADINESS.summary()}" if STEADINESS.times else "")
     )
+
+
+class Steadiness:
+    """How steady the machine was during a run: a fixed workload timed between measurements.
+
+    The workload (sorting the same 100,000 random numbers, about 5 ms; no BLAS, so the thread
+    settings do not enter) should take the same time at every probe. A spread says that the
+    machine slowed down in passing, and by how much; this machine was measured to slow down
+    tenfold for seconds at a time (2026-11-30), which shifts any timing taken through it.
+    """
+
+    def __init__(self, size: int = 100_000) -> None:
+        self._data = np.random.default_rng(0).random(size)
+        self.times: list[float] = []
+
+    def probe(self) -> None:
+        """Time the workload once."""
+        t0 = time.perf_counter()
+        np.sort(self._data)
+        self.times.append(time.perf_counter() - t0)
+
+    def summary(self) -> str:
+        """One clause for a run's entry: the probes' median, range and spread."""
+        if not self.times:
+            return "Steadiness not probed"
+        t = np.asarray(self.times) * 1e3
+        return (
+            f"Steadiness: a fixed workload timed {t.size} times through the run (before each "
+            f"instance) took {np.median(t):.2f} ms median, {t.min():.2f} to {t.max():.2f} ms "
+            f"(max / min {t.max() / t.min():.1f})"
+        )
+
+
+#: The probes of this process (:func:`probe`), summarised by :func:`machine`.
+STEADINESS = Steadiness()
+
+
+def probe() -> None:
+    """Time the steadiness workload once (scripts call it before each instance they time)."""
+    STEADINESS.probe()
 
 
 def record(section: str, title: str, body: str) -> None:
@@ -57,7 +98,8 @@ def record(section: str, title: str, body: str) -> None:
     opens with the date, the commit (``+ changes`` when tracked files differ from it) and the
     command line, so that every table names what produced it. Earlier entries, and the
     analyses written between them, stay as they are: a re-run adds to the record, never
-    replaces it.
+    replaces it. A second call for the same section from the same process (a script that
+    records after each part of its run) updates the entry it wrote.
     """
     path = ROOT / "BENCHMARKS.md"
     text = (
@@ -67,11 +109,17 @@ def record(section: str, title: str, body: str) -> None:
         "at the top of its section above the earlier ones.\n"
     )
     opening, closing = f"<!-- bench:{section} -->", f"<!-- /bench:{section} -->"
+    previous = _written.get(section)
     command = " ".join(["python", *sys.argv]) if sys.argv and sys.argv[0] else "python"
     entry = f"**Run of {time.strftime('%Y-%m-%d')} at {_commit()}:** `{command}`.\n\n{body.strip()}"
     pattern = re.compile(rf"{re.escape(opening)}\n(.*?){re.escape(closing)}", re.S)
     match = pattern.search(text)
-    if match:
+    if match and previous is not None and previous in match.group(1):
+        # this process wrote the section's newest entry already (a script that records after
+        # each part of its run): that entry is brought up to date
+        at = match.start(1) + match.group(1).index(previous)
+        text = text[:at] + entry + text[at + len(previous) :]
+    elif match:
         earlier = match.group(1)
         if earlier.startswith("## "):  # the heading, written anew
             earlier = earlier.split("\n", 1)[1] if "\n" in earlier else ""
@@ -82,7 +130,12 @@ def record(section: str, title: str, body: str) -> None:
         block = f"{opening}\n## {title}\n\n{entry}\n{closing}"
         text = text.rstrip() + "\n\n" + block + "\n"
     path.write_text(text)
+    _written[section] = entry
     print(entry)
+
+
+#: The entry this process last wrote in each section (see :func:`record`).
+_written: dict[str, str] = {}
 
 
 def _commit() -> str:

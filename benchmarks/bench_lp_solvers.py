@@ -40,7 +40,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from _record import machine, record, table
+from _record import machine, probe, record, table
 from bench_solver import at_threshold
 
 from tensegrity_rigidity.errors import UndecidedWarning
@@ -213,6 +213,7 @@ def main():
         # LPs of one size, the two others on twelve consecutive LPs of the next)
         res = {}  # (method, instance index) -> (seconds, ok, optimum) or None (too large)
         for i, (key, lp) in enumerate(cases):
+            probe()
             for method in methods:
                 try:
                     res[method, i] = SOLVERS[method[0]][1](*lp, method[1], args.time_limit)

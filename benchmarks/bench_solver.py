@@ -10,9 +10,9 @@ Instances per size:
   and the last certified floppy one below it (the two configurations a threshold search
   decides between; an interval's ends when probes in between were undecided).
 
-Methods (all on the same instances, in one run; every method's time on an instance is the
-median of three runs where the first ``decide`` took less than ``REPEAT_BELOW``, 1 s, else
-one run):
+Methods (all on the same instances, in one run, taking turns on each instance; every method's
+time on an instance is the median of three rounds where the first ``decide`` took less than
+``REPEAT_BELOW``, 1 s, else one round):
 
   decide      tensegrity_rigidity.decide: the certified verdict only
   solve       solve(min_norm=False): the verdict and the relaxed state (E*, t*)
@@ -36,7 +36,7 @@ import warnings
 import zlib
 
 import numpy as np
-from _record import machine, record, table
+from _record import machine, probe, record, table
 from near_threshold_set import samples
 from scipy.optimize import minimize
 
@@ -112,15 +112,58 @@ def refactor_seconds(inst):
 REPEAT_BELOW = 1.0
 
 
-def timed(fn, *a, runs=1):
-    """``fn(*a)`` and the median time of ``runs`` runs (every solver here is deterministic, so
-    the runs return the same)."""
-    times = []
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        out = fn(*a)
-        times.append(time.perf_counter() - t0)
-    return out, float(np.median(times))
+def methods(n, args, lbfgs_max):
+    """The methods timed at size ``n``, in the order a round runs them: (name, function of the
+    instance) pairs."""
+    out = [
+        ("decide", decide),
+        ("solve", lambda inst: solve(inst, SolverOptions(min_norm=False))),
+        ("solve+u", solve),
+    ]
+    if n <= args.max_baseline:
+        if n <= args.lp_max:
+            out.append(("highs-lp", _lp_or_none))
+        out.append(("clarabel", lambda inst: qp_solve(inst).rigid))
+        if n <= lbfgs_max:
+            out.append(("l-bfgs-b", lbfgs))
+    return out
+
+
+def _lp_or_none(inst):
+    """The HiGHS verdict LP's result, None where HiGHS failed (no reference for the sample)."""
+    try:
+        return lp_verdict(inst)
+    except RuntimeError:
+        return None
+
+
+def interleaved(inst, timed_methods):
+    """Every method's times on ``inst`` (seconds, a list per name) and its result, the methods
+    run in turn within each round: three rounds where a first ``decide`` took less than
+    ``REPEAT_BELOW``, else one (whose ``decide`` is that first run). A slow spell of the
+    machine then falls on every method alike instead of on the one that ran through it (the
+    methods used to run one after another over a whole block: the Clarabel ratio at n = 64
+    read 9.0x and 9.9x in two runs of the same code, and the machine was measured to slow
+    down tenfold for seconds at a time on 2026-11-30). Every solver here is deterministic,
+    so the rounds return the same."""
+    t0 = time.perf_counter()
+    first = decide(inst)
+    t = time.perf_counter() - t0
+    rounds = 3 if t < REPEAT_BELOW else 1
+    times = {name: [] for name, _ in timed_methods}
+    out = {"decide": first}
+    if rounds == 1:
+        times["decide"].append(t)
+    for _ in range(rounds):
+        for name, fn in timed_methods:
+            if rounds == 1 and name == "decide":
+                continue
+            t0 = time.perf_counter()
+            out[name] = fn(inst)
+            times[name].append(time.perf_counter() - t0)
+    if out.get("highs-lp", 0) is None:  # failed: no time either
+        del times["highs-lp"]
+    return times, out
 
 
 def main():
@@ -155,59 +198,44 @@ def main():
             ref = [refactor_seconds(inst) for _, inst in cases]
             verdicts, stages, facts, min_norm_ok = [], [], [], 0
             no_energy = no_projection = 0  # why the others lack minimum-norm displacements
-            runs = []  # per instance, for every method (REPEAT_BELOW)
+            lp, got = [], {"clarabel": [], "l-bfgs-b": []}
+            paired = []  # per instance: Clarabel's time over solve+u's
+            lp_failed = 0
             for key, inst in cases:
-                v, t = timed(decide, inst)
-                runs.append(3 if t < REPEAT_BELOW else 1)
-                if runs[-1] > 1:
-                    v, t = timed(decide, inst, runs=runs[-1])
-                T["decide"].append(t)
+                probe()
+                times, out = interleaved(inst, methods(n, args, lbfgs_max))
+                for name, ts in times.items():
+                    T[name].append(float(np.median(ts)))
+                v, r = out["decide"], out["solve+u"]
                 verdicts.append(v.status)
                 stages.append(v.stage or "undecided")
                 facts.append(v.factorizations)
-                print(n, block, key, v.status, v.stage, f"{t:.3f} s", flush=True)
-            for (_, inst), k in zip(cases, runs, strict=True):
-                T["solve"].append(timed(solve, inst, SolverOptions(min_norm=False), runs=k)[1])
-            for (_, inst), k in zip(cases, runs, strict=True):
-                r, t = timed(solve, inst, runs=k)
-                T["solve+u"].append(t)
                 min_norm_ok += r.min_norm_ok
                 if not r.min_norm_ok:  # projection skipped (NaN residuals) or not converged
                     if np.isnan(r.min_norm_residuals[0]):
                         no_energy += 1
                     else:
                         no_projection += 1
+                if "highs-lp" in out:
+                    failed = out["highs-lp"] is None  # HiGHS failed: no reference here
+                    lp_failed += failed
+                    lp.append(np.nan if failed else float(out["highs-lp"].rigid))
+                for name in got:
+                    if name in out:
+                        got[name].append(out[name])
+                if "clarabel" in times:
+                    paired.append(T["clarabel"][-1] / T["solve+u"][-1])
+                print(n, block, key, v.status, v.stage, f"{T['decide'][-1]:.3f} s", flush=True)
             wrong = {"ours": "-", "clarabel": "-", "l-bfgs-b": "-"}
-            lp_failed = 0
-            if n <= args.max_baseline:
-                lp = []
-                for (_, inst), k in zip(cases, runs, strict=True) if n <= args.lp_max else []:
-                    try:
-                        res, t = timed(lp_verdict, inst, runs=k)
-                    except RuntimeError:  # HiGHS failed: no reference for this sample
-                        lp_failed += 1
-                        lp.append(np.nan)
-                        continue
-                    T["highs-lp"].append(t)
-                    lp.append(float(res.rigid))
-                lp = np.asarray(lp) if lp else np.full(len(cases), np.nan)
-                known = np.isfinite(lp)
+            if n <= args.max_baseline and n <= args.lp_max:
+                lp_ref = np.asarray(lp)
+                known = np.isfinite(lp_ref)
                 decided = np.asarray([s != "undecided" for s in verdicts])
                 ours = np.asarray([s == "rigid" for s in verdicts])
-                with_lp = n <= args.lp_max
-                if with_lp:
-                    wrong["ours"] = int(np.sum((ours != lp) & decided & known))
-                baselines = [("clarabel", lambda i: qp_solve(i).rigid)]
-                if n <= lbfgs_max:
-                    baselines.append(("l-bfgs-b", lbfgs))
-                for name, fn in baselines:
-                    got = []
-                    for (_, inst), k in zip(cases, runs, strict=True):
-                        res, t = timed(fn, inst, runs=k)
-                        T[name].append(t)
-                        got.append(res)
-                    if with_lp:
-                        wrong[name] = int(np.sum((np.asarray(got) != lp) & known))
+                wrong["ours"] = int(np.sum((ours != lp_ref) & decided & known))
+                for name, verdicts_of in got.items():
+                    if verdicts_of:
+                        wrong[name] = int(np.sum((np.asarray(verdicts_of) != lp_ref) & known))
             refm = float(np.median(ref))
             for k, ts in T.items():
                 if ts:
@@ -227,15 +255,19 @@ def main():
                  f"{u_cost / np.median(dec):.2f}", f"{min_norm_ok}/{len(cases)}",
                  f"{no_energy} / {no_projection}",
                  (f"{np.median(T['clarabel']) / np.median(T['solve+u']):.1f}x"
-                  if T["clarabel"] else "-")]
+                  if T["clarabel"] else "-"),
+                 (f"{np.median(paired):.1f}x [{np.quantile(paired, 0.25):.1f}, "
+                  f"{np.quantile(paired, 0.75):.1f}]" if paired else "-")]
             )  # fmt: skip
-        _write(rows, agree_rows)  # after every size: a later failure keeps what was measured
+        # after every size (the run's entry rewritten): a later failure keeps what was measured
+        _write(rows, agree_rows)
 
 
 def _write(rows, agree_rows) -> None:
     body = (
-        f"Machine: {machine()}. Times in ms: every method's median of three runs on an "
-        f"instance whose first verdict took less than {REPEAT_BELOW:g} s, else one run; "
+        f"Machine: {machine()}. Times in ms: every method's median of "
+        f"three runs on an instance whose first verdict took less than {REPEAT_BELOW:g} s, else "
+        "one run, the methods taking turns within each round; "
         "'refactorisations' is the median time over one numeric refactorisation of the same "
         "instances' matrix.\n\n"
         + table(
@@ -249,7 +281,8 @@ def _write(rows, agree_rows) -> None:
         "of the median verdict; samples whose displacements are certified minimum-norm, and "
         "why the others are not (relaxed energy not certified, so the projection was not run "
         "/ projection not converged); "
-        "Clarabel's median over ours with displacements:\n\n"
+        "Clarabel's median over ours with displacements, and the median and quartiles over "
+        "instances of Clarabel's time over ours with displacements on the same instance:\n\n"
         + table(
             [
                 "n",
@@ -266,6 +299,7 @@ def _write(rows, agree_rows) -> None:
                 "min-norm certified",
                 "not: energy / projection",
                 "clarabel / solve+u",
+                "per instance",
             ],
             agree_rows,
         )  # fmt: skip

@@ -28,7 +28,7 @@ from collections import Counter
 from dataclasses import replace
 
 import numpy as np
-from _record import machine, record, table
+from _record import machine, probe, record, table
 from near_threshold_set import CONFIGS, RODS_ONLY, interval_events, samples
 
 from tensegrity_rigidity.ensemble import thresholds
@@ -141,6 +141,7 @@ def run(args, designs, decided_by: Counter) -> None:
             decided_by.clear()
             secs, probes, undecided, widths, differ, disjoint = [], 0, 0, [], 0, 0
             for c, k, (net, u, v, eps, p_t, f_c) in insts:
+                probe()
                 t0 = time.perf_counter()
                 th = find_threshold(net, u, v, eps, p_t, f_c, options=opts)
                 dt = time.perf_counter() - t0

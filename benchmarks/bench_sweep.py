@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _record import machine, record, table
+from _record import machine, probe, record, table
 
 from tensegrity_rigidity.ensemble.spec import parse_spec
 from tensegrity_rigidity.ensemble.sweep import load_results, run_sweep
@@ -45,6 +45,7 @@ def main() -> None:
         )
         frames = {}
         for workers in (1, 2):
+            probe()
             out = Path(tempfile.mkdtemp())
             try:
                 start = time.perf_counter()

@@ -23,7 +23,7 @@ import argparse
 import time
 
 import numpy as np
-from _record import machine, record, table
+from _record import machine, probe, record, table
 from near_threshold_set import interval_events, samples
 from threadpoolctl import threadpool_limits
 
@@ -80,6 +80,7 @@ def main() -> None:
     for n, count in zip(args.sizes, args.samples, strict=True):
         secs, units, solves, undecided, widths, checks, same = [], [], [], [], [], [], True
         for c, k, (net, u, v, eps, p_t, f_c) in samples(n, count):
+            probe()
             t0 = time.perf_counter()
             th = find_threshold(net, u, v, eps, p_t, f_c)
             dt = time.perf_counter() - t0

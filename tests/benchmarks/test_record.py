@@ -32,6 +32,7 @@ Sweep text.
 def tmp_root(tmp_path, monkeypatch):
     monkeypatch.setattr(_record, "ROOT", tmp_path)
     monkeypatch.setattr(_record, "_commit", lambda: "abc1234")
+    monkeypatch.setattr(_record, "_written", {})
     return tmp_path
 
 
@@ -53,8 +54,9 @@ def test_a_run_is_added_above_the_earlier_ones_and_keeps_them(tmp_root):
     assert "<!-- bench:sweep -->\n## Sweep throughput\n\nSweep text.\n<!-- /bench:sweep -->" in text
 
 
-def test_two_runs_stack_and_a_missing_section_is_appended(tmp_root):
+def test_two_runs_stack_and_a_missing_section_is_appended(tmp_root, monkeypatch):
     _record.record("lp", "LP", "first")
+    monkeypatch.setattr(_record, "_written", {})  # the second run is another process
     _record.record("lp", "LP", "second")
     _record.record("other", "Other", "third")
     text = (tmp_root / "BENCHMARKS.md").read_text()
@@ -67,3 +69,29 @@ def test_two_runs_stack_and_a_missing_section_is_appended(tmp_root):
 def test_the_commit_is_named():
     commit = _record._commit()
     assert re.fullmatch(r"[0-9a-f]{7,}( \+ changes)?|no git checkout", commit)
+
+
+def test_a_process_updates_its_own_entry(tmp_root, monkeypatch):
+    (tmp_root / "BENCHMARKS.md").write_text(EARLIER)
+    _record.record("solver", "Solver", "| n = 16 |")
+    _record.record("solver", "Solver", "| n = 16 |\n| n = 32 |")
+    text = (tmp_root / "BENCHMARKS.md").read_text()
+    assert text.count("**Run of ") == 1
+    assert text.count("| n = 16 |") == 1 and "| n = 32 |" in text
+    assert text.index("| n = 32 |") < text.index("Numbers that must survive.")
+    monkeypatch.setattr(_record, "_written", {})  # another process: a new entry
+    _record.record("solver", "Solver", "| n = 64 |")
+    text = (tmp_root / "BENCHMARKS.md").read_text()
+    assert text.count("**Run of ") == 2
+    assert text.index("| n = 64 |") < text.index("| n = 32 |")
+
+
+def test_steadiness_is_summarised_in_the_machine_line(monkeypatch):
+    steadiness = _record.Steadiness(size=1000)
+    monkeypatch.setattr(_record, "STEADINESS", steadiness)
+    assert "Steadiness" not in _record.machine()  # not probed: not claimed
+    for _ in range(3):
+        _record.probe()
+    line = _record.machine()
+    assert "Steadiness: a fixed workload timed 3 times" in line
+    assert re.search(r"\(max / min \d+\.\d\)$", line)
