@@ -25,15 +25,17 @@ time on an instance is the median of three rounds where the first ``decide`` too
   refactor    one numeric sparse Cholesky (CHOLMOD) of R^T R + mu I over the non-empty sites
 
 Run: python benchmarks/bench_solver.py [--sizes 16 32 64 128] [--max-baseline 64] [--lp-max 64]
-[--lbfgs-max N]
+[--lbfgs-max N] [--json FILE]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import time
 import warnings
 import zlib
+from pathlib import Path
 
 import numpy as np
 from _record import machine, probe, record, table
@@ -185,10 +187,16 @@ def main():
         help="largest n at which L-BFGS-B runs (default: --max-baseline; it takes minutes per "
         "instance at n = 128)",
     )
+    ap.add_argument(
+        "--json",
+        help="also write every instance's times (seconds per round and method), verdict, "
+        "deciding stage and minimum-norm flag here, after every size",
+    )
     args = ap.parse_args()
     lbfgs_max = args.max_baseline if args.lbfgs_max is None else args.lbfgs_max
     warnings.simplefilter("ignore", UndecidedWarning)
     rows, agree_rows = [], []
+    raw = []  # per instance, for --json
     for n in args.sizes:
         blocks = {"phase diagram": phase_diagram(n)}
         if n <= args.near_max:
@@ -225,6 +233,10 @@ def main():
                         got[name].append(out[name])
                 if "clarabel" in times:
                     paired.append(T["clarabel"][-1] / T["solve+u"][-1])
+                raw.append(
+                    {"n": n, "block": block, "key": key, "times": times, "verdict": v.status,
+                     "stage": v.stage, "min_norm_ok": bool(r.min_norm_ok)}
+                )  # fmt: skip
                 print(n, block, key, v.status, v.stage, f"{T['decide'][-1]:.3f} s", flush=True)
             wrong = {"ours": "-", "clarabel": "-", "l-bfgs-b": "-"}
             if n <= args.max_baseline and n <= args.lp_max:
@@ -261,6 +273,8 @@ def main():
             )  # fmt: skip
         # after every size (the run's entry rewritten): a later failure keeps what was measured
         _write(rows, agree_rows)
+        if args.json:
+            Path(args.json).write_text(json.dumps(raw, default=str))
 
 
 def _write(rows, agree_rows) -> None:
