@@ -63,11 +63,12 @@ class Steadiness:
         self._data = np.random.default_rng(0).random(size)
         self.times: list[float] = []
 
-    def probe(self) -> None:
-        """Time the workload once."""
+    def probe(self) -> float:
+        """Time the workload once; returns the time (seconds)."""
         t0 = time.perf_counter()
         np.sort(self._data)
         self.times.append(time.perf_counter() - t0)
+        return self.times[-1]
 
     def summary(self) -> str:
         """One clause for a run's entry: the probes' median, range and spread."""
@@ -75,8 +76,8 @@ class Steadiness:
             return "Steadiness not probed"
         t = np.asarray(self.times) * 1e3
         return (
-            f"Steadiness: a fixed workload timed {t.size} times through the run (before each "
-            f"instance) took {np.median(t):.2f} ms median, {t.min():.2f} to {t.max():.2f} ms "
+            f"Steadiness: a fixed workload timed {t.size} times through the run took "
+            f"{np.median(t):.2f} ms median, {t.min():.2f} to {t.max():.2f} ms "
             f"(max / min {t.max() / t.min():.1f})"
         )
 
@@ -85,9 +86,10 @@ class Steadiness:
 STEADINESS = Steadiness()
 
 
-def probe() -> None:
-    """Time the steadiness workload once (scripts call it before each instance they time)."""
-    STEADINESS.probe()
+def probe() -> float:
+    """Time the steadiness workload once (the timing scripts call it before each instance, and
+    `bench_sweep.py` before each sweep); returns that time in seconds."""
+    return STEADINESS.probe()
 
 
 def record(section: str, title: str, body: str) -> None:
@@ -99,7 +101,9 @@ def record(section: str, title: str, body: str) -> None:
     command line, so that every table names what produced it. Earlier entries, and the
     analyses written between them, stay as they are: a re-run adds to the record, never
     replaces it. A second call for the same section from the same process (a script that
-    records after each part of its run) updates the entry it wrote.
+    records after each part of its run) updates the entry it wrote, unless that entry was
+    edited in between (then the run gets a second entry). The commit is the one checked out
+    when this module was imported, at the start of the run.
     """
     path = ROOT / "BENCHMARKS.md"
     text = (
@@ -111,8 +115,9 @@ def record(section: str, title: str, body: str) -> None:
     opening, closing = f"<!-- bench:{section} -->", f"<!-- /bench:{section} -->"
     previous = _written.get(section)
     command = " ".join(["python", *sys.argv]) if sys.argv and sys.argv[0] else "python"
-    entry = f"**Run of {time.strftime('%Y-%m-%d')} at {_commit()}:** `{command}`.\n\n{body.strip()}"
-    pattern = re.compile(rf"{re.escape(opening)}\n(.*?){re.escape(closing)}", re.S)
+    date = time.strftime("%Y-%m-%d")
+    entry = f"**Run of {date} at {_STARTED_AT}:** `{command}`.\n\n{body.strip()}"
+    pattern = re.compile(rf"{re.escape(opening)}(.*?){re.escape(closing)}", re.S)
     match = pattern.search(text)
     if match and previous is not None and previous in match.group(1):
         # this process wrote the section's newest entry already (a script that records after
@@ -120,10 +125,9 @@ def record(section: str, title: str, body: str) -> None:
         at = match.start(1) + match.group(1).index(previous)
         text = text[:at] + entry + text[at + len(previous) :]
     elif match:
-        earlier = match.group(1)
+        earlier = match.group(1).strip()
         if earlier.startswith("## "):  # the heading, written anew
-            earlier = earlier.split("\n", 1)[1] if "\n" in earlier else ""
-        earlier = earlier.strip()
+            earlier = earlier.split("\n", 1)[1].strip() if "\n" in earlier else ""
         block = f"{opening}\n## {title}\n\n{entry}\n\n" + (f"{earlier}\n" if earlier else "")
         text = text[: match.start()] + block + closing + text[match.end() :]
     else:
@@ -156,6 +160,10 @@ def _commit() -> str:
     if head.returncode != 0:
         return "no git checkout"
     return head.stdout.strip() + (" + changes" if dirty.stdout.strip() else "")
+
+
+#: The commit the run started from (a commit made during a long run must not be named).
+_STARTED_AT = _commit()
 
 
 def table(header: list[str], rows: list[list]) -> str:

@@ -144,10 +144,9 @@ def interleaved(inst, timed_methods):
     run in turn within each round: three rounds where a first ``decide`` took less than
     ``REPEAT_BELOW``, else one (whose ``decide`` is that first run). A slow spell of the
     machine then falls on every method alike instead of on the one that ran through it (the
-    methods used to run one after another over a whole block: the Clarabel ratio at n = 64
-    read 9.0x and 9.9x in two runs of the same code, and the machine was measured to slow
-    down tenfold for seconds at a time on 2026-11-30). Every solver here is deterministic,
-    so the rounds return the same."""
+    methods used to run one after another over a whole block, and the machine was measured to
+    slow down tenfold for seconds at a time on 2026-11-30). Every solver here is
+    deterministic, so the rounds return the same; a failed HiGHS LP fails in every round."""
     t0 = time.perf_counter()
     first = decide(inst)
     t = time.perf_counter() - t0
@@ -190,7 +189,8 @@ def main():
     ap.add_argument(
         "--json",
         help="also write every instance's times (seconds per round and method), verdict, "
-        "deciding stage and minimum-norm flag here, after every size",
+        "deciding stage, minimum-norm flag and the steadiness probe taken before it (seconds) "
+        "here, after every size",
     )
     args = ap.parse_args()
     lbfgs_max = args.max_baseline if args.lbfgs_max is None else args.lbfgs_max
@@ -210,7 +210,7 @@ def main():
             paired = []  # per instance: Clarabel's time over solve+u's
             lp_failed = 0
             for key, inst in cases:
-                probe()
+                steadiness = probe()
                 times, out = interleaved(inst, methods(n, args, lbfgs_max))
                 for name, ts in times.items():
                     T[name].append(float(np.median(ts)))
@@ -235,7 +235,8 @@ def main():
                     paired.append(T["clarabel"][-1] / T["solve+u"][-1])
                 raw.append(
                     {"n": n, "block": block, "key": key, "times": times, "verdict": v.status,
-                     "stage": v.stage, "min_norm_ok": bool(r.min_norm_ok)}
+                     "stage": v.stage, "min_norm_ok": bool(r.min_norm_ok),
+                     "probe": steadiness}
                 )  # fmt: skip
                 print(n, block, key, v.status, v.stage, f"{T['decide'][-1]:.3f} s", flush=True)
             wrong = {"ours": "-", "clarabel": "-", "l-bfgs-b": "-"}
