@@ -12,13 +12,18 @@ import pytest
 
 from tensegrity_rigidity import (
     InputError,
+    Instance,
     PeriodicNetwork,
+    decide,
     lattice_instance,
     load_instance,
     save_instance,
+    solve,
     square_lattice,
+    strain_tensor,
     triangular_lattice,
 )
+from tensegrity_rigidity.model.mechanics import affine_extensions
 
 GOOD = dict(
     box=np.eye(2) * 2,
@@ -153,6 +158,65 @@ def test_box_validity_is_relative_to_its_own_scale(scale):
     flat = np.array([[2.0, 0.0], [4.0, 1e-13]]) * scale  # parallel lattice vectors
     with pytest.raises(InputError, match="zero area"):
         PeriodicNetwork(flat, np.array(GOOD["positions"]) * scale, [[0, 1]], [[0, 0]], [1])
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e200, 1e300])
+def test_boxes_at_extreme_scales_are_valid_and_keep_their_affine_extensions(scale):
+    """A box and positions scaled by 1e+-300 are a valid network (not "zero area"), and the
+    affine extensions scale with them instead of under- or overflowing in d . eps . d."""
+    inst = lattice_instance(5, 0.6, 0.2, phi="shear", seed=1)
+    net = inst.network
+    scaled = PeriodicNetwork(
+        net.box * scale, net.positions * scale, net.bonds, net.shifts, net.kinds
+    )
+    e0 = affine_extensions(scaled, inst.strain)
+    assert np.allclose(e0 / scale, affine_extensions(net, inst.strain), rtol=1e-12, atol=0)
+    # the verdict at a strain that brings the affine extensions back to order one
+    a = decide(inst)
+    b = decide(Instance(scaled, inst.strain / scale))
+    assert (a.status, a.stage) == (b.status, b.stage)
+
+
+def test_a_rigid_box_at_1e_minus_300_is_refused_not_called_floppy():
+    """max |e0| of 1e-300 is outside the solver's range: refused in one line (it used to
+    underflow to e0 = 0, nothing strained, a floppy verdict for a rigid sample)."""
+    inst = lattice_instance(5, 0.9, 0.0, phi="dilation", seed=1)
+    net = inst.network
+    tiny = PeriodicNetwork(
+        net.box * 1e-300, net.positions * 1e-300, net.bonds, net.shifts, net.kinds
+    )
+    with pytest.raises(InputError, match="largest affine extension"):
+        decide(Instance(tiny, inst.strain))
+
+
+@pytest.mark.parametrize(
+    "bonds", [np.array([[0, 2**64 - 1]], dtype=np.uint64), np.array([[0.0, 1e30]])]
+)
+def test_bond_indices_beyond_int64_are_named_not_wrapped(bonds):
+    with pytest.raises(InputError, match="beyond int64"):
+        PeriodicNetwork(**{**GOOD, "bonds": bonds})
+
+
+@pytest.mark.parametrize("shift", [2**11, 2**62, -(2**40)])
+def test_image_shifts_beyond_the_range_are_refused(shift):
+    with pytest.raises(InputError, match="shifts must lie within"):
+        PeriodicNetwork(**{**GOOD, "shifts": [[shift, 0]]})
+    PeriodicNetwork(**{**GOOD, "shifts": [[2**11 - 1, 0]]})  # the largest allowed
+
+
+@pytest.mark.parametrize("gamma", [1e200, 1e-200, 1e141, 0.0, -1.0])
+def test_strain_magnitudes_outside_the_documented_range_are_refused(gamma, tmp_path):
+    with pytest.raises(InputError, match="gamma"):
+        strain_tensor("shear", 0.0, gamma)
+    with pytest.raises(InputError, match="gamma"):
+        lattice_instance(4, 0.6, gamma=gamma, seed=1)
+
+
+def test_zero_strain_is_floppy_with_zero_energy():
+    """The documented exception to the strain range: nothing strained, u = 0 is exact."""
+    inst = lattice_instance(5, 0.9, 0.0, seed=1)
+    r = solve(Instance(inst.network, np.zeros((2, 2))))
+    assert r.status == "floppy" and r.energy == 0.0 and r.affine_energy == 0.0
 
 
 def test_negative_seed_is_refused():

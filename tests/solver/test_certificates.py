@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from dataclasses import replace
 from decimal import Decimal, getcontext
 from fractions import Fraction
 
@@ -11,7 +12,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tensegrity_rigidity import Instance, SolverOptions, lattice_instance, solve, strain_tensor
+from tensegrity_rigidity import (
+    InputError,
+    Instance,
+    SolverOptions,
+    lattice_instance,
+    solve,
+    strain_tensor,
+)
 from tensegrity_rigidity.solver import decide
 from tensegrity_rigidity.solver.certificates import (
     EPS,
@@ -141,9 +149,41 @@ def test_verdicts_do_not_depend_on_the_strain_magnitude(gamma):
 
 
 def test_energies_beyond_double_precision_are_refused():
-    inst = lattice_instance(4, 0.8, 0.0, phi="shear", gamma=1e200, seed=1)
-    with pytest.raises(Exception, match="not representable"):
-        solve(inst)
+    inst = lattice_instance(4, 0.8, 0.0, phi="shear", seed=1)
+    with pytest.raises(InputError, match="not representable"):
+        solve(Instance(inst.network, inst.strain * 1e200))
+
+
+@pytest.mark.parametrize(
+    ("gamma", "k_hi", "k_lo"), [(1e140, 1e100, 1.0), (1e149, 1e10, 1e-10), (1e-149, 1e-10, 1e-10)]
+)
+def test_stiffness_times_strain_squared_beyond_double_precision_is_refused(gamma, k_hi, k_lo):
+    """The strain alone is in range, the energies it gives with these stiffnesses are not:
+    refused in one line instead of null or infinite energies."""
+    inst = lattice_instance(6, 0.5, 0.3, phi="shear", seed=1)
+    net = inst.network
+    k = np.where(np.arange(net.n_sites) % 2, k_hi, k_lo)
+    stiff = Instance(replace(net, stiffness=k), inst.strain * gamma)
+    with pytest.raises(InputError, match="not representable"):
+        solve(stiff)
+
+
+@pytest.mark.parametrize("gamma", [1e130, 1e-130, 1.0])
+def test_decided_samples_report_finite_energies_zero_when_floppy(gamma):
+    """Stiffness contrast 1e10 at extreme strain magnitudes: every energy is a finite number,
+    and exactly 0 on a floppy verdict."""
+    rng = np.random.default_rng(5)
+    for i in range(6):
+        inst = lattice_instance(6, rng.uniform(0.3, 0.8), 0.2, phi="shear", seed=i)
+        net = inst.network
+        k = 10.0 ** rng.uniform(-5, 5, net.n_sites)
+        r = solve(Instance(replace(net, stiffness=k), inst.strain * gamma))
+        values = [r.energy, r.energy_lower, r.affine_energy]
+        assert all(np.isfinite(values)), (i, values)
+        if r.status == "floppy":
+            assert r.energy == 0.0 and r.energy_lower == 0.0
+        summary = r.summary()
+        assert None not in (summary["energy"], summary["energy_lower"], summary["affine_energy"])
 
 
 def test_verdicts_do_not_depend_on_the_stiffnesses():

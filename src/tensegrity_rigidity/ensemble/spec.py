@@ -81,6 +81,7 @@ from typing import Any
 
 from ..errors import InputError, SpecError
 from ..model.lattice import CROSSING_DELTA
+from ..model.limits import check_gamma
 from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
 from ..solver.stages import BALANCE, POLISH, STAGES
@@ -494,8 +495,10 @@ def parse_spec(data: dict) -> Spec:
     if samples < 1:
         raise SpecError(f"'samples' must be at least 1, got {samples}")
     gamma = _number("gamma", data.get("strain", {}).get("gamma", 1.0))
-    if gamma <= 0:
-        raise SpecError(f"[strain] gamma must be positive, got {gamma}")
+    try:
+        check_gamma(gamma, "[strain] gamma")
+    except InputError as exc:
+        raise SpecError(str(exc)) from None
     angles = data.get("strain", {}).get("angles", "golden")
     if angles not in ANGLE_SEQUENCES:
         raise SpecError(f"[strain] angles must be 'golden' or 'uniform', got {angles!r}")

@@ -82,8 +82,14 @@ def affine_extensions(network: PeriodicNetwork, strain: np.ndarray) -> np.ndarra
         The extension of every site under the affine deformation ``u = 0``.
     """
     d = network.bond_vectors()
+    # in units of a power of two near the box's size (exact, so the same bits at any scale
+    # where nothing under- or overflows): the product d . eps . d would square a box of
+    # 1e-300 to zero, or one of 1e300 to infinity
+    _, exponent = np.frexp(float(np.abs(network.box).max()))
+    d = np.ldexp(d, -int(exponent))
     length = np.hypot(d[:, 0], d[:, 1])
-    return np.einsum("bi,ij,bj->b", d, np.asarray(strain, dtype=float), d) / length
+    e0 = np.einsum("bi,ij,bj->b", d, np.asarray(strain, dtype=float), d) / length
+    return np.ldexp(e0, int(exponent))
 
 
 def tensions_from_extensions(kinds: np.ndarray, stiffness: np.ndarray, e: np.ndarray) -> np.ndarray:

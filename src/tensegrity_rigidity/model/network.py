@@ -29,6 +29,15 @@ from ..errors import InputError
 #: changed energies by 6e-4, one by 1e15 flipped verdicts.
 MAX_POSITION_REACH = 1e6
 
+#: Largest magnitude of an image shift. The certificates sum a bond vector from its terms in
+#: extended precision, exactly only while ``shift x box`` fits a 64-bit mantissa (a double's
+#: 53 bits times an integer below 2^11); a bond spanning more periodic images than this is
+#: not a network of this box.
+MAX_SHIFT = 2**11 - 1
+
+#: Integer arrays are held as int64: larger values are refused, not wrapped.
+_INT64_MAX = np.iinfo(np.int64).max
+
 
 class Element(IntEnum):
     """Element kinds, with the integer codes used in ``kinds`` arrays and instance files.
@@ -80,10 +89,14 @@ def _as_int_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray
             raise InputError(f"{name} contains NaN or infinite values")
         if not np.all(raw == np.round(raw)):
             raise InputError(f"{name} must hold integers")
+        if np.any(np.abs(raw) >= 2.0**63):
+            raise InputError(f"{name} holds {raw.flat[np.argmax(np.abs(raw))]:.3g}, beyond int64")
     elif raw.dtype.kind == "b":  # True/False would pass as 1/0: almost surely a mistake
         raise InputError(f"{name} must be an integer array, got booleans")
     elif raw.size and raw.dtype.kind not in "iu":
         raise InputError(f"{name} must be an integer array, got dtype {raw.dtype}")
+    elif raw.size and raw.dtype.kind == "u" and int(raw.max()) > _INT64_MAX:
+        raise InputError(f"{name} holds {int(raw.max())}, beyond int64")
     arr = raw.astype(np.int64)
     _check_shape(name, arr, shape)
     return arr
@@ -133,9 +146,13 @@ class PeriodicNetwork:
 
     def __post_init__(self) -> None:
         box = _as_float_array("box", self.box, (2, 2))
-        # relative to the box's own scale: |det| = |b1| |b2| sin(angle between them)
-        norms = float(np.hypot(*box[0])) * float(np.hypot(*box[1]))
-        if not abs(np.linalg.det(box)) > 1e-12 * norms:
+        # relative to the box's own scale (divided out first, so that a box at 1e-300 or
+        # 1e300 neither underflows nor overflows): |det| = |b1| |b2| sin(angle between them)
+        box_scale = float(np.abs(box).max())
+        unit_box = box / box_scale if box_scale > 0 else box
+        norms = float(np.hypot(*unit_box[0])) * float(np.hypot(*unit_box[1]))
+        unit_area = abs(float(np.linalg.det(unit_box)))
+        if not unit_area > 1e-12 * norms:
             raise InputError("box must have two independent lattice vectors (zero area)")
         positions = _as_float_array("positions", self.positions, (None, 2))
         n_nodes = positions.shape[0]
@@ -145,6 +162,12 @@ class PeriodicNetwork:
         m = bonds.shape[0]
         shifts = _as_int_array("shifts", self.shifts, (m, 2))
         kinds = _as_int_array("kinds", self.kinds, (m,))
+        if m and int(np.abs(shifts).max()) > MAX_SHIFT:
+            b = int(np.argmax(np.abs(shifts).max(axis=1)))
+            raise InputError(
+                f"bond {b} has image shift {shifts[b].tolist()}: shifts must lie within "
+                f"+-{MAX_SHIFT} periodic images"
+            )
         bad = np.flatnonzero((bonds < 0) | (bonds >= n_nodes))
         if bad.size:
             raise InputError(
@@ -160,7 +183,7 @@ class PeriodicNetwork:
                 raise InputError("stiffness must be positive on every bond site")
         vec = positions[bonds[:, 1]] + shifts @ box - positions[bonds[:, 0]]
         length = np.hypot(vec[:, 0], vec[:, 1])
-        scale = float(np.sqrt(abs(np.linalg.det(box))))
+        scale = box_scale * float(np.sqrt(unit_area))
         reach = float(np.abs(positions).max()) / scale
         if reach > MAX_POSITION_REACH:
             raise InputError(

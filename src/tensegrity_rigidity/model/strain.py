@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from .limits import check_gamma
 
 #: Named strain types and their phi.
 NAMED_STRAINS = {"dilation": 0.0, "shear": math.pi / 2, "compression": math.pi}
@@ -90,7 +91,8 @@ def strain_tensor(phi: float | str, theta: float = 0.0, gamma: float = 1.0) -> n
     Raises
     ------
     InputError
-        On a non-finite angle or magnitude, or ``gamma <= 0``.
+        On a non-finite angle, or a magnitude outside
+        :data:`~tensegrity_rigidity.model.limits.GAMMA_RANGE`.
 
     Examples
     --------
@@ -101,10 +103,9 @@ def strain_tensor(phi: float | str, theta: float = 0.0, gamma: float = 1.0) -> n
     """
     phi = parse_phi(phi)
     theta, gamma = float(theta), float(gamma)
-    if not (math.isfinite(theta) and math.isfinite(gamma)):
-        raise InputError("theta and gamma must be finite")
-    if gamma <= 0:
-        raise InputError(f"gamma must be positive, got {gamma}")
+    if not math.isfinite(theta):
+        raise InputError("theta must be finite")
+    gamma = check_gamma(gamma)
     eps0 = np.diag([math.cos(phi) + math.sin(phi), math.cos(phi) - math.sin(phi)])
     a = rotation(theta)
     eps = gamma * (a @ eps0 @ a.T)

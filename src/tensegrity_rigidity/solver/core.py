@@ -35,6 +35,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from ..errors import InputError, UndecidedWarning
+from ..model.limits import check_energy_scale
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
@@ -99,6 +100,11 @@ class SolverOptions:
         stages = self.stages
         if isinstance(stages, str) or not all(isinstance(x, str) for x in stages):
             raise InputError(f"SolverOptions.stages must be a list of names, got {stages!r}")
+        if not stages:
+            raise InputError(
+                "SolverOptions.stages is empty: no stage would look for a certificate, so every "
+                f"sample would end undecided; choose from {', '.join(STAGES)}"
+            )
         unknown = [x for x in stages if x not in STAGES]
         if unknown:
             raise InputError(
@@ -318,12 +324,7 @@ class SolveResult:
 
 
 def _check_scale(p: Problem) -> None:
-    if p.scale and not 1e-150 <= p.scale <= 1e150:
-        raise InputError(
-            f"the largest affine extension is {p.scale:.1e}: energies (proportional to its "
-            "square) are not representable in double precision; rescale the strain "
-            "(verdicts do not depend on its magnitude)"
-        )
+    check_energy_scale(p.scale, p.instance.network.stiffness_or_ones()[p.sites])
 
 
 def _undecided_message(s) -> str:
