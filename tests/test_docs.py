@@ -113,3 +113,18 @@ def test_the_tutorial_ran_in_the_build_with_every_result(built):
     assert images == 3
     for expected in ("verdict         rigid", "P [95% Wilson]", "interval [", "S_t / S_r ="):
         assert expected in text, expected
+
+
+def test_every_promise_of_the_reliability_page_names_a_test_that_exists():
+    """docs/reliability.md backs each promise with test names in brackets: each must be a test
+    function of the suite (a renamed or deleted test leaves a promise unbacked)."""
+    import re
+
+    root = Path(__file__).resolve().parents[1]
+    page = (root / "docs" / "reliability.md").read_text()
+    named = set(re.findall(r"`(test_\w+)`", page))
+    defined = set()
+    for path in (root / "tests").rglob("test_*.py"):
+        defined.update(re.findall(r"^def (test_\w+)", path.read_text(), flags=re.M))
+    assert len(named) >= 20
+    assert not sorted(named - defined)

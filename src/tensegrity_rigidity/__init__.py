@@ -22,8 +22,10 @@ verdict) -> :mod:`~tensegrity_rigidity.analysis` (observables, estimators, singl
 -> :mod:`~tensegrity_rigidity.ensemble` (sweeps, storage, executors, thresholds) ->
 :mod:`~tensegrity_rigidity.paper` (studies, figures, report) -> :mod:`~tensegrity_rigidity.cli`.
 
-The sweep engine (:func:`run_sweep`, :func:`load_results` and its exceptions) is imported on
-first use, so that ``import tensegrity_rigidity`` and the command line start quickly.
+Every name but the errors is imported on first use, so that ``import tensegrity_rigidity``
+and the command line start in a few milliseconds: the command line installs its signal
+handlers before NumPy and SciPy load (a Ctrl-C during those imports used to print a
+traceback).
 """
 
 from __future__ import annotations
@@ -32,23 +34,11 @@ import importlib
 import warnings
 from typing import TYPE_CHECKING, Any
 
-from .analysis.observables import nonaffinity
-from .ensemble.spec import Spec, load_spec, parse_spec
-from .ensemble.thresholds import Threshold, find_threshold
 from .errors import InputError, SpecError, TensegrityError, UndecidedWarning
-from .model.io import load_instance, save_instance
-from .model.lattice import (
-    DEFAULT_DELTA,
-    random_periodic_network,
-    square_lattice,
-    triangular_lattice,
-)
-from .model.network import Element, Instance, PeriodicNetwork
-from .model.sampling import lattice_instance
-from .model.strain import strain_tensor
-from .solver.core import SolveResult, SolverOptions, Verdict, decide, solve
 
 if TYPE_CHECKING:
+    from .analysis.observables import nonaffinity
+    from .ensemble.spec import Spec, load_spec, parse_spec
     from .ensemble.sweep import (
         SweepFailed,
         SweepInterrupted,
@@ -56,6 +46,18 @@ if TYPE_CHECKING:
         load_results,
         run_sweep,
     )
+    from .ensemble.thresholds import Threshold, find_threshold
+    from .model.io import load_instance, save_instance
+    from .model.lattice import (
+        DEFAULT_DELTA,
+        random_periodic_network,
+        square_lattice,
+        triangular_lattice,
+    )
+    from .model.network import Element, Instance, PeriodicNetwork
+    from .model.sampling import lattice_instance
+    from .model.strain import strain_tensor
+    from .solver.core import SolveResult, SolverOptions, Verdict, decide, solve
 
 __all__ = [
     "DEFAULT_DELTA",
@@ -95,11 +97,22 @@ __version__ = "0.1.0"
 
 #: names imported on first use: name -> module (relative to this package)
 _LAZY = {
-    "run_sweep": ".ensemble.sweep",
-    "load_results": ".ensemble.sweep",
-    "SweepReport": ".ensemble.sweep",
-    "SweepFailed": ".ensemble.sweep",
-    "SweepInterrupted": ".ensemble.sweep",
+    "nonaffinity": ".analysis.observables",
+    **dict.fromkeys(("Spec", "load_spec", "parse_spec"), ".ensemble.spec"),
+    **dict.fromkeys(
+        ("run_sweep", "load_results", "SweepReport", "SweepFailed", "SweepInterrupted"),
+        ".ensemble.sweep",
+    ),
+    **dict.fromkeys(("Threshold", "find_threshold"), ".ensemble.thresholds"),
+    **dict.fromkeys(("load_instance", "save_instance"), ".model.io"),
+    **dict.fromkeys(
+        ("DEFAULT_DELTA", "random_periodic_network", "square_lattice", "triangular_lattice"),
+        ".model.lattice",
+    ),
+    **dict.fromkeys(("Element", "Instance", "PeriodicNetwork"), ".model.network"),
+    "lattice_instance": ".model.sampling",
+    "strain_tensor": ".model.strain",
+    **dict.fromkeys(("SolveResult", "SolverOptions", "Verdict", "decide", "solve"), ".solver.core"),
 }
 
 #: names the top level exported before version 0.2, now importable from their modules only
@@ -111,7 +124,7 @@ _MOVED = {
 
 
 def __getattr__(name: str) -> Any:
-    """Import the sweep engine on first use; old names still work, with a warning."""
+    """Import a public name on first use; old names still work, with a warning."""
     if name in _LAZY:
         value = getattr(importlib.import_module(_LAZY[name], __name__), name)
         globals()[name] = value

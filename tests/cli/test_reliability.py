@@ -206,13 +206,13 @@ def test_workers_below_one_and_missing_evidence_are_refused_everywhere(tmp_path,
     )
     assert err == f"error: --evidence {absent}: no such directory"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
-    from tensegrity_rigidity.ensemble.executors import local_workers, open_pool
+    from tensegrity_rigidity.ensemble.executors import local_workers, open_pool, usable_cores
     from tensegrity_rigidity.errors import SpecError
 
     with pytest.raises(SpecError, match="executor must be at least 1, got 0"):
         with open_pool(0):
             pass
-    assert local_workers(None) == (os.cpu_count() or 1) and local_workers(3) == 3
+    assert local_workers(None) == usable_cores() and local_workers(1) == 1
 
 
 def test_large_delta_warns_in_one_line(tmp_path, capsys):

@@ -278,6 +278,146 @@ def test_killing_the_main_process_leaves_no_workers(tmp_path, sig):
         assert not list(out.glob(".*.tmp"))
 
 
+def _descendants(pid: int) -> list[int]:
+    """Pids of every descendant of a process (Linux /proc)."""
+    out, todo = [], [pid]
+    while todo:
+        for child in _children(todo.pop()):
+            out.append(child)
+            todo.append(child)
+    return out
+
+
+def _max_children(proc) -> int:
+    """The most child processes ``proc`` had at once until it ended (polled)."""
+    most = 0
+    while proc.poll() is None:
+        most = max(most, len(_children(proc.pid)))
+        time.sleep(0.02)
+    return most
+
+
+#: one chunk of two samples at n = 4
+ONE_CHUNK = """
+n = 4
+p_r = 0.6
+samples = 2
+"""
+
+
+@linux_only
+def test_a_worker_count_above_the_cores_is_capped_and_never_exceeds_the_chunks(tmp_path):
+    """--workers 64 forked 64 processes for a sweep of one chunk (and 100000 exhausted the
+    machine's memory): now a one-line warning, the usable cores at most, and a sweep of one
+    chunk runs in the main process."""
+    from tensegrity_rigidity.ensemble.executors import usable_cores
+
+    spec = _write(tmp_path, ONE_CHUNK)
+    proc = subprocess.Popen(
+        _cmd(spec, tmp_path / "one", 64), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    assert _max_children(proc) == 0
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 0, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("warning: 64 worker processes asked for")
+    three = _write(
+        tmp_path,
+        SMALL.replace("samples = 8", "samples = 4")
+        .replace("p_r = [0.55, 0.7]", "p_r = 0.55")
+        .replace('phi = ["dilation", "compression"]', 'phi = "dilation"'),
+        "three.toml",
+    )
+    proc = subprocess.Popen(_cmd(three, tmp_path / "three", 64), stderr=subprocess.PIPE, text=True)
+    most = _max_children(proc)
+    proc.communicate(timeout=60)
+    assert proc.returncode == 0
+    assert 1 <= most <= min(usable_cores(), 2)  # two chunks: p_t = 0 and 0.25
+
+
+def _wait_for_main(proc, timeout: float = 30) -> None:
+    """Wait until the command line's ``main()`` has blocked SIGINT and SIGTERM (its first
+    line): before it, Python itself is starting and handles signals its own way."""
+    wanted = (1 << (signal.SIGINT - 1)) | (1 << (signal.SIGTERM - 1))
+    deadline = time.time() + timeout
+    while time.time() < deadline and proc.poll() is None:
+        try:
+            status = Path(f"/proc/{proc.pid}/status").read_text()
+        except OSError:
+            break
+        blocked = int(status.split("SigBlk:")[1].split()[0], 16)
+        if blocked & wanted == wanted:
+            return
+        time.sleep(0.002)
+
+
+@linux_only
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_at_any_moment_of_the_start_up_ends_in_one_line(tmp_path, sig):
+    """Ctrl-C during the imports printed a traceback (KeyboardInterrupt, or a SystemError from
+    a C extension's initialisation); now, from the first line of ``main()`` on, one line and
+    status 130 / 143 at every delay, and no process left behind."""
+    spec = _write(tmp_path, LONG)
+    status = 130 if sig == signal.SIGINT else 143
+    for i, delay in enumerate((0.0, 0.05, 0.2, 0.5, 1.0, 1.5)):
+        proc = subprocess.Popen(
+            _cmd(spec, tmp_path / f"s{i}", 2),
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        )
+        _wait_for_main(proc)
+        time.sleep(delay)
+        family = _descendants(proc.pid)
+        proc.send_signal(sig)
+        _, err = proc.communicate(timeout=60)
+        lines = err.strip().splitlines()
+        assert proc.returncode == status, (delay, err)
+        assert len(lines) == 1 and "Traceback" not in err, (delay, err)
+        assert lines[0].startswith(("interrupted", "terminated")), (delay, err)
+        deadline = time.time() + 10
+        while time.time() < deadline and any(_alive(w) for w in family):
+            time.sleep(0.1)
+        assert not [w for w in family if _alive(w)], delay
+
+
+DASK_SWEEP = """
+import sys
+from distributed import Client, LocalCluster
+from tensegrity_rigidity import run_sweep
+if __name__ == "__main__":
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None)
+    run_sweep(sys.argv[1], sys.argv[2], executor=Client(cluster), progress=False)
+"""
+
+
+@linux_only
+def test_killing_a_sweep_on_a_local_dask_cluster_leaves_no_workers(tmp_path):
+    pytest.importorskip("distributed")
+    spec = _write(tmp_path, LONG)
+    script = tmp_path / "dask_sweep.py"
+    script.write_text(DASK_SWEEP)
+    out = tmp_path / "dask"
+    proc = subprocess.Popen(
+        [sys.executable, str(script), str(spec), str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    _wait_for_parts(out, 1, proc, timeout=120)
+    family = _descendants(proc.pid)
+    assert len(family) >= 2, family  # the cluster's worker processes
+    proc.kill()
+    proc.wait()
+    deadline = time.time() + 20
+    while time.time() < deadline and any(_alive(w) for w in family):
+        time.sleep(0.2)
+    orphans = [w for w in family if _alive(w)]
+    for w in orphans:
+        os.kill(w, signal.SIGKILL)
+    assert not orphans, "orphaned Dask worker processes"
+
+
 @linux_only
 def test_a_killed_worker_saves_finished_chunks_and_ends_in_one_line(tmp_path):
     spec = _write(tmp_path, LONG)
@@ -317,6 +457,21 @@ def test_one_failing_chunk_keeps_every_other_chunk(tmp_path, capsys, monkeypatch
     from tensegrity_rigidity.ensemble.spec import load_spec
 
     pd.testing.assert_frame_equal(_frame(out), _fresh(load_spec(spec), tmp_path / "fresh"))
+
+
+def test_chunks_the_solver_refuses_do_not_advise_a_resume(tmp_path, capsys, monkeypatch):
+    """A verdict is a function of its input: a chunk whose input the solver refuses fails again
+    on every resume, so the message says to change the spec instead."""
+    spec = _write(tmp_path, SMALL)
+
+    def refused(spec, point, samples):
+        raise InputError("the largest affine extension is 1.0e+200, outside [1e-150, 1e+150]")
+
+    monkeypatch.setattr(sweep_mod, "run_chunk", refused)
+    code = main(["sweep", str(spec), "--out", str(tmp_path / "r"), "--workers", "1"])
+    err = capsys.readouterr().err.strip()
+    assert code == 1 and len(err.splitlines()) == 1, err
+    assert "change the spec" in err and "run the same command again to resume" not in err
 
 
 def test_sigterm_swallowed_inside_a_chunk_still_ends_the_sweep(tmp_path, capsys, monkeypatch):
@@ -471,6 +626,22 @@ def test_flipped_byte_inside_a_part_is_detected_and_recomputed(tmp_path, capsys)
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 0 and len(err) == 1
     assert err[0].startswith("warning: ") and "checksum mismatch" in err[0] and part.name in err[0]
+    from tensegrity_rigidity.ensemble.spec import load_spec
+
+    pd.testing.assert_frame_equal(_frame(out), _fresh(load_spec(spec), tmp_path / "fresh"))
+
+
+def test_deleted_part_is_recomputed_with_a_warning(tmp_path, capsys):
+    spec = _write(tmp_path, SMALL)
+    out = tmp_path / "d"
+    run_sweep(spec, out, executor="serial", progress=False)
+    part = sorted(out.glob("part-*.parquet"))[2]
+    part.unlink()
+    code = main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 0 and len(err) == 1, err
+    assert err[0].startswith("warning: ") and "missing" in err[0] and part.name in err[0]
+    assert "recomputed" in err[0]
     from tensegrity_rigidity.ensemble.spec import load_spec
 
     pd.testing.assert_frame_equal(_frame(out), _fresh(load_spec(spec), tmp_path / "fresh"))

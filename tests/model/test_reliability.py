@@ -212,6 +212,16 @@ def test_strain_magnitudes_outside_the_documented_range_are_refused(gamma, tmp_p
         lattice_instance(4, 0.6, gamma=gamma, seed=1)
 
 
+@pytest.mark.parametrize("gamma", ["1e200", "1e-200"])
+def test_sample_never_writes_an_instance_that_solve_refuses(tmp_path, capsys, gamma):
+    from tensegrity_rigidity.cli.main import main
+
+    out = tmp_path / "x.npz"
+    assert main(["sample", str(out), "--p-r", "0.6", "--gamma", gamma]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "gamma" in err[0] and not out.exists()
+
+
 def test_zero_strain_is_floppy_with_zero_energy():
     """The documented exception to the strain range: nothing strained, u = 0 is exact."""
     inst = lattice_instance(5, 0.9, 0.0, seed=1)

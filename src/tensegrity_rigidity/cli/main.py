@@ -191,17 +191,53 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     print(f"warning: {text}", file=sys.stderr if file is None else file)
 
 
+#: Signals held back while the command line starts (see :func:`main`).
+_START_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+
+
+def _preload() -> None:
+    """Import the numerical stack (run while :data:`_START_SIGNALS` are blocked).
+
+    A signal that lands inside a C extension's initialisation comes out as a ``SystemError``
+    with a traceback, not as an interrupt; blocked, it waits until the imports are done.
+    """
+    from ..ensemble import sweep  # noqa: F401 (NumPy, SciPy, pandas, pyarrow)
+    from ..solver import core  # noqa: F401 (the LP and factorisation libraries)
+
+
+def _interrupt_behind(exc: BaseException) -> BaseException | None:
+    """The KeyboardInterrupt (or SIGTERM) behind an import failure, if there is one."""
+    seen = exc.__cause__ or exc.__context__
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return seen
+        seen = seen.__cause__ or seen.__context__
+    return None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point; returns the exit status (see the module docstring)."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    handler = getattr(args, "handler", None) or COMMANDS[args.command]
+    """Entry point; returns the exit status (see the module docstring).
+
+    SIGINT and SIGTERM are blocked from the first line until the arguments are parsed and the
+    numerical stack is imported (:func:`_preload`); a signal that arrived meanwhile is then
+    handled like any other, in one line.
+    """
     in_main_thread = threading.current_thread() is threading.main_thread()
+    start_mask = (
+        signal.pthread_sigmask(signal.SIG_BLOCK, _START_SIGNALS) if in_main_thread else None
+    )
     previous = signal.signal(signal.SIGTERM, on_sigterm) if in_main_thread else None
     previous_hook = sys.unraisablehook
     sys.unraisablehook = interrupts.quiet_unraisable(previous_hook)
     interrupts.reset()
     try:
+        try:
+            args = build_parser().parse_args(argv)
+            handler = getattr(args, "handler", None) or COMMANDS[args.command]
+            _preload()
+        finally:
+            if start_mask is not None:  # delivers a signal that arrived meanwhile
+                signal.pthread_sigmask(signal.SIG_SETMASK, start_mask)
         with warnings.catch_warnings():
             warnings.showwarning = _one_line_warning
             status = int(handler(args) or 0)
@@ -227,6 +263,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except (SystemError, ImportError) as exc:
+        cause = _interrupt_behind(exc)
+        if cause is None:
+            raise
+        print("terminated" if isinstance(cause, Terminated) else "interrupted", file=sys.stderr)
+        return 143 if isinstance(cause, Terminated) else 130
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)

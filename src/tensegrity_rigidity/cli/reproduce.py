@@ -66,7 +66,7 @@ def _estimate(args) -> int:
 def _run(args) -> int:
     from pathlib import Path
 
-    from ..ensemble.executors import local_workers
+    from ..ensemble.executors import check_workers
     from ..ensemble.sweep import SweepInterrupted
     from ..errors import InputError
     from ..paper.reproduce import reproduce
@@ -75,8 +75,7 @@ def _run(args) -> int:
         raise InputError(f"--evidence {args.evidence}: no such directory")
     if args.estimate:
         return _estimate(args)  # which checks --workers
-    if args.workers is not None:
-        local_workers(args.workers, "--workers")
+    check_workers(args.workers, "--workers")
     if args.out is None:
         raise InputError("reproduce needs --out DIR (or --estimate, which runs nothing)")
     check_out(args.out)

@@ -19,7 +19,10 @@ def add_parser(sub) -> None:
     p.add_argument("spec", help="TOML spec file (see tensegrity_rigidity.ensemble.spec)")
     p.add_argument("--out", required=True, help="results directory")
     p.add_argument(
-        "--workers", type=int, default=None, help="local worker processes (default: all cores)"
+        "--workers",
+        type=int,
+        default=None,
+        help="local worker processes (default and most: the usable cores; never more than chunks)",
     )
     p.add_argument(
         "--scheduler",
@@ -38,14 +41,14 @@ def add_parser(sub) -> None:
 
 
 def _run(args) -> int:
-    from ..ensemble.executors import local_workers
+    from ..ensemble.executors import check_workers
     from ..ensemble.summary import format_table, probability_table
     from ..ensemble.sweep import SweepInterrupted, load_results, run_sweep
     from ..errors import SpecError
 
     check_out(args.out)
     if args.workers is not None:
-        local_workers(args.workers, "--workers")
+        check_workers(args.workers, "--workers")
     if not args.wait_workers >= 0:
         raise SpecError(f"--wait-workers must be a non-negative number, got {args.wait_workers}")
     try:

@@ -5,6 +5,12 @@
 :class:`Pool` with ``submit``, ``as_completed`` and ``cancel``. Results are returned to the
 calling process, which alone writes files, so workers need no shared file system.
 
+Local processes are bounded: never more than the usable cores (a larger request is capped, with
+one warning line) nor than the chunks to run (the pool starts its processes only once
+:meth:`Pool.start` is told how many chunks there are). They are started with SIGINT and SIGTERM
+blocked, and each unblocks them only after installing its own handlers, so that a Ctrl-C or a
+SIGTERM at any moment of the start-up is handled by the main process alone.
+
 Local worker processes die with the process that started them: on Linux the kernel sends them
 SIGKILL when their parent dies (``PR_SET_PDEATHSIG``), and everywhere a watchdog thread ends a
 worker whose parent has changed (re-parented after a SIGKILL of the main process). If the main
@@ -58,6 +64,9 @@ class Pool:
         self.description = description
         #: memory of one worker in bytes when the executor says (Dask), else None
         self.worker_memory = worker_memory
+
+    def start(self, tasks: int) -> None:
+        """Get ready to run ``tasks`` tasks (local processes start here, at most one per task)."""
 
     def submit(self, fn: Callable, *args: Any):
         return self._submit(fn, *args)
@@ -120,6 +129,72 @@ def _init_worker() -> None:
     threadpool_limits(limits=1, user_api="blas")
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the command line's handler (forked)
+    # forked with both blocked (:func:`_signals_blocked`): a signal that arrived since is
+    # delivered now, to these handlers
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _START_SIGNALS)
+
+
+#: The signals blocked while local worker processes are forked.
+_START_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+
+
+@contextmanager
+def _signals_blocked():
+    """Block SIGINT and SIGTERM in this thread (a forked child inherits the mask and unblocks
+    them in :func:`_init_worker`, after its own handlers are set); restored on exit, where a
+    signal that arrived meanwhile is delivered to the main process's handler."""
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, _START_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+class _LocalPool(Pool):
+    """Local worker processes, started by :meth:`start` (at most one per task; in this process
+    when that is one)."""
+
+    def __init__(self, workers: int):
+        super().__init__(self._submit_local, self._as_completed_local, self._close_local)
+        self.workers = workers
+        self.description = f"{workers} local processes"
+        self._executor: cf.ProcessPoolExecutor | None = None
+
+    def start(self, tasks: int) -> None:
+        count = min(self.workers, max(int(tasks), 1))
+        self.description = f"{count} local processes" if count > 1 else "serial"
+        if count > 1 and self._executor is None:
+            with _signals_blocked():
+                executor = cf.ProcessPoolExecutor(max_workers=count, initializer=_init_worker)
+                self._executor = executor
+                # with the fork start method the first submit forks every process
+                executor.submit(int).result()
+
+    def _submit_local(self, fn: Callable, *args: Any):
+        if self._executor is None:
+            return _LazyFuture(fn, args)
+        return self._executor.submit(fn, *args)
+
+    def _as_completed_local(self, futures: Iterable) -> Iterator:
+        if self._executor is None:
+            return iter(list(futures))
+        return cf.as_completed(futures)
+
+    def _close_local(self, abort: bool) -> None:
+        if self._executor is not None:
+            _shutdown(self._executor, abort)
+
+
+def _shutdown(executor: cf.Executor, abort: bool) -> None:
+    """Shut an executor down; ``abort`` kills its processes first (nobody will save what they
+    compute now)."""
+    if abort:
+        for proc in list((getattr(executor, "_processes", None) or {}).values()):
+            try:
+                proc.kill()
+            except (OSError, ValueError, AttributeError):
+                pass
+    executor.shutdown(wait=True, cancel_futures=True)
 
 
 def _serial_pool() -> Pool:
@@ -128,15 +203,8 @@ def _serial_pool() -> Pool:
 
 def _futures_pool(executor: cf.Executor, owned: bool) -> Pool:
     def close(abort: bool):
-        if not owned:
-            return
-        if abort:  # nobody will save what the workers compute now: stop them
-            for proc in list((getattr(executor, "_processes", None) or {}).values()):
-                try:
-                    proc.kill()
-                except (OSError, ValueError, AttributeError):
-                    pass
-        executor.shutdown(wait=True, cancel_futures=True)
+        if owned:
+            _shutdown(executor, abort)
 
     return Pool(executor.submit, cf.as_completed, close, type(executor).__name__)
 
@@ -215,20 +283,29 @@ def connect(address: str, timeout: float = 5.0, wait_for_workers: float = 60.0):
     return client
 
 
-def local_workers(workers: int | None, option: str = "workers") -> int:
-    """The number of local worker processes: ``workers``, or every core when it is None.
-
-    Parameters
-    ----------
-    workers : int or None
-        Requested processes.
-    option : str
-        Its name in error messages ("--workers" on the command line).
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system tells).
 
     Returns
     -------
     int
         At least 1.
+    """
+    try:
+        return max(len(os.sched_getaffinity(0)), 1)
+    except (AttributeError, OSError):  # not Linux
+        return os.cpu_count() or 1
+
+
+def check_workers(workers: int | None, option: str = "workers") -> None:
+    """Refuse a worker count below 1 (or not an integer) in one line.
+
+    Parameters
+    ----------
+    workers : int or None
+        Requested processes (None: every usable core).
+    option : str
+        Its name in the message ("--workers" on the command line).
 
     Raises
     ------
@@ -236,9 +313,44 @@ def local_workers(workers: int | None, option: str = "workers") -> int:
         When ``workers`` is below 1 (0 does not mean "all cores": None does).
     """
     if workers is None:
-        return os.cpu_count() or 1
+        return
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise SpecError(f"{option} must be at least 1, got {workers!r}")
+
+
+def local_workers(workers: int | None, option: str = "workers") -> int:
+    """The number of local worker processes: ``workers``, at most the usable cores.
+
+    Parameters
+    ----------
+    workers : int or None
+        Requested processes (None: every usable core, :func:`usable_cores`).
+    option : str
+        Its name in messages.
+
+    Returns
+    -------
+    int
+        Between 1 and the usable cores. A request above them is capped, with one warning:
+        more processes than cores only share them, and each one costs memory.
+
+    Raises
+    ------
+    SpecError
+        When ``workers`` is below 1.
+    """
+    check_workers(workers, option)
+    cores = usable_cores()
+    if workers is None:
+        return cores
+    if workers > cores:
+        warnings.warn(
+            f"{workers} worker processes asked for, more than the {cores} usable cores: "
+            f"running at most {cores}",
+            UserWarning,
+            stacklevel=3,
+        )
+        return cores
     return workers
 
 
@@ -246,18 +358,14 @@ def local_workers(workers: int | None, option: str = "workers") -> int:
 def open_pool(executor: Any = None, scheduler: str | None = None, wait_for_workers: float = 60.0):
     """Yield a :class:`Pool` for ``executor`` (see module docstring) or a scheduler address.
 
-    Leaving the block by an exception aborts the pool (local workers are killed).
+    Local processes start at the pool's :meth:`~Pool.start`. Leaving the block by an exception
+    aborts the pool (local workers are killed).
     """
     if scheduler is not None:
         pool = _dask_pool(connect(scheduler, wait_for_workers=wait_for_workers), owned=True)
-    elif executor is None or isinstance(executor, int):
+    elif executor is None or (isinstance(executor, int) and not isinstance(executor, bool)):
         workers = local_workers(executor, "executor")
-        if workers == 1:
-            pool = _serial_pool()
-        else:
-            pool = _futures_pool(
-                cf.ProcessPoolExecutor(max_workers=workers, initializer=_init_worker), owned=True
-            )
+        pool = _serial_pool() if workers == 1 else _LocalPool(workers)
     elif executor == "serial":
         pool = _serial_pool()
     elif isinstance(executor, cf.Executor):

@@ -372,14 +372,14 @@ class ResultStore:
         for name, entry in self.manifest().items():
             data = self.check_part(entry)
             if data is None:
-                if (self.root / name).exists():
-                    warnings.warn(
-                        f"{self.root / name} is damaged (checksum mismatch): its "
-                        f"{entry.get('rows', '?')} rows are recomputed",
-                        CorruptPartWarning,
-                        stacklevel=3,
-                    )
-                    (self.root / name).unlink(missing_ok=True)
+                what = "damaged (checksum mismatch)" if (self.root / name).exists() else "missing"
+                warnings.warn(
+                    f"{self.root / name} is {what}: its {entry.get('rows', '?')} rows are "
+                    "recomputed",
+                    CorruptPartWarning,
+                    stacklevel=3,
+                )
+                (self.root / name).unlink(missing_ok=True)
                 continue
             keys = pq.read_table(pa.BufferReader(data), columns=KEY_COLUMNS)
             self.done.update(

@@ -303,6 +303,13 @@ def _failure_message(failed: list, n_chunks: int, saved: int, root: Path) -> str
     gone = [why for _, why in lost if why is not None]
     if gone:
         parts.append(f"{gone[0]}: {len(gone)} of {n_chunks} chunks not computed")
+    if not gone and all(isinstance(e, InputError) for _, e in raised):
+        # the solver refused the input: a verdict is a function of it, so a resume would fail
+        # the same way
+        return "; ".join(parts) + (
+            f"; the {saved} finished samples are saved in {root}; change the spec (running "
+            "the same command again would fail the same way)"
+        )
     return (
         "; ".join(parts) + f"; the {saved} finished samples are saved in {root}: run the same "
         "command again to resume"
@@ -392,8 +399,11 @@ def run_sweep(
                 interrupted,
             )
 
-        futures = {pool.submit(run_chunk, spec, p, ks): (p, ks) for p, ks in todo}
+        futures: dict = {}
         try:
+            pool.start(len(todo))  # local processes: at most one per chunk
+            for p, ks in todo:
+                futures[pool.submit(run_chunk, spec, p, ks)] = (p, ks)
             for fut in pool.as_completed(list(futures)):
                 chunk = futures[fut]
                 try:

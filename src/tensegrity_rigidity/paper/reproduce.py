@@ -147,6 +147,8 @@ def reproduce(
     local = workers is None or workers == "serial" or isinstance(workers, int)
     if scheduler is None and local:
         w = 1 if workers == "serial" else local_workers(workers)
+        if isinstance(workers, int):
+            workers = w  # capped once at the usable cores (one warning), not per study
         est = estimate(sc, w, names)
         print(
             f"scale {scale}: estimated {est.wall_seconds / 60:.0f} min for all of it on {w} "

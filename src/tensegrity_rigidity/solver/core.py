@@ -38,7 +38,7 @@ from ..errors import InputError, UndecidedWarning
 from ..model.limits import check_energy_scale
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
-from .certificates import FloppyCertificate, Resolution, RigidCertificate
+from .certificates import FloppyCertificate, Resolution, RigidCertificate, violation_roundoff
 from .displacements import project
 from .ipm import IpmState, interior_point
 from .linalg import one_blas_thread
@@ -128,6 +128,24 @@ class SolverOptions:
                 raise InputError(
                     f"SolverOptions.{f.name} must be finite and non-negative, got {value!r}"
                 )
+        self._check_resolution()
+
+    def _check_resolution(self) -> None:
+        """Refuse tolerances under which one kind of certificate could never or always pass."""
+        tau, U = self.violation_tol, self.displacement_bound
+        if not (isinstance(tau, (int, float)) and isinstance(U, (int, float))):
+            return  # the type checks below name the field
+        if not 0 < tau < 1:
+            raise InputError(
+                f"SolverOptions.violation_tol must lie in (0, 1), got {tau!r}: at 1 or more "
+                "u = 0 passes as a floppy certificate of every sample"
+            )
+        if not U > 0 or violation_roundoff(U) >= tau:
+            raise InputError(
+                f"SolverOptions.displacement_bound = {U!r} leaves no floppy certificate "
+                f"possible at violation_tol = {tau!r} (the round-off of a violation at that "
+                "size reaches tau, or the bound is not positive)"
+            )
 
     @property
     def resolution(self) -> Resolution:
