@@ -69,8 +69,8 @@ def _add_sample(sub) -> None:
     p.add_argument(
         "--lattice",
         default="triangular",
-        choices=["triangular", "square"],
-        help="lattice builder (default triangular)",
+        choices=["triangular", "square", "fcc"],
+        help="lattice builder (default triangular; fcc: the 3D face-centred cubic lattice)",
     )
 
 

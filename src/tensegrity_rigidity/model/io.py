@@ -42,8 +42,9 @@ def save_instance(path: str | os.PathLike, instance: Instance) -> None:
     path : str or path-like
         The file to write (its directory must exist); conventionally ``*.npz``.
     instance : Instance
-        What to store: ``box`` (2, 2), ``positions`` (N, 2), ``bonds`` (m, 2), ``shifts``
-        (m, 2), ``kinds`` (m,) as int8, ``strain`` (2, 2) and ``stiffness`` (m,) when set.
+        What to store: ``box`` (d, d), ``positions`` (N, d), ``bonds`` (m, 2), ``shifts``
+        (m, d), ``kinds`` (m,) as int8, ``strain`` (d, d) and ``stiffness`` (m,) when set
+        (``d = 2`` or ``3``).
 
     Raises
     ------

@@ -1,4 +1,5 @@
-"""Builders of periodic networks: the paper's triangular lattice, a square lattice, random networks.
+"""Builders of periodic networks: the paper's triangular lattice, a square lattice, the FCC
+lattice in 3D, random networks.
 
 Every builder takes an explicit ``numpy.random.Generator``; nothing here touches global random
 state. Builders return networks with all bond sites *empty*; elements are placed afterwards by
@@ -26,7 +27,14 @@ DEFAULT_DELTA = 0.2
 #: delta at which that minimum reaches zero is (3 - sqrt 3) / 4 on the triangular lattice and
 #: 1/4 on the square lattice with diagonals. Without diagonals the square lattice's bonds
 #: cannot cross for delta < 1/2.
-CROSSING_DELTA = {"triangular": (3.0 - np.sqrt(3.0)) / 4.0, "square": 0.5, "square+diagonals": 0.25}
+#: On the FCC lattice the same argument for its regular tetrahedra (edge 1) gives
+#: 1 / (3 sqrt 2) = 0.2357: a node kicked through the opposite face of one of its tetrahedra.
+CROSSING_DELTA = {
+    "triangular": (3.0 - np.sqrt(3.0)) / 4.0,
+    "square": 0.5,
+    "square+diagonals": 0.25,
+    "fcc": 1.0 / (3.0 * np.sqrt(2.0)),
+}
 
 
 class CrossingBondsWarning(UserWarning):
@@ -36,13 +44,19 @@ class CrossingBondsWarning(UserWarning):
 B1 = np.array([1.0, 0.0])
 B2 = np.array([-0.5, np.sqrt(3.0) / 2.0])
 
+#: Primitive vectors of the FCC lattice with nearest-neighbour distance 1 (rows).
+FCC_VECTORS = np.array([[0.0, 1.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 0.0]]) / np.sqrt(2.0)
+#: The six bond steps per FCC node, in primitive coordinates: a1, a2, a3, a1 - a2, a1 - a3,
+#: a2 - a3 (with their opposites, the 12 nearest neighbours).
+FCC_STEPS = ((1, 0, 0), (0, 1, 0), (0, 0, 1), (1, -1, 0), (1, 0, -1), (0, 1, -1))
 
-def _check_size(n: int) -> int:
+
+def _check_size(n: int, dim: int = 2) -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
         raise InputError(f"n must be an integer, got {n!r}")
     if n < 2:
         raise InputError(f"n must be at least 2, got {n}")
-    check_memory(BUILD_BYTES_PER_NODE * float(n) ** 2, f"a lattice of n = {n} ({n}^2 nodes)")
+    check_memory(BUILD_BYTES_PER_NODE * float(n) ** dim, f"a lattice of n = {n} ({n}^{dim} nodes)")
     return int(n)
 
 
@@ -99,16 +113,36 @@ def _check_delta(delta: float) -> float:
     return delta
 
 
-def _periodic_grid_bonds(n: int, neighbours: list[tuple[int, int]]):
+def _periodic_grid_bonds(n: int, neighbours):
     """Bonds of an n x n periodic grid: each node (a, b) to (a + da, b + db), wrapped."""
-    grid_a, grid_b = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    a, b = grid_a.ravel(), grid_b.ravel()
+    coords, bonds, shifts = _grid_bonds(n, neighbours)
+    return coords[:, 0], coords[:, 1], bonds, shifts
+
+
+def _grid_bonds(n: int, steps) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Bonds of a periodic grid of ``n^d`` nodes, ``d = len(steps[0])``: node ``c`` (index
+    ``c_0 n^(d-1) + ... + c_(d-1)``) to ``c + step`` wrapped, step after step.
+
+    Returns
+    -------
+    coords : (n^d, d) int
+        Grid coordinates of the nodes.
+    bonds : (len(steps) n^d, 2) int
+        Node pairs.
+    shifts : (len(steps) n^d, d) int
+        Image shifts of the second node.
+    """
+    d = len(steps[0])
+    grids = np.meshgrid(*[np.arange(n)] * d, indexing="ij")
+    coords = np.stack([g.ravel() for g in grids], axis=1)
+    weights = n ** np.arange(d - 1, -1, -1)
+    index = coords @ weights
     bonds, shifts = [], []
-    for da, db in neighbours:
-        a2, b2 = a + da, b + db
-        bonds.append(np.c_[a * n + b, (a2 % n) * n + (b2 % n)])
-        shifts.append(np.c_[a2 // n, b2 // n])
-    return a, b, np.concatenate(bonds), np.concatenate(shifts)
+    for step in steps:
+        moved = coords + np.asarray(step)
+        bonds.append(np.c_[index, (moved % n) @ weights])
+        shifts.append(moved // n)
+    return coords, np.concatenate(bonds), np.concatenate(shifts)
 
 
 def triangular_lattice(
@@ -201,12 +235,105 @@ def square_lattice(
     return net
 
 
+def fcc_lattice(
+    n: int, delta: float = DEFAULT_DELTA, rng: np.random.Generator | None = None
+) -> PeriodicNetwork:
+    """The periodic FCC lattice on its primitive cell: n^3 nodes, 6 n^3 empty bond sites.
+
+    Node ``(i, j, k)`` (index ``(i n + j) n + k``) sits at ``i a1 + j a2 + k a3``
+    (:data:`FCC_VECTORS`, nearest-neighbour distance 1) plus an independent uniform kick in
+    ``[-delta, delta]`` on each coordinate. Bond sites join every node to its neighbours along
+    :data:`FCC_STEPS` (``a1, a2, a3, a1 - a2, a1 - a3, a2 - a3``; sites ``s n^3`` to
+    ``(s + 1) n^3 - 1`` for step ``s``), 12 neighbours per node, in the box of rows
+    ``n a1, n a2, n a3``.
+
+    Parameters
+    ----------
+    n : int
+        Linear size, at least 2.
+    delta : float
+        Disorder amplitude, ``0 <= delta < 0.5``. From ``delta = 1 / (3 sqrt 2) = 0.2357``
+        kicks can turn a tetrahedron inside out; a :class:`CrossingBondsWarning` says when
+        they did.
+    rng : numpy.random.Generator, optional
+        Source of the kicks; required when ``delta > 0``.
+
+    Returns
+    -------
+    PeriodicNetwork
+        ``n^3`` nodes, ``6 n^3`` empty sites, ``dim == 3``.
+
+    Examples
+    --------
+    >>> from tensegrity_rigidity.model.lattice import fcc_lattice
+    >>> net = fcc_lattice(3, delta=0.0)
+    >>> net.n_nodes, net.n_sites, net.dim
+    (27, 162, 3)
+    """
+    n = _check_size(n, dim=3)
+    delta = _check_delta(delta)
+    coords, bonds, shifts = _grid_bonds(n, FCC_STEPS)
+    positions = coords @ FCC_VECTORS
+    if delta > 0:
+        if rng is None:
+            raise InputError("a random generator (rng) is needed when delta > 0")
+        positions = positions + rng.uniform(-delta, delta, size=positions.shape)
+    kinds = np.full(len(bonds), Element.EMPTY, dtype=np.int64)
+    net = PeriodicNetwork(n * FCC_VECTORS, positions, bonds, shifts, kinds)
+    if delta >= CROSSING_DELTA["fcc"]:
+        bad = inverted_tetrahedra(net)
+        if bad:
+            warnings.warn(
+                f"delta = {delta} turned {bad} tetrahedra of the fcc lattice inside out "
+                f"(possible from delta = {CROSSING_DELTA['fcc']:.4f})",
+                CrossingBondsWarning,
+                stacklevel=2,
+            )
+    return net
+
+
+def inverted_tetrahedra(net: PeriodicNetwork) -> int:
+    """Number of inside-out tetrahedra of a network from :func:`fcc_lattice`.
+
+    Every node ``x`` is a corner of the tetrahedra ``(x, x + a1, x + a2, x + a3)`` and
+    ``(x, x - a1, x - a2, x - a3)``; their edges from ``x`` are the bond vectors of the
+    first three sites of ``x`` and minus those of the nodes ``x - a_s``. Both have positive
+    volume in the undisturbed lattice.
+
+    Parameters
+    ----------
+    net : PeriodicNetwork
+        A network with ``6 N`` sites in :func:`fcc_lattice`'s order.
+
+    Returns
+    -------
+    int
+        Tetrahedra whose orientation flipped (0 for another network).
+    """
+    n_nodes = net.n_nodes
+    if net.dim != 3 or net.n_sites != 6 * n_nodes:
+        return 0
+    d = net.bond_vectors()
+    up = [d[s * n_nodes : (s + 1) * n_nodes] for s in range(3)]
+    # the node x - a_s is the first node of site s ending at x
+    down = []
+    for s in range(3):
+        sites = np.arange(s * n_nodes, (s + 1) * n_nodes)
+        into = np.empty(n_nodes, dtype=np.int64)
+        into[net.bonds[sites, 1]] = sites
+        down.append(-d[into])
+    v_up = np.einsum("bi,bi->b", up[0], np.cross(up[1], up[2]))
+    v_down = np.einsum("bi,bi->b", down[0], np.cross(down[1], down[2]))
+    return int(np.count_nonzero(v_up <= 0) + np.count_nonzero(-v_down <= 0))
+
+
 def random_periodic_network(
     n_nodes: int,
     n_bonds: int,
     rng: np.random.Generator,
     box: np.ndarray | None = None,
     max_shift: int = 1,
+    dim: int = 2,
 ) -> PeriodicNetwork:
     """A random periodic network: uniform nodes in a (possibly skewed) box, random bond sites.
 
@@ -220,10 +347,13 @@ def random_periodic_network(
         Number of nodes N (at least 1) and of bond sites m.
     rng : numpy.random.Generator
         Source of the positions, bonds and shifts (and of the box when omitted).
-    box : (2, 2) float, optional
-        Lattice vectors as rows; a random skewed box of area about ``n_nodes`` when omitted.
+    box : (d, d) float, optional
+        Lattice vectors as rows; a random skewed box of area (volume) about ``n_nodes`` when
+        omitted.
     max_shift : int
         Largest image shift in each direction.
+    dim : int
+        Dimension d (2 or 3) when no box is given.
 
     Returns
     -------
@@ -233,12 +363,20 @@ def random_periodic_network(
     if n_nodes < 1 or n_bonds < 0:
         raise InputError("n_nodes must be >= 1 and n_bonds >= 0")
     if box is None:
-        box = np.array([[1.0, 0.0], [rng.uniform(-0.6, 0.6), rng.uniform(0.6, 1.4)]])
-        box = box * np.sqrt(n_nodes)
-    frac = rng.random((n_nodes, 2))
-    positions = frac @ np.asarray(box, dtype=float)
+        if dim == 2:
+            box = np.array([[1.0, 0.0], [rng.uniform(-0.6, 0.6), rng.uniform(0.6, 1.4)]])
+            box = box * np.sqrt(n_nodes)
+        elif dim == 3:
+            box = np.diag(rng.uniform(0.7, 1.3, 3)) + np.tril(rng.uniform(-0.4, 0.4, (3, 3)), -1)
+            box = box * n_nodes ** (1.0 / 3.0)
+        else:
+            raise InputError(f"dim must be 2 or 3, got {dim!r}")
+    box = np.asarray(box, dtype=float)
+    d = box.shape[0] if box.ndim == 2 else dim
+    frac = rng.random((n_nodes, d))
+    positions = frac @ box
     bonds = rng.integers(0, n_nodes, size=(n_bonds, 2))
-    shifts = rng.integers(-max_shift, max_shift + 1, size=(n_bonds, 2))
+    shifts = rng.integers(-max_shift, max_shift + 1, size=(n_bonds, d))
     same = (bonds[:, 0] == bonds[:, 1]) & np.all(shifts == 0, axis=1)
     shifts[same, 0] = 1
     kinds = np.full(n_bonds, Element.EMPTY, dtype=np.int64)

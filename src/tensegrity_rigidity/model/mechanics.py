@@ -1,8 +1,8 @@
 """Linear mechanics of a strained periodic network: rigidity matrix, extensions, energy, tensions.
 
-Notation (docs/model.md): node displacements ``u`` (N, 2), flattened to 2N as
-``(u_0x, u_0y, u_1x, ...)``.
-Bond extensions ``e = e0 + R u`` with ``R`` the (m, 2N) rigidity matrix (row b: ``-dhat_b`` at
+Notation (docs/model.md): node displacements ``u`` (N, d) in ``d = 2`` or ``3`` dimensions,
+flattened to dN as ``(u_0x, u_0y, [u_0z,] u_1x, ...)``.
+Bond extensions ``e = e0 + R u`` with ``R`` the (m, dN) rigidity matrix (row b: ``-dhat_b`` at
 node i, ``+dhat_b`` at node j) and ``e0_b = dhat_b . eps . d_b`` the affine extension. The energy
 is ``E(u) = 1/2 sum_b k_b h_b(e_b) e_b^2`` with ``h = 1`` (rod), ``Theta(e)`` (cable),
 ``Theta(-e)`` (strut), ``0`` (empty), and the tension is ``t_b = k_b h_b(e_b) e_b``
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .network import Element, Instance, PeriodicNetwork
+from .network import Element, Instance, PeriodicNetwork, vector_norms
 
 
 def unit_vectors(network: PeriodicNetwork) -> np.ndarray:
@@ -27,11 +27,11 @@ def unit_vectors(network: PeriodicNetwork) -> np.ndarray:
 
     Returns
     -------
-    (m, 2) float
+    (m, d) float
         One unit vector per site (empty sites included).
     """
     d = network.bond_vectors()
-    return d / np.hypot(d[:, 0], d[:, 1])[:, None]
+    return d / vector_norms(d)[:, None]
 
 
 def rigidity_matrix(network: PeriodicNetwork, sites: np.ndarray | None = None) -> sp.csr_matrix:
@@ -47,23 +47,25 @@ def rigidity_matrix(network: PeriodicNetwork, sites: np.ndarray | None = None) -
     Returns
     -------
     scipy.sparse.csr_matrix
-        Shape (m, 2N) (or (k, 2N)); columns ``2 i``, ``2 i + 1`` are node i's x and y.
+        Shape (m, dN) (or (k, dN)); columns ``d i`` to ``d i + d - 1`` are node i's
+        coordinates.
 
     Notes
     -----
     ``R u`` gives the extensions of the bonds to first order in the displacements ``u``
-    (flattened (2N,)), ``R^T t`` the net forces of tensions ``t``. A bond joining a node to its
+    (flattened (dN,)), ``R^T t`` the net forces of tensions ``t``. A bond joining a node to its
     own image has a zero row: its length cannot change by displacing nodes, only by the
     strain.
     """
     bonds = network.bonds if sites is None else network.bonds[sites]
     dhat = unit_vectors(network) if sites is None else unit_vectors(network)[sites]
-    m = bonds.shape[0]
+    m, d = bonds.shape[0], network.dim
     i, j = bonds[:, 0], bonds[:, 1]
-    rows = np.repeat(np.arange(m), 4)
-    cols = np.c_[2 * i, 2 * i + 1, 2 * j, 2 * j + 1].ravel()
+    rows = np.repeat(np.arange(m), 2 * d)
+    axes = np.arange(d)
+    cols = np.c_[d * i[:, None] + axes, d * j[:, None] + axes].ravel()
     vals = np.c_[-dhat, dhat].ravel()
-    return sp.csr_matrix((vals, (rows, cols)), shape=(m, 2 * network.n_nodes))
+    return sp.csr_matrix((vals, (rows, cols)), shape=(m, d * network.n_nodes))
 
 
 def affine_extensions(network: PeriodicNetwork, strain: np.ndarray) -> np.ndarray:
@@ -73,7 +75,7 @@ def affine_extensions(network: PeriodicNetwork, strain: np.ndarray) -> np.ndarra
     ----------
     network : PeriodicNetwork
         The network (``m`` sites).
-    strain : (2, 2) float
+    strain : (d, d) float
         Strain tensor eps, magnitude included.
 
     Returns
@@ -87,7 +89,7 @@ def affine_extensions(network: PeriodicNetwork, strain: np.ndarray) -> np.ndarra
     # 1e-300 to zero, or one of 1e300 to infinity
     _, exponent = np.frexp(float(np.abs(network.box).max()))
     d = np.ldexp(d, -int(exponent))
-    length = np.hypot(d[:, 0], d[:, 1])
+    length = vector_norms(d)
     e0 = np.einsum("bi,ij,bj->b", d, np.asarray(strain, dtype=float), d) / length
     return np.ldexp(e0, int(exponent))
 
@@ -153,7 +155,7 @@ def extensions(instance: Instance, displacements: np.ndarray | None = None) -> n
     ----------
     instance : Instance
         Network and strain.
-    displacements : (N, 2) float, optional
+    displacements : (N, d) float, optional
         Node displacements ``u``; the affine deformation (``u = 0``) when omitted.
 
     Returns
@@ -175,7 +177,7 @@ def energy(instance: Instance, displacements: np.ndarray | None = None) -> float
     ----------
     instance : Instance
         Network, elements, stiffness and strain.
-    displacements : (N, 2) float, optional
+    displacements : (N, d) float, optional
         Node displacements; the affine energy ``E(u = 0)`` when omitted.
 
     Returns
@@ -196,7 +198,7 @@ def tensions(instance: Instance, displacements: np.ndarray | None = None) -> np.
     ----------
     instance : Instance
         Network, elements, stiffness and strain.
-    displacements : (N, 2) float, optional
+    displacements : (N, d) float, optional
         Node displacements; the affine tensions when omitted.
 
     Returns
@@ -222,7 +224,7 @@ def net_forces(network: PeriodicNetwork, t: np.ndarray) -> np.ndarray:
 
     Returns
     -------
-    (N, 2) float
+    (N, d) float
         Force on every node; zero everywhere for a self-stress.
     """
-    return (rigidity_matrix(network).T @ t).reshape(-1, 2)
+    return (rigidity_matrix(network).T @ t).reshape(-1, network.dim)

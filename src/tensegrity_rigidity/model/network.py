@@ -1,8 +1,9 @@
 """Periodic networks and strained instances as plain, validated data.
 
-A periodic network lives in a box whose *rows* are the two lattice vectors. Node ``i`` sits at
-``positions[i]``; bond ``b`` joins node ``bonds[b, 0]`` to the periodic image of node
-``bonds[b, 1]`` shifted by ``shifts[b] @ box``, so its bond vector is::
+A periodic network lives in ``d = 2`` or ``3`` dimensions, in a box whose *rows* are the ``d``
+lattice vectors. Node ``i`` sits at ``positions[i]``; bond ``b`` joins node ``bonds[b, 0]`` to
+the periodic image of node ``bonds[b, 1]`` shifted by ``shifts[b] @ box``, so its bond vector
+is::
 
     d_b = positions[j] + shifts[b] @ box - positions[i]
 
@@ -10,7 +11,7 @@ Each bond site holds one element kind (:class:`Element`): empty, rod (resists ex
 compression), cable (resists only extension) or strut (resists only compression), and an
 optional stiffness (unit by default).
 
-An :class:`Instance` is a network plus a symmetric 2x2 strain tensor ``eps`` (magnitude
+An :class:`Instance` is a network plus a symmetric ``d x d`` strain tensor ``eps`` (magnitude
 included). It is exactly what an instance file stores (see :mod:`tensegrity_rigidity.model.io`).
 """
 
@@ -34,6 +35,9 @@ MAX_POSITION_REACH = 1e6
 #: 53 bits times an integer below 2^11); a bond spanning more periodic images than this is
 #: not a network of this box.
 MAX_SHIFT = 2**11 - 1
+
+#: The dimensions a network may live in.
+DIMENSIONS = (2, 3)
 
 #: Integer arrays are held as int64: larger values are refused, not wrapped.
 _INT64_MAX = np.iinfo(np.int64).max
@@ -102,6 +106,25 @@ def _as_int_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray
     return arr
 
 
+def vector_norms(v: np.ndarray) -> np.ndarray:
+    """Euclidean norms of the rows of ``v``.
+
+    Parameters
+    ----------
+    v : (m, d) float
+        Vectors, ``d = 2`` or ``3``.
+
+    Returns
+    -------
+    (m,) float
+        ``hypot`` in 2D (no overflow or underflow), the square root of the sum of squares in
+        3D.
+    """
+    if v.shape[1] == 2:
+        return np.hypot(v[:, 0], v[:, 1])
+    return np.sqrt(np.einsum("bi,bi->b", v, v))
+
+
 def _check_shape(name: str, arr: np.ndarray, shape: tuple[int | None, ...]) -> None:
     ok = arr.ndim == len(shape) and all(
         s is None or s == a for s, a in zip(shape, arr.shape, strict=True)
@@ -117,13 +140,14 @@ class PeriodicNetwork:
 
     Parameters
     ----------
-    box : (2, 2) float
-        Rows are the lattice vectors of the periodic box; must have positive area.
-    positions : (N, 2) float
+    box : (d, d) float
+        Rows are the lattice vectors of the periodic box (``d = 2`` or ``3``); must have
+        positive area (volume).
+    positions : (N, d) float
         Node positions.
     bonds : (m, 2) int
         Node indices ``(i, j)`` of each bond site.
-    shifts : (m, 2) int
+    shifts : (m, d) int
         Integer image offsets: the bond joins ``i`` to ``j``'s image at ``shifts[b] @ box``.
     kinds : (m,) int
         :class:`Element` code of each site (0 empty, 1 rod, 2 cable, 3 strut).
@@ -133,8 +157,8 @@ class PeriodicNetwork:
     Raises
     ------
     InputError
-        On wrong shapes, non-finite values, indices out of range, unknown kinds, zero-length
-        bonds, non-positive stiffness or a degenerate box.
+        On wrong or mixed dimensions, non-finite values, indices out of range, unknown kinds,
+        zero-length bonds, non-positive stiffness or a degenerate box.
     """
 
     box: np.ndarray
@@ -145,22 +169,28 @@ class PeriodicNetwork:
     stiffness: np.ndarray | None = field(default=None)
 
     def __post_init__(self) -> None:
-        box = _as_float_array("box", self.box, (2, 2))
+        box = _as_float_array("box", self.box, (None, None))
+        dim = box.shape[0]
+        if box.shape[1] != dim or dim not in DIMENSIONS:
+            raise InputError(f"box must have shape (2, 2) or (3, 3), got {box.shape}")
         # relative to the box's own scale (divided out first, so that a box at 1e-300 or
         # 1e300 neither underflows nor overflows): |det| = |b1| |b2| sin(angle between them)
         box_scale = float(np.abs(box).max())
         unit_box = box / box_scale if box_scale > 0 else box
-        norms = float(np.hypot(*unit_box[0])) * float(np.hypot(*unit_box[1]))
+        norms = float(np.prod(vector_norms(unit_box)))
         unit_area = abs(float(np.linalg.det(unit_box)))
         if not unit_area > 1e-12 * norms:
-            raise InputError("box must have two independent lattice vectors (zero area)")
-        positions = _as_float_array("positions", self.positions, (None, 2))
+            what = "two independent lattice vectors (zero area)"
+            if dim == 3:
+                what = "three independent lattice vectors (zero volume)"
+            raise InputError(f"box must have {what}")
+        positions = _as_float_array("positions", self.positions, (None, dim))
         n_nodes = positions.shape[0]
         if n_nodes == 0:
             raise InputError("positions must hold at least one node")
         bonds = _as_int_array("bonds", self.bonds, (None, 2))
         m = bonds.shape[0]
-        shifts = _as_int_array("shifts", self.shifts, (m, 2))
+        shifts = _as_int_array("shifts", self.shifts, (m, dim))
         kinds = _as_int_array("kinds", self.kinds, (m,))
         if m and int(np.abs(shifts).max()) > MAX_SHIFT:
             b = int(np.argmax(np.abs(shifts).max(axis=1)))
@@ -182,8 +212,8 @@ class PeriodicNetwork:
             if np.any(stiffness <= 0):
                 raise InputError("stiffness must be positive on every bond site")
         vec = positions[bonds[:, 1]] + shifts @ box - positions[bonds[:, 0]]
-        length = np.hypot(vec[:, 0], vec[:, 1])
-        scale = box_scale * float(np.sqrt(unit_area))
+        length = vector_norms(vec)
+        scale = box_scale * float(unit_area ** (1.0 / dim))
         reach = float(np.abs(positions).max()) / scale
         if reach > MAX_POSITION_REACH:
             raise InputError(
@@ -206,6 +236,11 @@ class PeriodicNetwork:
             object.__setattr__(self, name, arr)
 
     @property
+    def dim(self) -> int:
+        """Dimension d of the space (2 or 3)."""
+        return int(self.box.shape[0])
+
+    @property
     def n_nodes(self) -> int:
         """Number of nodes N."""
         return int(self.positions.shape[0])
@@ -220,7 +255,7 @@ class PeriodicNetwork:
 
         Returns
         -------
-        (m, 2) float
+        (m, d) float
             One row per bond site (empty sites included).
         """
         return (
@@ -237,8 +272,7 @@ class PeriodicNetwork:
         (m,) float
             One per bond site (empty sites included).
         """
-        d = self.bond_vectors()
-        return np.hypot(d[:, 0], d[:, 1])
+        return vector_norms(self.bond_vectors())
 
     def stiffness_or_ones(self) -> np.ndarray:
         """Stiffness per site, ones when none was given.
@@ -281,31 +315,45 @@ class PeriodicNetwork:
         return int(np.count_nonzero(self.kinds == kind))
 
 
-def check_strain(strain) -> np.ndarray:
-    """Validate a strain tensor: finite, shape (2, 2), symmetric.
+def check_strain(strain, dim: int | None = None) -> np.ndarray:
+    """Validate a strain tensor: finite, square of dimension 2 or 3 (``dim`` if given),
+    symmetric.
 
     Parameters
     ----------
-    strain : (2, 2) array_like
+    strain : (d, d) array_like
         The tensor; off-diagonal entries may differ by round-off (``1e-12`` of the largest
         entry), the lower one is then set to the upper one.
+    dim : int, optional
+        The dimension it must have (the network's).
 
     Returns
     -------
-    (2, 2) float
+    (d, d) float
         A symmetric float copy.
 
     Raises
     ------
     InputError
-        On a wrong shape, non-finite or complex values, or an asymmetric tensor.
+        On a wrong shape or dimension, non-finite or complex values, or an asymmetric tensor.
     """
-    eps = _as_float_array("strain", strain, (2, 2))
-    if abs(eps[0, 1] - eps[1, 0]) > 1e-12 * float(np.abs(eps).max()):
+    eps = _as_float_array("strain", strain, (None, None))
+    d = eps.shape[0]
+    if eps.shape[1] != d or d not in DIMENSIONS:
+        raise InputError(f"strain must have shape (2, 2) or (3, 3), got {eps.shape}")
+    if dim is not None and d != dim:
         raise InputError(
-            f"strain must be symmetric, got off-diagonal entries {eps[0, 1]!r} and {eps[1, 0]!r}"
+            f"strain has shape {eps.shape} but the network is {dim}-dimensional: give a "
+            f"({dim}, {dim}) tensor"
         )
-    eps[1, 0] = eps[0, 1]
+    top = float(np.abs(eps).max())
+    for a, b in zip(*np.triu_indices(d, 1), strict=True):
+        if abs(eps[a, b] - eps[b, a]) > 1e-12 * top:
+            raise InputError(
+                "strain must be symmetric, got off-diagonal entries "
+                f"{eps[a, b]!r} and {eps[b, a]!r}"
+            )
+        eps[b, a] = eps[a, b]
     return eps
 
 
@@ -317,9 +365,9 @@ class Instance:
     ----------
     network : PeriodicNetwork
         Geometry and elements.
-    strain : (2, 2) float
-        Symmetric strain tensor eps, magnitude included. The affine extension of bond b is
-        ``e0_b = dhat_b . eps . d_b``.
+    strain : (d, d) float
+        Symmetric strain tensor eps, magnitude included, of the network's dimension. The
+        affine extension of bond b is ``e0_b = dhat_b . eps . d_b``.
     """
 
     network: PeriodicNetwork
@@ -328,7 +376,7 @@ class Instance:
     def __post_init__(self) -> None:
         if not isinstance(self.network, PeriodicNetwork):
             raise InputError("network must be a PeriodicNetwork")
-        eps = check_strain(self.strain)
+        eps = check_strain(self.strain, self.network.dim)
         eps.setflags(write=False)
         object.__setattr__(self, "strain", eps)
 
@@ -338,17 +386,17 @@ class Instance:
 
         Parameters
         ----------
-        box : (2, 2) float
-            Lattice vectors of the periodic box, as rows.
-        positions : (N, 2) float
+        box : (d, d) float
+            Lattice vectors of the periodic box, as rows (``d = 2`` or ``3``).
+        positions : (N, d) float
             Node positions.
         bonds : (m, 2) int
             Node indices ``(i, j)`` of each bond site.
-        shifts : (m, 2) int
+        shifts : (m, d) int
             Integer image offsets of node ``j``.
         kinds : (m,) int
             :class:`Element` codes.
-        strain : (2, 2) float
+        strain : (d, d) float
             Symmetric strain tensor, magnitude included.
         stiffness : (m,) float, optional
             Positive spring constants (unit when omitted).
@@ -385,7 +433,7 @@ class Instance:
 
         Parameters
         ----------
-        strain : (2, 2) float
+        strain : (d, d) float
             Symmetric strain tensor, magnitude included.
 
         Returns

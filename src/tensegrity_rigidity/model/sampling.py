@@ -13,11 +13,11 @@ import numpy as np
 
 from ..errors import InputError
 from .elements import check_probabilities, place_elements, site_uniforms
-from .lattice import DEFAULT_DELTA, square_lattice, triangular_lattice
+from .lattice import DEFAULT_DELTA, fcc_lattice, square_lattice, triangular_lattice
 from .network import Instance, PeriodicNetwork
 from .strain import strain_tensor
 
-LATTICES = {"triangular": triangular_lattice, "square": square_lattice}
+LATTICES = {"triangular": triangular_lattice, "square": square_lattice, "fcc": fcc_lattice}
 
 
 def check_seed(seed) -> int | None:
@@ -97,6 +97,7 @@ def lattice_instance(
     delta: float = DEFAULT_DELTA,
     seed: int | np.random.Generator | None = 0,
     lattice: str = "triangular",
+    rotation_matrix: np.ndarray | None = None,
 ) -> Instance:
     """A random strained lattice sample.
 
@@ -120,8 +121,11 @@ def lattice_instance(
         None draws fresh entropy (a different sample on every call). The same seed gives the
         same geometry and uniforms for every ``(p_r, p_t, f_c)`` and strain (common random
         numbers).
-    lattice : {"triangular", "square"}
-        The lattice builder.
+    lattice : {"triangular", "square", "fcc"}
+        The lattice builder ("fcc": the 3D FCC lattice, ``n^3`` nodes, ``6 n^3`` sites).
+    rotation_matrix : (3, 3) float, optional
+        Principal axes of a 3D strain (:func:`~.strain.strain_tensor`; default the
+        coordinate axes); ``theta`` sets them in 2D.
 
     Returns
     -------
@@ -146,4 +150,5 @@ def lattice_instance(
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
     net, u, v = lattice_geometry(n, delta, rng, lattice)
     kinds = place_elements(u, v, p_r, p_t, f_c)
-    return Instance(net.with_kinds(kinds), strain_tensor(phi, theta, gamma))
+    strain = strain_tensor(phi, theta, gamma, rotation_matrix=rotation_matrix, dim=net.dim)
+    return Instance(net.with_kinds(kinds), strain)

@@ -1,10 +1,14 @@
 """Metric strains of the supplement: eps(phi, theta) = A(theta) diag(cos phi + sin phi,
-cos phi - sin phi) A(-theta), times a magnitude gamma.
+cos phi - sin phi) A(-theta), times a magnitude gamma; in 3D eps(phi) = Q (cos phi I + sin phi
+diag(1, -1, 0)) Q^T with a rotation Q.
 
-``phi = 0`` is dilation, ``pi/2`` pure shear, ``pi`` compression; ``theta`` rotates the principal
-axes. The paper's run ``k`` (1-based) of ``eta`` uses ``theta = 2 pi (k - 1) / eta``
-(:func:`run_angle`); sweeps default to a golden-angle sequence that does not depend on the
-number of samples (:func:`tensegrity_rigidity.ensemble.spec.strain_angle`).
+``phi = 0`` is dilation, ``pi/2`` pure shear (in 3D volume-preserving, one axis neutral),
+``pi`` compression; ``theta`` (or ``Q``) rotates the principal axes. Sweeps in 3D draw Q from a
+low-discrepancy sequence on SO(3) that does not depend on the number of samples
+(:func:`sequence_rotation`). The paper's run ``k`` (1-based) of ``eta`` uses
+``theta = 2 pi (k - 1) / eta`` (:func:`run_angle`); sweeps default to a golden-angle
+sequence that does not depend on the number of samples
+(:func:`tensegrity_rigidity.ensemble.spec.strain_angle`).
 """
 
 from __future__ import annotations
@@ -71,22 +75,36 @@ def rotation(theta: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def strain_tensor(phi: float | str, theta: float = 0.0, gamma: float = 1.0) -> np.ndarray:
-    """The symmetric strain tensor ``gamma eps(phi, theta)`` of the supplement.
+def strain_tensor(
+    phi: float | str,
+    theta: float = 0.0,
+    gamma: float = 1.0,
+    rotation_matrix: np.ndarray | None = None,
+    dim: int | None = None,
+) -> np.ndarray:
+    """The symmetric strain tensor ``gamma eps(phi, theta)`` of the supplement, in 2D or 3D.
 
     Parameters
     ----------
     phi : float or str
         Strain type (:func:`parse_phi`): 0 dilation, pi/2 shear, pi compression.
     theta : float
-        Angle of the principal axes, radians.
+        Angle of the principal axes in 2D, radians (ignored when ``rotation_matrix`` is given).
     gamma : float
         Magnitude, positive.
+    rotation_matrix : (d, d) float, optional
+        The principal axes as a rotation Q (orthogonal, determinant +1); its shape sets the
+        dimension.
+    dim : int, optional
+        2 or 3 (default: that of ``rotation_matrix``, else 2); in 3D without a rotation the
+        principal axes are the coordinate axes.
 
     Returns
     -------
-    (2, 2) float
-        ``gamma A(theta) diag(cos phi + sin phi, cos phi - sin phi) A(-theta)``, symmetric.
+    (d, d) float
+        ``gamma Q (cos phi I + sin phi diag(1, -1[, 0])) Q^T``, symmetric; in 2D with
+        ``Q = A(theta)`` this is ``gamma A(theta) diag(cos phi + sin phi, cos phi - sin phi)
+        A(-theta)``.
 
     Raises
     ------
@@ -106,10 +124,95 @@ def strain_tensor(phi: float | str, theta: float = 0.0, gamma: float = 1.0) -> n
     if not math.isfinite(theta):
         raise InputError("theta must be finite")
     gamma = check_gamma(gamma)
-    eps0 = np.diag([math.cos(phi) + math.sin(phi), math.cos(phi) - math.sin(phi)])
-    a = rotation(theta)
+    if rotation_matrix is not None:
+        a = check_rotation(rotation_matrix)
+        if dim is not None and a.shape[0] != dim:
+            raise InputError(f"rotation_matrix has shape {a.shape}, not ({dim}, {dim})")
+    elif dim in (None, 2):
+        a = rotation(theta)
+    elif dim == 3:
+        a = np.eye(3)
+    else:
+        raise InputError(f"dim must be 2 or 3, got {dim!r}")
+    if a.shape[0] == 2:
+        eps0 = np.diag([math.cos(phi) + math.sin(phi), math.cos(phi) - math.sin(phi)])
+    else:
+        eps0 = math.cos(phi) * np.eye(3) + math.sin(phi) * np.diag([1.0, -1.0, 0.0])
     eps = gamma * (a @ eps0 @ a.T)
     return 0.5 * (eps + eps.T)
+
+
+def check_rotation(q) -> np.ndarray:
+    """Validate a rotation matrix: finite, (2, 2) or (3, 3), orthogonal to ``1e-10``, proper.
+
+    Parameters
+    ----------
+    q : (d, d) array_like
+        The matrix.
+
+    Returns
+    -------
+    (d, d) float
+        A float copy.
+
+    Raises
+    ------
+    InputError
+        When ``q`` is not a proper rotation.
+    """
+    try:
+        a = np.array(q, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"rotation_matrix must be a numeric array ({exc})") from None
+    if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] not in (2, 3):
+        raise InputError(f"rotation_matrix must have shape (2, 2) or (3, 3), got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise InputError("rotation_matrix contains NaN or infinite values")
+    if np.abs(a @ a.T - np.eye(a.shape[0])).max() > 1e-10 or np.linalg.det(a) < 0:
+        raise InputError("rotation_matrix must be a rotation (orthogonal, determinant +1)")
+    return a
+
+
+#: The additive steps of the 3D Kronecker sequence behind :func:`sequence_rotation`: the powers
+#: ``1 / g, 1 / g^2, 1 / g^3`` of the real root ``g = 1.2207...`` of ``x^4 = x + 1`` (Roberts'
+#: generalised golden ratio in three dimensions), whose multiples modulo 1 fill the unit cube
+#: with low discrepancy for every sample count.
+_R3_ROOT = 1.2207440846057596
+R3_STEPS = tuple(_R3_ROOT ** -(i + 1) for i in range(3))
+
+
+def sequence_rotation(k: int) -> np.ndarray:
+    """Rotation ``k`` (1-based) of a low-discrepancy sequence on SO(3).
+
+    The point ``frac(k R3_STEPS)`` of the unit cube is mapped to a unit quaternion by
+    Shoemake's volume-preserving map (uniform points give rotations uniform on SO(3), "Uniform
+    random rotations", Graphics Gems III, 1992), so the first ``K`` rotations cover SO(3)
+    evenly for every ``K``: the 3D counterpart of the golden angles, independent of the
+    sample count.
+
+    Parameters
+    ----------
+    k : int
+        Index, at least 1.
+
+    Returns
+    -------
+    (3, 3) float
+        A proper rotation.
+    """
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
+        raise InputError(f"the rotation index must be a positive integer, got {k!r}")
+    u1, u2, u3 = (math.fmod(k * step, 1.0) for step in R3_STEPS)
+    a, b = math.sqrt(1.0 - u1), math.sqrt(u1)
+    w, x = a * math.sin(2 * math.pi * u2), a * math.cos(2 * math.pi * u2)
+    y, z = b * math.sin(2 * math.pi * u3), b * math.cos(2 * math.pi * u3)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def run_angle(k: int, eta: int) -> float:

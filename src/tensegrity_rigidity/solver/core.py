@@ -345,6 +345,16 @@ def _check_scale(p: Problem) -> None:
     check_energy_scale(p.scale, p.instance.network.stiffness_or_ones()[p.sites])
 
 
+def check_dimension(instance: Instance) -> None:
+    """Refuse a network the solver cannot decide: it handles two dimensions."""
+    dim = getattr(getattr(instance, "network", None), "dim", 2)
+    if dim != 2:
+        raise InputError(
+            f"the solver decides 2D networks; this one is {dim}-dimensional (3D networks can be "
+            "built, saved and inspected, not yet decided)"
+        )
+
+
 def _undecided_message(s) -> str:
     parts = ["no certificate passed the resolution model"]
     if s.rigid is not None:
@@ -366,6 +376,7 @@ def _search(
         hint = " (load a file with load_instance(path) first)"
         hint = hint if isinstance(instance, (str, os.PathLike)) else ""
         raise InputError(f"expected an Instance, got {type(instance).__name__}{hint}")
+    check_dimension(instance)
     p = Problem(instance, opts.regularization, opts.factorization, unit_stiffness=True)
     _check_scale(p)
     u0 = t0 = None
