@@ -25,7 +25,7 @@ def strain_magnitude(strain: np.ndarray) -> float:
 
     Parameters
     ----------
-    strain : (2, 2) float
+    strain : (d, d) float
         Symmetric strain tensor.
 
     Returns
@@ -45,7 +45,7 @@ def nonaffinity(instance: Instance, result: SolveResult, gamma: float | None = N
     instance : Instance
         The sample (``N`` nodes); ``l`` is its mean bond length over all sites.
     result : SolveResult
-        Its solution: ``displacements`` (N, 2) are the nonaffine displacements (the
+        Its solution: ``displacements`` (N, d) are the nonaffine displacements (the
         minimum-norm minimiser, mean translation removed; check ``result.min_norm_ok``).
     gamma : float, optional
         Strain magnitude; by default the strain tensor's spectral norm

@@ -49,9 +49,9 @@ and stay valid), and the bound is added to each test:
   ``|t|_1`` (itself a pairwise sum), off by less than ``(2 ceil(log2 m) + 3) eps``. Both are
   below ``roundoff = (3 (D + 6) + 2 ceil(log2 max(m, 2N)) + 3) eps``
   (:attr:`ExactGeometry.roundoff`, which also covers sums over the ``2N`` displacements;
-  3.6e-18 on the triangular lattice at n = 64; earlier releases added a fixed 1e-15, a margin
-  rather than a bound: their bond vectors were plain sums, off by ``eps |x| / |d|``, up to
-  ``1e-16`` at n = 64, and the margin would not have held where ``longdouble`` is a double).
+  3.6e-18 on the triangular lattice at n = 64). In 3D a unit vector takes one more rounding
+  (``7 eps``) and ``|dhat|_1 <= sqrt(3)``: ``roundoff = (4 (D + 7) + 2 ceil(log2 max(m, 3N))
+  + 3) eps``.
   ``tests/solver/test_certificates.py`` checks both bounds against 40-digit decimal arithmetic.
 
 An instance with neither certificate is *within resolution of the boundary* (or was not
@@ -163,18 +163,19 @@ def bond_vectors(network, sites: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     network : PeriodicNetwork
-        Positions (N, 2), bonds (B, 2), shifts (B, 2) and box (2, 2).
+        Positions (N, d), bonds (B, 2), shifts (B, d) and box (d, d).
     sites : (m,) int
         Bond sites.
 
     Returns
     -------
-    (m, 2) longdouble
+    (m, d) longdouble
     """
     pos = network.positions.astype(np.longdouble)
     box = network.box.astype(np.longdouble)
     b, shift = network.bonds[sites], network.shifts[sites].astype(np.longdouble)
-    terms = [pos[b[:, 1]], -pos[b[:, 0]], shift[:, :1] * box[0], shift[:, 1:] * box[1]]
+    terms = [pos[b[:, 1]], -pos[b[:, 0]]]
+    terms += [shift[:, a : a + 1] * box[a] for a in range(box.shape[0])]
     total, err = terms[0], np.zeros_like(terms[0])
     for term in terms[1:]:
         total, e = _two_sum(total, term)
@@ -189,8 +190,9 @@ class ExactGeometry:
     ----------
     bonds : (m, 2) int
         Node pairs of the non-empty sites.
-    d : (m, 2) longdouble
-        Bond vectors of those sites in extended precision (:func:`bond_vectors`).
+    d : (m, dim) longdouble
+        Bond vectors of those sites in extended precision (:func:`bond_vectors`), ``dim = 2``
+        or ``3``.
     e0 : (m,) float
         Affine extensions in units of the instance's ``max |e0|`` (so ``|e0| <= 1``).
     sigma : (m,) float
@@ -207,26 +209,30 @@ class ExactGeometry:
         self.e0n = np.asarray(e0, dtype=np.longdouble)
         self.strained = bool(np.any(e0))
         self.n_nodes = n_nodes
+        self.dim = int(d.shape[1])
         degree = int(np.bincount(np.asarray(bonds).ravel(), minlength=n_nodes).max(initial=0))
-        sums = int(np.ceil(np.log2(max(len(bonds), 2 * n_nodes, 2))))
+        sums = int(np.ceil(np.log2(max(len(bonds), self.dim * n_nodes, 2))))
+        # 2 sqrt(dim) rounded up, and the roundings of a unit vector (one more sum in 3D)
+        factor, unit = (3, 6) if self.dim == 2 else (4, 7)
         #: Bound on the round-off of the normalised work and force residual (module docstring).
-        self.roundoff = (3 * (degree + 6) + 2 * sums + 3) * EPS
+        self.roundoff = (factor * (degree + unit) + 2 * sums + 3) * EPS
         self._R: sp.csr_matrix | None = None
 
     @property
     def matrix(self) -> sp.csr_matrix:
-        """The rigidity matrix ``R`` (m, 2N) in extended precision (built on first use); a row
+        """The rigidity matrix ``R`` (m, dN) in extended precision (built on first use); a row
         holds ``-dhat`` at its first node and ``+dhat`` at its second, so a node's force in
         ``R^T t`` sums at most ``D`` products in turn, as the bound assumes."""
         if self._R is None:
-            m = len(self.bonds)
+            m, dim = len(self.bonds), self.dim
             i, j = self.bonds[:, 0], self.bonds[:, 1]
-            cols = np.concatenate([2 * j, 2 * j + 1, 2 * i, 2 * i + 1])
+            axes = range(dim)
+            cols = np.concatenate([dim * j + a for a in axes] + [dim * i + a for a in axes])
             vals = np.concatenate(
-                [self.dhat[:, 0], self.dhat[:, 1], -self.dhat[:, 0], -self.dhat[:, 1]]
+                [self.dhat[:, a] for a in axes] + [-self.dhat[:, a] for a in axes]
             )
-            rows = np.tile(np.arange(m), 4)
-            shape = (m, 2 * self.n_nodes)
+            rows = np.tile(np.arange(m), 2 * dim)
+            shape = (m, dim * self.n_nodes)
             self._R = sp.csr_matrix((vals, (rows, cols)), shape=shape, dtype=np.longdouble)
         return self._R
 
@@ -235,14 +241,14 @@ class ExactGeometry:
 
         Parameters
         ----------
-        u_n : (2N,) float
+        u_n : (dN,) float
             Displacements in units of ``max |e0|``.
 
         Returns
         -------
         (m,) longdouble
         """
-        u = np.asarray(u_n, dtype=np.longdouble).reshape(-1, 2)
+        u = np.asarray(u_n, dtype=np.longdouble).reshape(-1, self.dim)
         i, j = self.bonds[:, 0], self.bonds[:, 1]
         return self.e0n + (self.dhat * (u[j] - u[i])).sum(axis=1)
 

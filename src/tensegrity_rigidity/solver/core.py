@@ -227,7 +227,7 @@ class SolveResult:
         True when a certificate was accepted.
     tensions : (m,) float
         Tensions t* at the minimum (zero on empty sites, >= 0 on cables, <= 0 on struts).
-    displacements : (N, 2) float
+    displacements : (N, d) float
         Minimising displacements, mean translation removed (minimum-norm when ``min_norm_ok``).
     extensions : (m,) float
         Total extensions e0 + R u at the reported displacements.
@@ -345,16 +345,6 @@ def _check_scale(p: Problem) -> None:
     check_energy_scale(p.scale, p.instance.network.stiffness_or_ones()[p.sites])
 
 
-def check_dimension(instance: Instance) -> None:
-    """Refuse a network the solver cannot decide: it handles two dimensions."""
-    dim = getattr(getattr(instance, "network", None), "dim", 2)
-    if dim != 2:
-        raise InputError(
-            f"the solver decides 2D networks; this one is {dim}-dimensional (3D networks can be "
-            "built, saved and inspected, not yet decided)"
-        )
-
-
 def _undecided_message(s) -> str:
     parts = ["no certificate passed the resolution model"]
     if s.rigid is not None:
@@ -376,7 +366,6 @@ def _search(
         hint = " (load a file with load_instance(path) first)"
         hint = hint if isinstance(instance, (str, os.PathLike)) else ""
         raise InputError(f"expected an Instance, got {type(instance).__name__}{hint}")
-    check_dimension(instance)
     p = Problem(instance, opts.regularization, opts.factorization, unit_stiffness=True)
     _check_scale(p)
     u0 = t0 = None
@@ -425,7 +414,7 @@ def decide(
         Network, elements and strain.
     options : SolverOptions, optional
         Resolution model, stages and limits.
-    initial_displacements : (N, 2) float, optional
+    initial_displacements : (N, d) float, optional
         A starting point (offered as a floppy candidate, crossed over, and used by Newton).
     initial_tensions : (m,) float, optional
         Tensions on every site (a neighbouring configuration's self-stress, say), purified
@@ -752,7 +741,7 @@ def solve(
     options : SolverOptions, optional
         Resolution model, stages and limits; the defaults suit any geometry and strain
         magnitude.
-    initial_displacements : (N, 2) float, optional
+    initial_displacements : (N, d) float, optional
         Warm start (for example the solution of a neighbouring sample).
 
     Returns
@@ -845,7 +834,7 @@ def solve(
         warnings.warn(f"undecided sample: {verdict.message}", UndecidedWarning, stacklevel=2)
     # back to physical units
     e_unit = k_unit * p.scale**2
-    disp = (u_n * p.scale).reshape(-1, 2)
+    disp = (u_n * p.scale).reshape(-1, p.dim)
     disp = disp - disp.mean(axis=0)
     # the certified sum itself, else the projection's bound (physical units)
     min_norm_lower = float(np.sum(disp**2)) if min_norm_ok else float(norm_lower * p.scale**2)

@@ -55,7 +55,7 @@ class InexactResult:
         Whether L-BFGS-B reported success (its tolerances met, not its iteration limit).
     message : str
         L-BFGS-B's message.
-    displacements : (N, 2) float
+    displacements : (N, d) float
         Where it stopped (mean translation removed).
     threshold : float
         The relative energy threshold of the verdict.
@@ -132,7 +132,7 @@ def paper_verdict(instance: Instance, threshold: float = PAPER_THRESHOLD) -> Ine
     affine = energy_and_gradient(np.zeros(R.shape[1]))[0]
     with one_blas_thread():  # the same iterates whatever the thread settings
         res = minimize(energy_and_gradient, np.zeros(R.shape[1]), jac=True, method="L-BFGS-B")
-    u = res.x.reshape(-1, 2)
+    u = res.x.reshape(-1, instance.network.dim)
     u = u - u.mean(axis=0)
     energy = float(res.fun)
     return InexactResult(

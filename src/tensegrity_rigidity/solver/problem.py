@@ -13,7 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..model.mechanics import affine_extensions, rigidity_matrix
-from ..model.network import Element, Instance
+from ..model.network import Element, Instance, vector_norms
 from .certificates import ExactGeometry, bond_vectors
 from .linalg import PatternFactor
 
@@ -118,9 +118,14 @@ class Problem:
         #: energies by ``k_scale scale^2``, tensions by ``k_scale scale``.
         self.scale = float(np.abs(e0_all).max()) if e0_all.size else 0.0
         self.e0 = e0 / self.scale if self.scale > 0 else e0
-        self.n2 = 2 * net.n_nodes
+        #: dimension d of the space and number dN of displacement unknowns
+        self.dim = net.dim
+        self.n2 = self.dim * net.n_nodes
         self.mu = regularization
-        self._pattern()
+        if self.dim == 2:
+            self._pattern()
+        else:
+            self._pattern_general()
         self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend)
         self._weights: np.ndarray | None = None
         self.factorizations = 0
@@ -230,6 +235,49 @@ class Problem:
         self._diagonal = np.empty(2 * n_nodes, dtype=np.int64)  # pattern entries of the diagonal
         self._diagonal[0::2] = block[0]
         self._diagonal[1::2] = block[2]
+
+    def _pattern_general(self) -> None:
+        """The pattern and the assembly map of :meth:`_pattern` in any dimension ``d``.
+
+        Each bond's row of ``R`` holds ``(-dhat, dhat)`` at the ``2d`` columns of its two
+        nodes; its terms are the products ``vals_p vals_q`` with ``cols_p <= cols_q`` (both
+        orders where the columns coincide, as for a bond to its node's own image, whose terms
+        then cancel). The pattern is the set of entries those terms reach plus the diagonal,
+        in CSC order; the assembly matrix adds each entry's terms bond by bond.
+        """
+        net = self.instance.network
+        d, n = self.dim, self.dim * net.n_nodes
+        i = net.bonds[self.sites, 0].astype(np.int64)
+        j = net.bonds[self.sites, 1].astype(np.int64)
+        m = i.size
+        vec = net.bond_vectors()[self.sites]
+        dhat = vec / vector_norms(vec)[:, None]
+        axes = np.arange(d)
+        cols = np.c_[d * i[:, None] + axes, d * j[:, None] + axes]  # (m, 2d)
+        vals = np.c_[-dhat, dhat]
+        p, q = np.meshgrid(np.arange(2 * d), np.arange(2 * d), indexing="ij")
+        p, q = p.ravel(), q.ravel()
+        row, col = cols[:, p], cols[:, q]  # (m, 4 d^2), bond after bond, each in k order
+        keep = row <= col
+        site = np.broadcast_to(np.arange(m)[:, None], row.shape)[keep]
+        value = (vals[:, p] * vals[:, q])[keep]
+        term_keys = col[keep] * n + row[keep]  # column-major: CSC order
+        diag = np.arange(n, dtype=np.int64)
+        keys = np.unique(np.r_[term_keys, diag * n + diag])
+        entry = np.searchsorted(keys, term_keys)
+        order = np.argsort(entry, kind="stable")
+        counts = np.bincount(entry, minlength=keys.size)
+        rows_ptr = np.zeros(keys.size + 1, dtype=np.int64)
+        np.cumsum(counts, out=rows_ptr[1:])
+        self._assemble = sp.csr_matrix(
+            (value[order], site[order].astype(np.int32), rows_ptr), shape=(keys.size, m)
+        )
+        self._indices = (keys % n).astype(np.int32)
+        indptr = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.bincount(keys // n, minlength=n), out=indptr[1:])
+        self._indptr = indptr.astype(np.int32)
+        self._nnz = int(keys.size)
+        self._diagonal = np.searchsorted(keys, diag * n + diag)
 
     def values(self, weights: np.ndarray, shift: float | None = None) -> np.ndarray:
         """Entries of ``R^T diag(weights) R + shift I`` in the fixed upper-triangular pattern.

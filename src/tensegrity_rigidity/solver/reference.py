@@ -37,7 +37,7 @@ class ReferenceResult:
         Verdict of the formulation (LP: value above tolerance; QP: E* above tolerance).
     tensions : (m,) float
         LP: the maximising admissible self-stress. QP: the optimal tensions t*.
-    displacements : (N, 2) float
+    displacements : (N, d) float
         Displacements from the dual multipliers of force balance.
     status : str
         The solver's status string.
@@ -104,7 +104,7 @@ def lp_verdict(
         ``value`` the work per unit ``|t|_1`` that decided (physical units): where floppy
         by the box LP, the upper bound below the tolerance (its optimum or its dual's
         largest violation), else the work of ``tensions`` (m,), the deciding maximiser;
-        ``displacements`` (N, 2) the LP's dual (admissible extensions when the optimum is
+        ``displacements`` (N, d) the LP's dual (admissible extensions when the optimum is
         0); ``status`` names the step that decided. ``value`` NaN and status "time limit"
         when an LP reached the limit.
 
@@ -115,7 +115,7 @@ def lp_verdict(
     """
     net, sites, kinds, R, e0, _ = _nonempty(instance)
     t_full = np.zeros(net.n_sites)
-    no_u = np.zeros((net.n_nodes, 2))
+    no_u = np.zeros((net.n_nodes, net.dim))
     if R.shape[0] == 0 or not np.any(e0):
         return ReferenceResult(0.0, False, t_full, no_u, "trivial")
     limit = tol * float(np.abs(e0).max())
@@ -123,6 +123,7 @@ def lp_verdict(
     if box is None:
         return ReferenceResult(np.nan, False, t_full, no_u, "time limit")
     optimum, t, u = box
+    u = u.reshape(-1, net.dim)
     t_full[sites] = t
     if optimum <= limit:
         return ReferenceResult(optimum, False, t_full, u, "box LP: optimum below")
@@ -137,7 +138,7 @@ def lp_verdict(
         return ReferenceResult(np.nan, False, t_full, no_u, "time limit")
     optimum, t, u = l1
     t_full[sites] = t
-    return ReferenceResult(optimum, optimum > limit, t_full, u, "l1 LP")
+    return ReferenceResult(optimum, optimum > limit, t_full, u.reshape(-1, net.dim), "l1 LP")
 
 
 def _largest_violation(R, e0, kinds, u) -> float:
@@ -154,7 +155,7 @@ def _largest_violation(R, e0, kinds, u) -> float:
 
 def _farkas_lp(R, e0, kinds, l1: bool, time_limit: float | None):
     """``max t . e0`` over admissible self-stresses with ``|t_b| <= 1`` (``l1`` False) or
-    ``|t|_1 <= 1``: (optimum, t (m,), u (N, 2) from the multipliers of ``R^T t = 0``), or
+    ``|t|_1 <= 1``: (optimum, t (m,), u (N, d) from the multipliers of ``R^T t = 0``), or
     None where HiGHS reached ``time_limit``."""
     from scipy.optimize import linprog
 
@@ -200,7 +201,7 @@ def _farkas_lp(R, e0, kinds, l1: bool, time_limit: float | None):
     # scipy's marginals satisfy  c = A_eq^T y (+ A_ub^T s) + bound duals, with s = 0 where the
     # optimum is 0 (its dual value is s); on each column c = -e0 then reads e0 + R y =
     # -(bound duals), so u = y makes e0 + R u admissible when the optimum is 0.
-    u = np.asarray(res.eqlin.marginals, dtype=float).reshape(-1, 2)
+    u = np.asarray(res.eqlin.marginals, dtype=float)
     return float(-res.fun), t, u
 
 
@@ -230,7 +231,7 @@ def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
     -------
     ReferenceResult
         ``value`` the energy E*, ``rigid`` whether ``E* > 1e-14 E(u = 0)``, ``tensions``
-        (m,) t*, ``displacements`` (N, 2) a minimiser.
+        (m,) t*, ``displacements`` (N, d) a minimiser.
     """
     import clarabel
 
@@ -238,7 +239,7 @@ def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
     m, n2 = R.shape
     t_full = np.zeros(net.n_sites)
     if m == 0 or not np.any(e0):
-        return ReferenceResult(0.0, False, t_full, np.zeros((net.n_nodes, 2)), "trivial")
+        return ReferenceResult(0.0, False, t_full, np.zeros((net.n_nodes, net.dim)), "trivial")
     scale = float(np.linalg.norm(e0))
     e0 = e0 / scale
     rod = np.flatnonzero(kinds == Element.ROD)
@@ -288,7 +289,7 @@ def qp_solve(instance: Instance, tol: float = 1e-10) -> ReferenceResult:
     t_full[sites] = t
     energy = 0.5 * float(np.dot(t, e))
     e_ref = 0.5 * float(np.dot(k, (scale * e0) ** 2))
-    u = u.reshape(-1, 2)
+    u = u.reshape(-1, net.dim)
     return ReferenceResult(energy, energy > 1e-14 * e_ref, t_full, u, str(sol.status))
 
 
@@ -322,7 +323,7 @@ def min_norm_minimizer(instance: Instance, tensions: np.ndarray) -> tuple[np.nda
     net, sites, kinds, R, e0, k = _nonempty(instance)
     n2 = R.shape[1]
     if R.shape[0] == 0:
-        return np.zeros((net.n_nodes, 2)), "trivial"
+        return np.zeros((net.n_nodes, net.dim)), "trivial"
     t = np.asarray(tensions, dtype=float)[sites]
     eq = (kinds == Element.ROD) | (t != 0)
     ineq = ~eq
@@ -341,4 +342,4 @@ def min_norm_minimizer(instance: Instance, tensions: np.ndarray) -> tuple[np.nda
     sol = clarabel.DefaultSolver(
         sp.eye(n2, format="csc"), np.zeros(n2), A, b, cones, settings
     ).solve()
-    return np.asarray(sol.x).reshape(-1, 2) * scale, str(sol.status)
+    return np.asarray(sol.x).reshape(-1, net.dim) * scale, str(sol.status)

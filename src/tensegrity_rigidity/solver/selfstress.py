@@ -200,7 +200,7 @@ def optimal_on_support(
         r_norm = float(np.abs(r).sum())
         for _ in range(steps):
             # the net force is zero in exact arithmetic (see :func:`rebalance`)
-            f = np.asarray(r, dtype=float).reshape(-1, 2)
+            f = np.asarray(r, dtype=float).reshape(-1, p.dim)
             f = (f - f.mean(axis=0)).ravel()
             trial = x - w * (p.R @ solver.solve(f))
             r_trial = p.exact.forces(trial)
@@ -310,7 +310,7 @@ def rebalance(
             fresh = True
         # the net force is zero in exact arithmetic; its round-off would be amplified along
         # the translations, which the small shift barely regularises
-        f = np.asarray(r, dtype=float).reshape(-1, 2)
+        f = np.asarray(r, dtype=float).reshape(-1, p.dim)
         f = (f - f.mean(axis=0)).ravel()
         step = -(w * (p.R @ solver.solve(f)))
         trial = x + step
