@@ -255,8 +255,8 @@ class Problem:
         axes = np.arange(d)
         cols = np.c_[d * i[:, None] + axes, d * j[:, None] + axes]  # (m, 2d)
         vals = np.c_[-dhat, dhat]
-        p, q = np.meshgrid(np.arange(2 * d), np.arange(2 * d), indexing="ij")
-        p, q = p.ravel(), q.ravel()
+        grid_p, grid_q = np.meshgrid(np.arange(2 * d), np.arange(2 * d), indexing="ij")
+        p, q = grid_p.ravel(), grid_q.ravel()
         row, col = cols[:, p], cols[:, q]  # (m, 4 d^2), bond after bond, each in k order
         keep = row <= col
         site = np.broadcast_to(np.arange(m)[:, None], row.shape)[keep]
