@@ -34,8 +34,9 @@ def _run(args) -> int:
     print(f"{args.dir}: {spec.mode} sweep, {spec.n_points()} grid points x {spec.samples} samples")
     print(f"  grid      {grid}")
     path = f", path {spec.threshold['path']}" if spec.threshold else ""
+    axes = "SO(3) sequence rotations" if spec.lattice == "fcc" else f"{spec.angles} angles"
     print(
-        f"  settings  {spec.lattice} lattice, gamma = {spec.gamma:g}, {spec.angles} angles"
+        f"  settings  {spec.lattice} lattice, gamma = {spec.gamma:g}, {axes}"
         f"{path}, solver {spec.solver or 'defaults'}, chunks of {spec.chunk_size}"
     )
     print(

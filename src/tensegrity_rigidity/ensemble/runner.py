@@ -22,7 +22,7 @@ from ..model.elements import place_elements
 from ..model.lattice import CrossingBondsWarning
 from ..model.network import Instance
 from ..model.sampling import lattice_geometry
-from ..model.strain import strain_tensor
+from ..model.strain import sequence_rotation, strain_tensor
 from ..solver.core import solve
 from ..solver.inexact import paper_verdict
 from .spec import GridPoint, Spec
@@ -70,11 +70,11 @@ def sample_geometry(spec: Spec, point: GridPoint, k: int):
         Site uniforms: the elements at any (p_r, p_t, f_c) follow from
         :func:`~tensegrity_rigidity.model.elements.place_elements`.
     theta : float
-        The strain's principal-axis angle.
+        The strain's principal-axis angle (in 3D the row's key; the axes follow from ``k``).
 
     Notes
     -----
-    Together with :func:`~tensegrity_rigidity.strain_tensor` this rebuilds any row's instance.
+    Together with :func:`sample_strain` this rebuilds any row's instance.
     Crossing bonds at a large ``delta`` were announced once when the spec was parsed; the
     builder's per-sample warning is silenced here.
     """
@@ -82,6 +82,33 @@ def sample_geometry(spec: Spec, point: GridPoint, k: int):
         warnings.simplefilter("ignore", CrossingBondsWarning)
         net, u, v = lattice_geometry(point.n, point.delta, sample_rng(point, k), spec.lattice)
     return net, u, v, spec.angle(k)
+
+
+def sample_strain(spec: Spec, point: GridPoint, k: int, theta: float, dim: int) -> np.ndarray:
+    """The strain tensor of sample ``k``: principal axes at ``theta`` in 2D, the rotation
+    :func:`~tensegrity_rigidity.model.strain.sequence_rotation` ``(k)`` in 3D.
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep (its ``gamma``).
+    point : GridPoint
+        The grid point (its ``phi``).
+    k : int
+        Sample index, 1-based.
+    theta : float
+        The sample's angle (:meth:`Spec.angle`; in 3D only the row's key).
+    dim : int
+        The network's dimension.
+
+    Returns
+    -------
+    (dim, dim) float
+        The strain tensor, magnitude included.
+    """
+    if dim == 3:
+        return strain_tensor(point.phi, gamma=spec.gamma, rotation_matrix=sequence_rotation(k))
+    return strain_tensor(point.phi, theta, spec.gamma)
 
 
 def key_columns(spec: Spec, point: GridPoint, k: int, theta: float) -> dict:
@@ -142,7 +169,7 @@ def grid_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame
     for k in samples:
         net, u, v, theta = sample_geometry(spec, point, k)
         kinds = place_elements(u, v, point.p_r, point.p_t, point.f_c)
-        inst = Instance(net.with_kinds(kinds), strain_tensor(point.phi, theta, spec.gamma))
+        inst = Instance(net.with_kinds(kinds), sample_strain(spec, point, k, theta, net.dim))
         if spec.verdict == "paper":
             rows.append(key_columns(spec, point, k, theta) | paper_verdict(inst).record())
             continue
@@ -179,9 +206,8 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
     for k in samples:
         net, u, v, theta = sample_geometry(spec, point, k)
         start = time.perf_counter()
-        th = find_threshold(
-            net, u, v, strain_tensor(point.phi, theta, spec.gamma), point.p_t, point.f_c, path, opts
-        )
+        strain = sample_strain(spec, point, k, theta, net.dim)
+        th = find_threshold(net, u, v, strain, point.p_t, point.f_c, path, opts)
         rows.append(
             key_columns(spec, point, k, theta)
             | {

@@ -16,7 +16,7 @@ Flat keys (each a scalar or a list of distinct values; the grid is the product o
 Optional sections (defaults shown, but for ``[solver]``, whose line is an example)::
 
     [lattice]
-    kind = "triangular"     # or "square"
+    kind = "triangular"     # or "square", or "fcc" (3D: principal axes by sequence_rotation(k))
 
     [strain]
     gamma = 1.0             # magnitude; E scales as gamma^2, verdicts do not depend on it
@@ -82,6 +82,7 @@ from typing import Any
 from ..errors import InputError, SpecError
 from ..model.lattice import CROSSING_DELTA
 from ..model.limits import check_gamma
+from ..model.sampling import LATTICES
 from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
 from ..solver.stages import BALANCE, POLISH, STAGES
@@ -475,8 +476,8 @@ def parse_spec(data: dict) -> Spec:
         if sd < 0:
             raise SpecError(f"'seed' must be a non-negative integer, got {sd}")
     lattice = data.get("lattice", {}).get("kind", "triangular")
-    if lattice not in ("triangular", "square"):
-        raise SpecError(f"[lattice] kind must be 'triangular' or 'square', got {lattice!r}")
+    if lattice not in LATTICES:
+        raise SpecError(f"[lattice] kind must be one of {', '.join(LATTICES)}, got {lattice!r}")
     for d in grid["delta"]:
         if not 0 <= d < 0.5:
             raise SpecError(f"'delta' must lie in [0, 0.5), got {d}")
