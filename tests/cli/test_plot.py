@@ -135,3 +135,26 @@ def test_result_of_another_instance_and_bad_colour_are_refused(mixed, tmp_path):
         draw_network(Figure().subplots(), inst, res, colour="rainbow")
     with pytest.raises(InputError, match="format"):
         plot_solution(inst, res, tmp_path / "x.unknown")
+
+
+def test_a_3d_sample_is_drawn_as_its_three_projections(tmp_path, capsys):
+    inst = lattice_instance(3, 0.6, 0.3, phi="compression", lattice="fcc", seed=2)
+    save_instance(tmp_path / "f.npz", inst)
+    out = tmp_path / "f.png"
+    assert main(["solve", str(tmp_path / "f.npz"), "--plot", str(out)]) == 0
+    assert out.stat().st_size > 10_000
+    res = solve(inst)
+    labels = []
+    for plane in ((0, 1), (0, 2), (1, 2)):
+        ax = Figure().subplots()
+        draw_network(ax, inst, res, plane=plane, colorbar=False)
+        labels.append((ax.get_xlabel(), ax.get_ylabel()))
+        drawn = sum(len(c.get_segments()) for c in ax.collections if isinstance(c, LineCollection))
+        # struts are drawn twice (outline and core)
+        net = inst.network
+        assert drawn == net.count(Element.ROD) + net.count(Element.CABLE) + 2 * net.count(
+            Element.STRUT
+        )
+    assert labels == [("x", "y"), ("x", "z"), ("y", "z")]
+    with pytest.raises(InputError, match="plane"):
+        draw_network(Figure().subplots(), inst, res, plane=(0, 3))

@@ -6,7 +6,8 @@ rods solid, cables dashed, struts hollow (a coloured outline around a white core
 elements stay thin) and the colour gives either the tension (``colour="tension"``, the
 paper's: red pulls, green is zero, blue pushes) or the kind (``colour="kind"``: rods black,
 cables red, struts blue); the displacements are drawn as arrows. :func:`plot_solution` writes
-such a drawing to a file (``tensegrity-rigidity solve FILE --plot out.png``).
+such a drawing to a file (``tensegrity-rigidity solve FILE --plot out.png``); a 3D network is
+drawn as its three projections on the coordinate planes, side by side.
 
 Nothing here selects a Matplotlib backend: :func:`plot_solution` draws on a bare
 ``matplotlib.figure.Figure`` (no GUI needed), and :func:`draw_network` draws on whatever
@@ -90,6 +91,7 @@ def draw_network(
     widths: tuple[float, float] = (0.6, 4.0),
     legend: bool = True,
     colorbar: bool = True,
+    plane: tuple[int, int] = (0, 1),
 ) -> Axes:
     """Draw a network's elements, their tensions and the node displacements onto ``ax``.
 
@@ -101,7 +103,7 @@ def draw_network(
         Network and elements; empty sites are not drawn.
     result : SolveResult, optional
         The solved state of ``instance``: its ``tensions`` (m,) set the line widths (and the
-        colours with ``colour="tension"``), its ``displacements`` (N, 2) the arrows.
+        colours with ``colour="tension"``), its ``displacements`` (N, d) the arrows.
         Without it every element is drawn thin and coloured by kind.
     colour : {"tension", "kind"}
         Colour by tension (the paper's Fig. 1A: red pulls, green zero, blue pushes, on a
@@ -116,6 +118,8 @@ def draw_network(
         Add a legend of the element kinds.
     colorbar : bool
         Add a colour bar of the tension (``colour="tension"`` with a result only).
+    plane : (int, int)
+        The coordinates drawn (a projection of a 3D network: ``(0, 2)`` is the x-z plane).
 
     Returns
     -------
@@ -134,10 +138,13 @@ def draw_network(
     t = None
     if result is not None:
         t = np.asarray(result.tensions, dtype=float)
-        if t.shape != (net.n_sites,) or result.displacements.shape != (net.n_nodes, 2):
+        if t.shape != (net.n_sites,) or result.displacements.shape != (net.n_nodes, net.dim):
             raise InputError("the result does not belong to this instance (sizes differ)")
+    axes = list(plane)
+    if len(axes) != 2 or not all(0 <= a < net.dim for a in axes) or axes[0] == axes[1]:
+        raise InputError(f"plane must name two of the network's {net.dim} coordinates")
     by_tension = colour == "tension" and t is not None
-    seg = bond_segments(net)
+    seg = bond_segments(net)[:, :, axes]
     lw = line_widths(t, net.n_sites, widths)
     scale = float(np.abs(t).max(initial=0.0)) if t is not None else 0.0
     norm = TwoSlopeNorm(vmin=-(scale or 1.0), vcenter=0.0, vmax=scale or 1.0)
@@ -161,10 +168,10 @@ def draw_network(
         else:
             ls = "--" if kind == Element.CABLE else "-"
             handles.append(Line2D([], [], color=key, lw=1.8, ls=ls, label=name))
-    pos = net.positions
+    pos = net.positions[:, axes]
     ax.plot(pos[:, 0], pos[:, 1], "k.", ms=2)
     if arrows and result is not None:
-        u = np.asarray(result.displacements, dtype=float)
+        u = np.asarray(result.displacements, dtype=float)[:, axes]
         longest = float(np.hypot(u[:, 0], u[:, 1]).max(initial=0.0))
         if longest > 0:
             ell = float(net.bond_lengths().mean())
@@ -190,8 +197,8 @@ def draw_network(
         ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
     ax.set_aspect("equal")
     ax.autoscale()
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel("xyz"[axes[0]])
+    ax.set_ylabel("xyz"[axes[1]])
     return ax
 
 
@@ -268,9 +275,19 @@ def plot_solution(
     """
     p = check_plot_path(path)
     net = instance.network
-    fig = Figure(figsize=(7, 6))
-    ax = fig.subplots()
-    draw_network(ax, instance, result, colour=colour, arrows=arrows)
+    if net.dim == 3:  # the three coordinate planes, one legend and one colour bar
+        fig = Figure(figsize=(17, 6))
+        panels = fig.subplots(1, 3)
+        for i, (ax, plane) in enumerate(zip(panels, ((0, 1), (0, 2), (1, 2)), strict=True)):
+            last = i == 2
+            draw_network(
+                ax, instance, result, colour, arrows, legend=i == 0, colorbar=last, plane=plane
+            )
+        ax = panels[1]
+    else:
+        fig = Figure(figsize=(7, 6))
+        ax = fig.subplots()
+        draw_network(ax, instance, result, colour=colour, arrows=arrows)
     if title is None:
         title = (
             f"{result.status}: E* = {result.energy:.3g} (affine {result.affine_energy:.3g}); "
