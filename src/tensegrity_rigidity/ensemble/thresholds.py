@@ -211,8 +211,8 @@ def find_threshold(
         Geometry (element kinds are ignored).
     u, v : (m,) float
         The sample's site uniforms.
-    strain : (2, 2) float
-        Strain tensor.
+    strain : (d, d) float
+        Strain tensor, of the network's dimension.
     p_t : float
         Fixed p_t (path "p_r") or fixed total p_r + p_t (path "total").
     f_c : float

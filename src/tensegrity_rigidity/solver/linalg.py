@@ -59,6 +59,46 @@ def one_blas_thread() -> Iterator[None]:
         yield
 
 
+def nested_dissection(n_nodes: int, pairs: np.ndarray, dim: int) -> np.ndarray:
+    """A nested-dissection ordering of the ``dim n_nodes`` unknowns of a network (METIS).
+
+    METIS orders the node graph (one vertex per node, an edge per bonded pair); each node's
+    ``dim`` unknowns follow it in turn. On the FCC lattice CHOLMOD's factorisations take half
+    the time they take with its own AMD ordering (``docs/benchmarks.md``). METIS is
+    deterministic for a given graph, so the verdict stays a function of the instance.
+
+    Parameters
+    ----------
+    n_nodes : int
+        Nodes N.
+    pairs : (m, 2) int
+        Node pairs of the bonds (self-images and repeats allowed: they add no edge).
+    dim : int
+        Unknowns per node.
+
+    Returns
+    -------
+    (dim N,) int
+        The permutation (new position -> unknown).
+    """
+    import pymetis
+
+    i, j = np.asarray(pairs, dtype=np.int64).T
+    off = i != j
+    graph = sp.coo_matrix(
+        (np.ones(2 * int(off.sum())), (np.r_[i[off], j[off]], np.r_[j[off], i[off]])),
+        shape=(n_nodes, n_nodes),
+    ).tocsr()
+    graph.sum_duplicates()
+    graph.sort_indices()
+    order = np.arange(n_nodes, dtype=np.int64)
+    if graph.nnz:
+        adjacency = pymetis.CSRAdjacency(graph.indptr.tolist(), graph.indices.tolist())
+        metis_order, _ = pymetis.nested_dissection(adjacency=adjacency)
+        order = np.asarray(metis_order, dtype=np.int64)
+    return (dim * order[:, None] + np.arange(dim)).ravel()
+
+
 class PatternFactor:
     """Factorisations of symmetric positive (semi)definite matrices sharing one pattern.
 
@@ -69,6 +109,9 @@ class PatternFactor:
         of an (N, N) matrix.
     backend : {"auto", "cholmod", "qdldl"}
         "auto" uses CHOLMOD when available and QDLDL for matrices CHOLMOD rejects.
+    ordering : (N,) int, optional
+        A fill-reducing permutation for CHOLMOD (:func:`nested_dissection`); by default
+        CHOLMOD chooses (AMD). QDLDL always orders by AMD.
 
     Attributes
     ----------
@@ -76,7 +119,14 @@ class PatternFactor:
         Backend of the most recent factorisation.
     """
 
-    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n: int, backend: str = "auto"):
+    def __init__(
+        self,
+        indptr: np.ndarray,
+        indices: np.ndarray,
+        n: int,
+        backend: str = "auto",
+        ordering: np.ndarray | None = None,
+    ):
         if backend not in ("auto", "cholmod", "qdldl"):
             raise ValueError(f"unknown factorisation backend {backend!r}")
         if backend == "cholmod" and _cholmod is None:  # pragma: no cover
@@ -89,6 +139,7 @@ class PatternFactor:
         self._cvx = None  # cvxopt spmatrix holding the pattern
         self._symbolic = None
         self._qdldl: qdldl.Solver | None = None
+        self._ordering = None if ordering is None else np.asarray(ordering, dtype=np.int64)
         self.backend = ""
 
     def _csc(self, data: np.ndarray) -> sp.csc_matrix:
@@ -111,7 +162,11 @@ class PatternFactor:
                 )
                 _cholmod.options["supernodal"] = 2
                 _cholmod.options["print"] = 0
-                self._symbolic = _cholmod.symbolic(self._cvx, uplo="U")
+                if self._ordering is None:  # CHOLMOD's own choice (AMD)
+                    self._symbolic = _cholmod.symbolic(self._cvx, uplo="U")
+                else:
+                    order = _cvx_matrix(self._ordering.astype(np.int32).tolist(), tc="i")
+                    self._symbolic = _cholmod.symbolic(self._cvx, p=order, uplo="U")
             else:
                 self._cvx.V = _cvx_matrix(np.ascontiguousarray(data, dtype=float))
             try:

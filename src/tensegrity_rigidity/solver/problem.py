@@ -15,7 +15,7 @@ import scipy.sparse as sp
 from ..model.mechanics import affine_extensions, rigidity_matrix
 from ..model.network import Element, Instance, vector_norms
 from .certificates import ExactGeometry, bond_vectors
-from .linalg import PatternFactor
+from .linalg import PatternFactor, nested_dissection
 
 _AT_I, _AT_J, _OFF_DIAGONAL = 0, 1, 2
 
@@ -126,7 +126,11 @@ class Problem:
             self._pattern()
         else:
             self._pattern_general()
-        self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend)
+        # 3D networks: a nested-dissection ordering (2D keeps CHOLMOD's AMD, and its bits)
+        ordering = None
+        if self.dim == 3:
+            ordering = nested_dissection(net.n_nodes, net.bonds[self.sites], self.dim)
+        self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend, ordering)
         self._weights: np.ndarray | None = None
         self.factorizations = 0
         self._exact: ExactGeometry | None = None
