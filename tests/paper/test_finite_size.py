@@ -215,8 +215,8 @@ def test_the_rods_only_extrapolation_alone(runs, tmp_path):
     _, _, tiny_out = runs
     shutil.copytree(tiny_out / "studies", tmp_path / "studies")  # resume: no new samples
     pc_only = studies.Scale(
-        "pc-tiny", 5, 5, 0, 0, 0, 0.1, 0, 10, fss_sizes=(), samples_fss=(),
-        fss_pc=TINY.fss_pc, studies=("fss",),
+        name="pc-tiny", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10, fss_sizes=(),
+        samples_fss=(), fss_pc=TINY.fss_pc, studies=("fss",),
     )  # fmt: skip
     r = fs.study_fss(tmp_path, pc_only, workers=studies.STORED, scheduler=None, progress=False)
     assert set(r.by_size.key) == {"rods_only_pc"}
@@ -460,8 +460,8 @@ def _synthetic_fss(monkeypatch) -> tuple[fs.FiniteSizeResult, dict]:
 
     monkeypatch.setattr(fs, "headline", headline)
     scale = studies.Scale(
-        "synthetic", 5, 5, 0, 0, 0, 0.1, 0, 10, fss_sizes=SIZES, samples_fss=10,
-        studies=("fss",),
+        name="synthetic", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10,
+        fss_sizes=SIZES, samples_fss=10, studies=("fss",),
     )  # fmt: skip
     return fs.study_fss(None, scale), series
 

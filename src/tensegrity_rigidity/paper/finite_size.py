@@ -16,14 +16,14 @@ n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
   threshold does not depend on the strain, and it is the one extrapolation with a literature
   value precise to 3e-4. Estimates pooled over strains bootstrap samples, not rows.
   Each is extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
-  (:func:`~tensegrity_rigidity.analysis.estimators.fit_finite_size`): for the rods-only
+  (:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`): for the rods-only
   threshold with nu fitted (the literature's nu = 1.16 to 1.21 is a check, not an input), for
   the other claims with nu fixed at that fitted value (its error widens theirs). Every claim
   is extrapolated a second time with nu fixed at the literature's :data:`NU_CHECK`: with four
   sizes the free fit barely determines nu, and where the two readings' verdicts differ the
   extrapolation depends on nu. The widths of the rods-only threshold distributions give a
   further reading with no fitted exponent
-  (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
+  (:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`).
 * :func:`study_delta`: the same claims at one size for each delta.
 
 Both hand their values to the comparison as evidence for the factors "finite size" (the
@@ -134,7 +134,7 @@ def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
     others have none). ``count`` samples per point
     (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`), keyword-only (until
-    2026-11-29 the third argument was the thresholds' count, capped at 24); no minimum-norm
+    earlier releases the third argument was the thresholds' count, capped at 24); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
     base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
@@ -272,7 +272,7 @@ class FiniteSizeResult:
         Per (n, key): value and err.
     extrapolated : DataFrame
         Per key: ``y_inf``, ``y_inf_err``, ``a``, ``nu``, ``nu_err``, ``nu_fixed``, ``chi2``,
-        ``dof`` (:class:`~tensegrity_rigidity.analysis.estimators.FiniteSizeFit`; nu fitted
+        ``dof`` (:class:`~tensegrity_rigidity.analysis.scaling.FiniteSizeFit`; nu fitted
         for the rods-only threshold, fixed at its fitted value for the other claims),
         ``z_paper``, the agreement statistic of ``y_inf`` against the paper's claim, and
         ``verdict_paper``, the comparison's verdict on it
@@ -306,7 +306,7 @@ class FiniteSizeResult:
         The rods-only threshold distributions' widths and centres against size (where the
         scale gives ``fss_pc``): nu from the widths alone and p_c from the centre against the
         width, a second reading with no fitted exponent
-        (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
+        (:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`).
     pc_widths_z, pc_widths_nu_z : float
         Its p_c against :data:`PC_CHECK` and its nu against :data:`NU_CHECK`.
     pc_by_smallest : DataFrame
@@ -342,7 +342,7 @@ class FiniteSizeResult:
 
 def _at_bound(nu: float) -> bool:
     """Whether a free fit's 1/nu ended at a bound of
-    :data:`~tensegrity_rigidity.analysis.estimators.THETA` (False for NaN)."""
+    :data:`~tensegrity_rigidity.analysis.scaling.THETA` (False for NaN)."""
     return bool(np.any(np.isclose(1.0 / nu, an.THETA, rtol=1e-6)))
 
 
@@ -365,7 +365,7 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
         One row per ``n_min`` leaving at least two sizes: ``n_min``, ``sizes``; the free fit's
         ``p_c``, ``p_c_err``, ``nu``, ``nu_err``, ``chi2``, ``dof`` and ``z`` against
         :data:`PC_CHECK` (NaN with fewer than three sizes) and ``nu_at_bound``, whether its
-        1/nu ended at a bound of :data:`~tensegrity_rigidity.analysis.estimators.THETA` (the
+        1/nu ended at a bound of :data:`~tensegrity_rigidity.analysis.scaling.THETA` (the
         sizes do not determine nu; False where the fit failed); the fit with nu fixed at
         :data:`NU_CHECK`'s ``p_c_fixed``, ``p_c_fixed_err``, ``chi2_fixed``, ``dof_fixed``
         and ``z_fixed``.
@@ -621,8 +621,9 @@ MISFIT_P = 0.01
 def misfit(chi2: float, dof: int) -> str:
     """A clause for an extrapolation whose form does not fit its points ("" when it does).
 
-    With the per-size errors taken as right (:func:`~tensegrity_rigidity.analysis.estimators.
-    fit_finite_size`), a chi-square above its 99th percentile means the values do not follow
+    With the per-size errors taken as right
+    (:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`), a chi-square above its
+    99th percentile means the values do not follow
     ``y_inf + a n^(-1/nu)`` (non-monotone in n, say), and ``y_inf`` and its error say little:
     the comparison says so beside the extrapolated value.
     """

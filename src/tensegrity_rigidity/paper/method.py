@@ -260,11 +260,8 @@ def _cluster_interval(
     _, inverse = np.unique(unit, return_inverse=True)
     d = np.bincount(inverse, weights=wrong.astype(float))
     n = np.bincount(inverse).astype(float)
-    draw = an.resampler(units, rng=np.random.default_rng(seed))
-    reps = np.empty(n_boot)
-    for i in range(n_boot):
-        idx = draw()
-        reps[i] = d[idx].sum() / n[idx].sum()
+    rng = np.random.default_rng(seed)
+    reps = np.array(an.replicas(lambda idx: d[idx].sum() / n[idx].sum(), units, n_boot, rng))
     lo, hi = np.percentile(reps, [2.5, 97.5])
     return float(lo), float(hi), "", units
 
