@@ -513,9 +513,12 @@ def test_the_report_counts_the_claims_whose_verdict_depends_on_nu(monkeypatch):
     # the comparison shows both readings of the finite-size factor
     key = "p_crit_compression_0.1"
     ours = Measurement.scalar(key, 0.58, 0.001, "n = 32")
-    clause = _evidence(CLAIMS[key], ours, [m for m in r.measured if m.claim == key])
+    clause, rows = _evidence(CLAIMS[key], ours, [m for m in r.measured if m.claim == key])
     assert "still disagrees" in clause and "the literature value)" in clause
     assert "then agrees" in clause
+    # the same evidence as rows of the report's table for the claim
+    fs_rows = [e for e in rows if e.factor == "finite size"]
+    assert {e.verdict for e in fs_rows} == {"still disagrees", "then agrees"}
 
 
 def test_free_fits_at_the_bound_of_nu_are_flagged():

@@ -13,7 +13,7 @@ import pytest
 from tensegrity_rigidity.model.strain import NAMED_STRAINS
 from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS
-from tensegrity_rigidity.paper.report import _bracketed_sentence, bracketed_rows, excluded_samples
+from tensegrity_rigidity.paper.report import _exclusions, bracketed_rows, excluded_samples
 from tensegrity_rigidity.paper.studies import (
     interval_straddles,
     keep_decided,
@@ -104,12 +104,21 @@ def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeyp
 
 
 def test_the_report_counts_the_bracketed_rows():
-    results = {"a": SimpleNamespace(bracketed={"x": 2, "y": 0}), "b": SimpleNamespace()}
+    results = {
+        "a": SimpleNamespace(excluded={"x": 3, "y": 1}, bracketed={"x": 2, "y": 0}),
+        "b": SimpleNamespace(excluded={}),
+    }
     assert bracketed_rows(results) == {"x": 2, "y": 0}
-    text = _bracketed_sentence(bracketed_rows(results))
-    assert text.startswith(" Of these, 2 grid configurations") and text.endswith("(x: 2).")
+    text, table = _exclusions(results)
+    assert text.startswith("4 samples are excluded") and " 2 of them still enter" in text
     assert "at most 1e-09 of the affine energy" in text
-    assert _bracketed_sentence({"y": 0}) == ""
+    assert table.to_dict("list") == {
+        "sweep": ["x", "y"],
+        "excluded": [3, 1],
+        "still in the energies": [2, 0],
+    }
+    text, _ = _exclusions({"a": SimpleNamespace(excluded={"y": 1}, bracketed={"y": 0})})
+    assert "still enter" not in text
 
 
 def test_threshold_interval_keeps_undecided_samples():
