@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import re
+import shutil
+import subprocess
 
 import pytest
 
@@ -160,3 +162,27 @@ def test_the_html_report_has_contents_and_no_raw_markdown(tiny):
     assert "**" not in body and "](" not in body and "`" not in body
     assert not re.search(r"^#+ ", body, re.M)
     assert "<strong>tiny</strong>" in page and "<em>Rigidity of generic" in page
+
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium is not installed")
+def test_the_html_report_renders_in_a_real_browser(tiny, tmp_path):
+    """Headless Chromium (Debian's package) loads the page: its DOM has the contents and no raw
+    Markdown, and its first screen is drawn (docs/report-first-screen.png is such a shot)."""
+    url = (tiny / "report.html").resolve().as_uri()
+    flags = ["--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars"]
+    dom = subprocess.run(
+        [CHROMIUM, *flags, "--dump-dom", url], capture_output=True, text=True, timeout=120
+    ).stdout
+    assert '<nav id="contents">' in dom and "Comparison with the paper" in dom
+    text = re.sub(r"<[^>]+>", " ", re.sub(r'src="data:[^"]+"', "", dom))
+    assert "**" not in text and "`" not in text
+    shot = tmp_path / "first-screen.png"
+    subprocess.run(
+        [CHROMIUM, *flags, "--window-size=1280,900", f"--screenshot={shot}", url],
+        capture_output=True,
+        timeout=120,
+    )
+    assert shot.stat().st_size > 20_000  # a drawn page, not a blank one

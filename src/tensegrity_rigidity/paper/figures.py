@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 from cycler import cycler  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
-from matplotlib.ticker import NullLocator  # noqa: E402
+from matplotlib.ticker import NullFormatter, NullLocator  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
@@ -338,7 +338,7 @@ def _energy_fig(r: Fig2Result, phi: float, fid: str, figdir: Path):
             marker="o",
             ms=3,
             capsize=2,
-            label=f"p_t = {p_t:.1f}",
+            label=f"$p_t$ = {p_t:.1f}",
         )
         paper = CLAIMS.get(f"p_crit_{'compression' if phi == math.pi else 'dilation'}_{p_t}")
         if paper is not None and paper.value is not None:
@@ -352,6 +352,7 @@ def _energy_fig(r: Fig2Result, phi: float, fid: str, figdir: Path):
     inset.set_xlabel(r"$p_r - p_{crit}$", fontsize=6)
     inset.set_ylabel(r"$E$", fontsize=6)
     inset.tick_params(labelsize=6)
+    inset.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel(r"rod probability $p_r$")
     ax.set_ylabel(r"mean energy $E$ ($\gamma$ = 1)")
     ax.legend(fontsize=8, loc="lower right")

@@ -54,6 +54,7 @@ from .studies import (
     mask_uncertified_tensions,
     p_r_grid,
     strain_name,
+    stream,
     sweep_rows,
     taut_with_error,
 )
@@ -192,9 +193,9 @@ def energy_claims(
             t = thresholds.get((strain, p_t), empty)
             th.append(t[["sample", "threshold_p_r"]].assign(phi=phi, p_t=p_t))
             sub = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
-            fit = energy_exponent(sub, t, n_boot)
+            fit = energy_exponent(sub, t, n_boot, rng=stream("energy_exponent"))
             out.append({"key": f"alpha_{strain}_{p_t}", "value": fit.alpha, "err": fit.alpha_err})
-    tr = taut_with_error(rows, pd.concat(th, ignore_index=True), n_boot)
+    tr = taut_with_error(rows, pd.concat(th, ignore_index=True), n_boot, rng=stream("taut"))
     if tr is not None:
         out.append({"key": "taut_cables_transition", "value": tr[0], "err": tr[1]})
     return out
@@ -216,7 +217,11 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
     rods, mixed, pcrit = frames["rods"], frames["mixed"], frames["pcrit"]
     rows = []
     # rods-only thresholds do not depend on the strain: a sample is one unit, not three
-    pc, pc_err = an.critical_point(rods.threshold_p_r.to_numpy(), groups=rods["sample"].to_numpy())
+    pc, pc_err = an.critical_point(
+        rods.threshold_p_r.to_numpy(),
+        groups=rods["sample"].to_numpy(),
+        rng=stream("critical_point"),
+    )
     rows.append({"key": "rods_only_pc", "value": pc, "err": pc_err})
     grid = np.arange(0.3, 0.9001, 0.01)
     for key, f_c, strain in LAMBDA_CLAIMS:
@@ -228,7 +233,7 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
             ]
         )
         y, pr, pt = an.outcomes_from_thresholds(sub, grid)
-        fit = an.fit_collapse(y, pr, pt, n_boot=n_boot)
+        fit = an.fit_collapse(y, pr, pt, n_boot=n_boot, rng=stream("collapse"))
         rows.append({"key": key, "value": fit.lam, "err": fit.lam_err})
     cables = pd.concat([pcrit, mixed[np.isclose(mixed.f_c, 1.0)]], ignore_index=True)
     crit = {}
@@ -237,7 +242,9 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
         for p_t in PT4:
             src = rods if p_t == 0 else cables
             crit[strain, p_t] = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)]
-            v, e = an.critical_point(crit[strain, p_t].threshold_p_r.to_numpy())
+            v, e = an.critical_point(
+                crit[strain, p_t].threshold_p_r.to_numpy(), rng=stream("critical_point")
+            )
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
     grids = []
     for name, spec in energy_sweeps(n, delta, count=energy).items():
@@ -374,10 +381,11 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
     rows = []
     for n_min in n[:-1]:
         keep = n >= n_min
-        free = an.fit_finite_size(n[keep], y[keep], err[keep])
+        free = an.fit_finite_size(n[keep], y[keep], err[keep], rng=stream("finite_size"))
         fixed = an.fit_finite_size(
-            n[keep], y[keep], err[keep], nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0
-        )
+            n[keep], y[keep], err[keep], nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0,
+            rng=stream("finite_size"),
+        )  # fmt: skip
         rows.append(
             {
                 "n_min": int(n_min),
@@ -430,7 +438,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
             rows, excluded[name] = sweep_rows(out, name, spec, **kw)
             per_size.append(rows.threshold_p_r.to_numpy(float))
-            value, err = an.critical_point(per_size[-1])
+            value, err = an.critical_point(per_size[-1], rng=stream("critical_point"))
             width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
             pc_rows.append(
                 {
@@ -447,21 +455,26 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         by_size = pd.concat(
             [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
         )
-        widths = an.width_scaling(np.asarray(scale.pc_sizes, float), per_size)
+        widths = an.width_scaling(np.asarray(scale.pc_sizes, float), per_size, rng=stream("widths"))
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
         return s.n.to_numpy(float), s.value.to_numpy(float), s.err.to_numpy(float)
 
-    pc_fit = an.fit_finite_size(*series("rods_only_pc"))
+    pc_fit = an.fit_finite_size(*series("rods_only_pc"), rng=stream("finite_size"))
     fits = {"rods_only_pc": pc_fit}
     for key in by_size.key.unique():
         if key != "rods_only_pc":
-            fits[key] = an.fit_finite_size(*series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err)
+            fits[key] = an.fit_finite_size(
+                *series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err, rng=stream("finite_size")
+            )
     # the second reading of every claim: nu fixed at the literature's value, not the free fit's
     nu_check, nu_check_err = NU_CHECK.value, NU_CHECK.error or 0.0
     checks = {
-        key: an.fit_finite_size(*series(key), nu=nu_check, nu_err=nu_check_err) for key in fits
+        key: an.fit_finite_size(
+            *series(key), nu=nu_check, nu_err=nu_check_err, rng=stream("finite_size")
+        )
+        for key in fits
     }
     extrapolated = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
     free = [_judged(r.key, r.y_inf, r.y_inf_err) for r in extrapolated.itertuples()]

@@ -26,7 +26,7 @@ STYLE = (
     "table{border-collapse:collapse;font-size:13px;margin:0.5em 0}td,th{border:1px solid #ccc;"
     "padding:3px 6px;text-align:left;vertical-align:top}tr.agree td.verdict{color:#060}"
     "tr.disagree td.verdict{color:#a00;font-weight:bold}tr.inconclusive td.verdict{color:#850}"
-    "nav{background:#f4f4f4;padding:0.5em 1em}nav li{margin:0.1em 0}"
+    "nav{background:#f4f4f4;padding:0.4em 1em;font-size:14px}nav ol{columns:3;margin:0.3em 0}"
     "figure{display:inline-block;width:48%;margin:0.5%;vertical-align:top}img{width:100%}"
 )
 

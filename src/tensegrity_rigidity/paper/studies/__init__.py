@@ -54,7 +54,7 @@ from .rows import (
     sweep_rows,
     threshold_matrix,
 )
-from .scales import BOOTSTRAP_STREAMS, ENERGY_SAMPLES, FIGURES, FSS_PC, SCALES, Scale
+from .scales import BOOTSTRAP_STREAMS, ENERGY_SAMPLES, FIGURES, FSS_PC, SCALES, Scale, stream
 
 #: figure id -> its module
 MODULES = {"fig1b": fig1b, "fig1c": fig1c, "fig2": fig2, "fig3": fig3, "fig4": fig4}
@@ -110,6 +110,7 @@ __all__ = [
     "p_r_grid",
     "per_sample",
     "strain_name",
+    "stream",
     "sweep_rows",
     "tail_statistics",
     "taut_at_transition",

@@ -15,7 +15,7 @@ import pandas as pd
 
 from ...analysis import estimators as an
 from .rows import per_sample
-from .scales import BOOTSTRAP_STREAMS
+from .scales import stream
 
 
 def thresholds_by_sample(
@@ -64,7 +64,11 @@ def energy_exponent(
     e, x = per_sample(grid, "energy", samples=ids)
     t, known = thresholds_by_sample(thresholds, ids)
     return an.fit_energy_exponent(
-        x, e, lambda idx: an.median_threshold(t[idx][known[idx]]), n_boot=n_boot, rng=rng
+        x,
+        e,
+        lambda idx: an.median_threshold(t[idx][known[idx]]),
+        n_boot=n_boot,
+        rng=rng or stream("energy_exponent"),
     )
 
 
@@ -139,7 +143,7 @@ def taut_with_error(
     best = at(np.arange(ids.size))
     if best is None:
         return None
-    rng = rng or np.random.default_rng(BOOTSTRAP_STREAMS["taut"])
+    rng = rng or stream("taut")
     boots = an.replicas(at, ids.size, n_boot, rng)
     vals = np.array([b[0] for b in boots if b is not None])
     err = float(np.std(vals, ddof=1)) if vals.size > 1 else float("nan")

@@ -11,7 +11,7 @@ import pandas as pd
 from ...analysis import estimators as an
 from ...solver.core import energy_certified
 from .rows import per_sample
-from .scales import BOOTSTRAP_STREAMS
+from .scales import stream
 
 
 def gamma_median_brackets(rows: pd.DataFrame) -> pd.DataFrame:
@@ -151,7 +151,7 @@ def gamma_peaks(
     peaks are located on the same replicas (each statistic draws from a copy of ``rng``; by
     default the ``"peaks"`` stream at seed offset 0).
     """
-    rng = rng or np.random.default_rng(BOOTSTRAP_STREAMS["peaks"])
+    rng = rng or stream("peaks")
     comp = crit[np.isclose(crit.phi, math.pi)].sort_values("p_t")
     samples = np.arange(1, int(rows["sample"].max()) + 1)
     vals, xs = [], []

@@ -29,6 +29,23 @@ BOOTSTRAP_STREAMS = {
 ENERGY_SAMPLES = 24
 
 
+def stream(estimator: str, offset: int = 0) -> np.random.Generator:
+    """A fresh generator on one estimator's bootstrap stream.
+
+    Parameters
+    ----------
+    estimator : str
+        A key of :data:`BOOTSTRAP_STREAMS`.
+    offset : int
+        Added to the stream's seed (:attr:`Scale.bootstrap_seed`).
+
+    Returns
+    -------
+    numpy.random.Generator
+    """
+    return np.random.default_rng(BOOTSTRAP_STREAMS[estimator] + offset)
+
+
 @dataclass(frozen=True, kw_only=True)
 class Scale:
     """System sizes and sample counts of a reproduction, and which studies it runs.
@@ -131,7 +148,7 @@ class Scale:
             Seeded with the estimator's stream plus :attr:`bootstrap_seed`, so that every
             estimate of a scale is reproducible and the estimators draw independent replicas.
         """
-        return np.random.default_rng(BOOTSTRAP_STREAMS[estimator] + self.bootstrap_seed)
+        return stream(estimator, self.bootstrap_seed)
 
     @property
     def curve_samples(self) -> int:
