@@ -1,14 +1,16 @@
-"""Add a benchmark run's tables to its own section of BENCHMARKS.md (between markers), above the
-earlier runs."""
+"""Write a benchmark run's current table into its own section of BENCHMARKS.md (between markers)
+and append its raw results to ``benchmarks/results/<script>.json``."""
 
 from __future__ import annotations
 
+import json
 import platform
 import re
 import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import scipy
@@ -92,54 +94,82 @@ def probe() -> float:
     return STEADINESS.probe()
 
 
-def record(section: str, title: str, body: str) -> None:
-    """Add a run's ``body`` at the top of its section of BENCHMARKS.md, above the earlier runs.
+def record(section: str, title: str, body: str, raw: Any = None) -> None:
+    """Write a run's ``body`` as the current table of its section of BENCHMARKS.md, and append
+    its raw results to ``benchmarks/results/<script>.json``.
 
     The section is the text between ``<!-- bench:{section} -->`` and ``<!-- /bench:{section} -->``
-    under the heading ``## {title}``; a missing section is appended to the file. The new entry
-    opens with the date, the commit (``+ changes`` when tracked files differ from it) and the
-    command line, so that every table names what produced it. Earlier entries, and the
-    analyses written between them, stay as they are: a re-run adds to the record, never
-    replaces it. A second call for the same section from the same process (a script that
-    records after each part of its run) updates the entry it wrote, unless that entry was
-    edited in between (then the run gets a second entry). The commit is the one checked out
-    when this module was imported, at the start of the run.
+    under the heading ``## {title}``; it is replaced as a whole (a missing section is appended
+    to the file), so BENCHMARKS.md holds the newest run of each script and its history lives in
+    git. The entry opens with the date, the commit (``+ changes`` when tracked files differ from
+    it) and the command line, so that every table names what produced it.
+
+    ``raw`` (anything JSON can hold; numbers NumPy or not) is appended, with the same date,
+    commit and command, to the JSON list in ``benchmarks/results/<script>.json``, ``<script>``
+    the running script's name without ``.py``: the per-instance numbers behind the table, kept
+    as data. A second call for the same section from the same process (a script that records
+    after each part of its run) replaces what this process wrote, in both files. The commit is
+    the one checked out when this module was imported, at the start of the run.
     """
     path = ROOT / "BENCHMARKS.md"
     text = (
         path.read_text()
         if path.exists()
-        else "# Benchmarks\n\nTables written by the scripts in `benchmarks/`, each run added "
-        "at the top of its section above the earlier ones.\n"
+        else "# Benchmarks\n\nThe current tables of the scripts in `benchmarks/`, one section "
+        "each; raw results in `benchmarks/results/`.\n"
     )
     opening, closing = f"<!-- bench:{section} -->", f"<!-- /bench:{section} -->"
-    previous = _written.get(section)
-    command = " ".join(["python", *sys.argv]) if sys.argv and sys.argv[0] else "python"
+    command = _command()
     date = time.strftime("%Y-%m-%d")
     entry = f"**Run of {date} at {_STARTED_AT}:** `{command}`.\n\n{body.strip()}"
-    pattern = re.compile(rf"{re.escape(opening)}(.*?){re.escape(closing)}", re.S)
-    match = pattern.search(text)
-    if match and previous is not None and previous in match.group(1):
-        # this process wrote the section's newest entry already (a script that records after
-        # each part of its run): that entry is brought up to date
-        at = match.start(1) + match.group(1).index(previous)
-        text = text[:at] + entry + text[at + len(previous) :]
-    elif match:
-        earlier = match.group(1).strip()
-        if earlier.startswith("## "):  # the heading, written anew
-            earlier = earlier.split("\n", 1)[1].strip() if "\n" in earlier else ""
-        block = f"{opening}\n## {title}\n\n{entry}\n\n" + (f"{earlier}\n" if earlier else "")
-        text = text[: match.start()] + block + closing + text[match.end() :]
+    block = f"{opening}\n## {title}\n\n{entry}\n{closing}"
+    pattern = re.compile(rf"{re.escape(opening)}.*?{re.escape(closing)}", re.S)
+    if pattern.search(text):
+        text = pattern.sub(lambda _: block, text, count=1)
     else:
-        block = f"{opening}\n## {title}\n\n{entry}\n{closing}"
         text = text.rstrip() + "\n\n" + block + "\n"
     path.write_text(text)
-    _written[section] = entry
+    if raw is not None:
+        _append_raw(section, {"date": date, "commit": _STARTED_AT, "command": command}, raw)
     print(entry)
 
 
-#: The entry this process last wrote in each section (see :func:`record`).
-_written: dict[str, str] = {}
+def _command() -> str:
+    return " ".join(["python", *sys.argv]) if sys.argv and sys.argv[0] else "python"
+
+
+def results_path() -> Path:
+    """``benchmarks/results/<script>.json`` of the running script (``run.json`` without one)."""
+    script = Path(sys.argv[0]).stem if sys.argv and sys.argv[0] else "run"
+    return ROOT / "benchmarks" / "results" / f"{script}.json"
+
+
+def _append_raw(section: str, head: dict, raw: Any) -> None:
+    """Append one run's raw results to :func:`results_path` (or replace this process's own)."""
+    path = results_path()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    runs = json.loads(path.read_text()) if path.exists() else []
+    run = head | {"section": section, "results": raw}
+    at = _appended.get(section)
+    if at is not None and at < len(runs) and runs[at].get("command") == head["command"]:
+        runs[at] = run
+    else:
+        runs.append(run)
+        _appended[section] = len(runs) - 1
+    path.write_text(json.dumps(runs, indent=1, default=_plain) + "\n")
+
+
+def _plain(value: Any) -> Any:
+    """JSON for what ``json`` does not know: NumPy scalars and arrays, anything else as text."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return str(value)
+
+
+#: Per section, the index in its results file of the run this process appended (see :func:`record`).
+_appended: dict[str, int] = {}
 
 
 def _commit() -> str:

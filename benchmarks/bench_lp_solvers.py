@@ -271,7 +271,10 @@ def main():
         "over those.\n\n" + table(header, rows)
     )
     record(
-        "lp_solvers", "The verdict LP in other LP solvers (benchmarks/bench_lp_solvers.py)", body
+        "lp_solvers",
+        "The verdict LP in other LP solvers (benchmarks/bench_lp_solvers.py)",
+        body,
+        raw={"keys": keys, "results": raw},
     )
 
 

@@ -273,12 +273,12 @@ def main():
                   f"{np.quantile(paired, 0.75):.1f}]" if paired else "-")]
             )  # fmt: skip
         # after every size (the run's entry rewritten): a later failure keeps what was measured
-        _write(rows, agree_rows)
+        _write(rows, agree_rows, raw)
         if args.json:
             Path(args.json).write_text(json.dumps(raw, default=str))
 
 
-def _write(rows, agree_rows) -> None:
+def _write(rows, agree_rows, raw) -> None:
     body = (
         f"Machine: {machine()}. Times in ms: every method's median of "
         f"three runs on an instance whose first verdict took less than {REPEAT_BELOW:g} s, else "
@@ -323,7 +323,8 @@ def _write(rows, agree_rows) -> None:
         "energy thresholds on inexact minima. Ours rest on certificates (undecided samples "
         "are within resolution of the boundary and are not counted as wrong)."
     )
-    record("solver", "Solver: ours against generic solvers (benchmarks/bench_solver.py)", body)
+    title = "Solver: ours against generic solvers (benchmarks/bench_solver.py)"
+    record("solver", title, body, raw=raw)
 
 
 if __name__ == "__main__":

@@ -186,14 +186,18 @@ def _write(rows, detail, rods_only: bool) -> None:
         + "\n\nPer threshold:\n\n"
         + table(DETAIL, detail)
     )
+    raw = {"designs": [dict(zip(HEADER, r, strict=True)) for r in rows]}
+    raw["thresholds"] = [dict(zip(DETAIL, d, strict=True)) for d in detail]
     if rods_only:
         record(
             "stages-rods",
             "Designs of the verdict search, rods only (bench_stages.py --rods-only)",
             body,
+            raw=raw,
         )
     else:
-        record("stages", "Designs of the verdict search (benchmarks/bench_stages.py)", body)
+        title = "Designs of the verdict search (benchmarks/bench_stages.py)"
+        record("stages", title, body, raw=raw)
 
 
 if __name__ == "__main__":

@@ -91,7 +91,7 @@ def main() -> None:
         )
         + "\n\nRows are identical for 1 and 2 workers (checked by the script)."
     )
-    record("sweep", "Sweep throughput (benchmarks/bench_sweep.py)", body)
+    record("sweep", "Sweep throughput (benchmarks/bench_sweep.py)", body, raw=rows)
 
 
 if __name__ == "__main__":

@@ -163,7 +163,8 @@ def _write(rows, detail) -> None:
             detail,
         )  # fmt: skip
     )
-    record("threshold", "Thresholds near the transition (benchmarks/bench_threshold.py)", body)
+    title = "Thresholds near the transition (benchmarks/bench_threshold.py)"
+    record("threshold", title, body, raw={"sizes": rows, "thresholds": detail})
 
 
 if __name__ == "__main__":

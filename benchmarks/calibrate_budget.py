@@ -100,7 +100,7 @@ def main() -> None:
     )
     if args.record:
         title = "Budget model against finished runs (benchmarks/calibrate_budget.py)"
-        record("budget", title, body)
+        record("budget", title, body, raw=[dict(zip(header, r, strict=True)) for r in out])
     else:
         print(body)
 

@@ -44,6 +44,8 @@ def test_docs_build_warning_free_with_every_page(built):
         "getting-started",
         "tutorial",
         "model",
+        "solver",
+        "results",
         "guide/sweeps",
         "guide/thresholds",
         "guide/clusters",

@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from tensegrity_rigidity.analysis import estimators as an
 from tensegrity_rigidity.analysis.estimators import (
     contour_slope,
     critical_point,
@@ -142,3 +143,38 @@ def test_the_median_bracket_holds_the_median_of_the_true_values(samples):
     assert low <= median * (1 + 1e-12) and median <= high * (1 + 1e-12)
     if np.all([how == "known" for _, _, how in samples]):
         assert low == high == median
+
+
+def test_wilson_is_scipy_s_and_the_closed_form():
+    """wilson() is SciPy's binomtest(...).proportion_ci(method="wilson"), and gives the closed
+    form of the score interval that it replaced (to round-off), NaN where n = 0."""
+    from scipy.stats import binomtest
+
+    from tensegrity_rigidity.analysis.binomial import wilson as wilson_
+
+    k, n, z = np.array([0, 1, 5, 10, 400, 3]), np.array([10, 10, 10, 10, 4000, 0]), 1.96
+    p, lo, hi = wilson_(k, n, z)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = k / n
+        centre = (q + z**2 / (2 * n)) / (1 + z**2 / n)
+        half = z * np.sqrt(q * (1 - q) / n + z**2 / (4 * n**2)) / (1 + z**2 / n)
+    assert np.allclose(lo, centre - half, atol=1e-14, equal_nan=True)
+    assert np.allclose(hi, centre + half, atol=1e-14, equal_nan=True)
+    assert np.isnan(p[-1]) and np.isnan(lo[-1])
+    ci = binomtest(5, 10).proportion_ci(confidence_level=0.95, method="wilson")
+    assert wilson_(5, 10, 1.959963984540054)[1:] == pytest.approx((ci.low, ci.high), abs=1e-12)
+
+
+def test_one_estimate_type_and_one_bootstrap_helper():
+    from tensegrity_rigidity.analysis import bootstrap
+
+    assert an.Estimate is bootstrap.Estimate
+    assert not hasattr(an, "Derivative") and not hasattr(an, "Location")
+    # the helper draws what the hand-written loops drew: rng.integers(0, S, S) per replica
+    got = bootstrap.replicas(lambda idx: idx.tolist(), 5, 3, np.random.default_rng(4))
+    rng = np.random.default_rng(4)
+    assert got == [rng.integers(0, 5, 5).tolist() for _ in range(3)]
+    # groups are drawn whole
+    groups = np.array([0, 0, 1, 1, 2, 2])
+    for idx in bootstrap.replicas(np.asarray, 6, 5, np.random.default_rng(1), groups):
+        assert all((groups[idx] == g).sum() % 2 == 0 for g in range(3))

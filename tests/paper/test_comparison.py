@@ -270,3 +270,60 @@ def test_claims_about_one_system_are_paired_with_the_papers_own_z():
     assert text.startswith("1 of the 3 rows") and "z = 4.8" in text
     assert "independent comparisons are 2" in text
     assert _shared_sentence(rows[:1], 1) == ""
+
+
+def test_a_value_whose_error_exceeds_it_is_not_printed_in_the_summary():
+    """Fig. 4C's sum at a few samples printed "3.41 ± 84.67": the summary says it is not
+    resolved at this precision instead, and every cell stays within CELL_CHARS."""
+    from tensegrity_rigidity.paper.comparison import CELL_CHARS, summary_cell, summary_frame
+
+    key = "st_sr_cables_compression"
+    wide = _rows(Measurement.scalar(key, 3.41, 84.67, "n = 12, 8 samples per point"))[key]
+    assert not wide.resolved
+    assert summary_cell(wide) == "not resolved at this precision (n = 12, 8 samples per point)"
+    sharp = _rows(Measurement.scalar(key, 0.40, 0.005, "n = 32"))[key]
+    assert sharp.resolved and summary_cell(sharp).startswith("0.4000 ± 0.0050 (n = 32)")
+    assert sharp.reason.startswith("z = 2.") and "not yet tested" in sharp.reason
+    long = Measurement.scalar(key, 0.40, 0.005, "n = 32; " + "x" * 300)
+    row = _rows(long)[key]
+    assert len(summary_cell(row)) <= CELL_CHARS and len(row.reason) <= CELL_CHARS
+    frame = summary_frame([wide, sharp])
+    assert list(frame.columns) == ["claim", "paper", "ours", "verdict", "reason"]
+
+
+def test_the_evidence_of_a_disagreement_is_a_table_with_numbers_in_columns():
+    from tensegrity_rigidity.paper.comparison import evidence_frame
+
+    key = "st_sr_cables_compression"
+    ours = Measurement.scalar(key, 0.45, 0.008, "n = 32", size=32)
+    fss = Measurement.scalar(key, 0.38, 0.01, "n -> inf", factor="finite size", label="fit")
+    row = _rows(ours, fss)[key]
+    frame = evidence_frame(row)
+    assert list(frame.columns) == ["factor", "changed", "value", "system", "z", "reads"]
+    fs = frame[frame.factor == "finite size"].iloc[0]
+    assert fs.value == "0.380 ± 0.010" and fs.reads == "then agrees" and float(fs.z) < 2
+    assert set(frame.factor) >= {"finite size", "method", "estimator"}
+    assert row.reason.startswith("z = ") and "accounted for by finite size" in row.reason
+
+
+def test_the_paper_against_itself_shows_both_of_its_readings_beside_ours():
+    """Its p_crit tables give lambda = (0.66 - 0.51) / 0.3 = 0.50 under compression, its
+    headline 0.372: a collapse fit of 0.49 +- 0.01 agrees with the tables only."""
+    from tensegrity_rigidity.paper.comparison import paper_against_itself
+
+    ms = (
+        Measurement.scalar("p_crit_compression_0.0", 0.667, 0.003, "n = 32"),
+        Measurement.scalar("p_crit_compression_0.3", 0.52, 0.004, "n = 32"),
+        Measurement.scalar("st_sr_cables_compression", 0.49, 0.01, "n = 32"),
+    )
+    table = paper_against_itself({"x": FakeResult(ms, {})})
+    assert len(table) == 1 and len(table.columns) <= 6
+    row = table.iloc[0]
+    assert (
+        row["paper: p_crit tables"] == "0.500 ± 0.014" and row["paper: headline"] == "0.372 ± 0.013"
+    )
+    assert row["ours: p_crit"] == "0.490 ± 0.017"
+    assert row["collapse fit agrees with"].startswith("its p_crit tables (z = ")
+    assert "headline" not in row["collapse fit agrees with"]
+    # without the dilation claims there is no dilation row; without any, no table
+    assert paper_against_itself({}).empty

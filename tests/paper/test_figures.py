@@ -48,5 +48,34 @@ def test_median_brackets_absent_without_the_columns_or_open_brackets():
 def test_fig2b_with_brackets_is_written(tmp_path):
     curves = _curve([8.0, 10.0, 0.0], [8.0, 100.0, np.inf])
     crit = pd.DataFrame({"phi": [math.pi], "p_t": [0.2], "p_crit": [0.55]})
-    paths = figures.fig2b(SimpleNamespace(curves=curves, crit=crit, n=16), tmp_path)
+    paths = figures.fig2b(SimpleNamespace(curves=curves, crit=crit, n=16, samples=8), tmp_path)
     assert all(p.exists() and p.stat().st_size > 0 for p in paths)
+
+
+def test_figures_share_one_colour_blind_safe_style_and_draw_the_paper_s_values(monkeypatch):
+    """Fig. 1C in the figures' style: Okabe-Ito colours, axis labels with symbols, n and the
+    sample count in the title, and the paper's four values as open stars beside ours."""
+    drawn = {}
+    monkeypatch.setattr(figures, "_save", lambda fig, figdir, fid: drawn.setdefault(fid, fig))
+    strains = ["dilation", "shear", "compression", "average"]
+    fits = pd.DataFrame(
+        {
+            "f_c": [f for _ in strains for f in (0.0, 0.5, 1.0)],
+            "strain": [s for s in strains for _ in range(3)],
+            "lam": 0.45,
+            "lam_err": 0.01,
+        }
+    )
+    with plt.rc_context(figures.STYLE):
+        figures.fig1c(SimpleNamespace(fits=fits, n=12, samples=24), None)
+    ax = drawn["1C"].axes[0]
+    palette = {c.lower() for c in figures.OKABE_ITO}
+    lines = [line for line in ax.lines if np.asarray(line.get_xdata()).size]
+    lines = [line for line in lines if line.get_color() != "grey"]  # the reference line at 0.5
+    assert lines and all(str(line.get_color()).lower() in palette for line in lines)
+    stars = [line for line in lines if line.get_marker() == "*"]
+    assert sorted(float(s.get_ydata()[0]) for s in stars) == [0.359, 0.372, 0.5, 0.67]
+    assert "$f_c$" in ax.get_xlabel() and "$S_t / S_r$" in ax.get_ylabel()
+    assert "$n$ = 12" in ax.get_title() and "24 samples" in ax.get_title()
+    assert "paper" in [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(drawn["1C"])

@@ -215,8 +215,8 @@ def test_the_rods_only_extrapolation_alone(runs, tmp_path):
     _, _, tiny_out = runs
     shutil.copytree(tiny_out / "studies", tmp_path / "studies")  # resume: no new samples
     pc_only = studies.Scale(
-        "pc-tiny", 5, 5, 0, 0, 0, 0.1, 0, 10, fss_sizes=(), samples_fss=(),
-        fss_pc=TINY.fss_pc, studies=("fss",),
+        name="pc-tiny", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10, fss_sizes=(),
+        samples_fss=(), fss_pc=TINY.fss_pc, studies=("fss",),
     )  # fmt: skip
     r = fs.study_fss(tmp_path, pc_only, workers=studies.STORED, scheduler=None, progress=False)
     assert set(r.by_size.key) == {"rods_only_pc"}
@@ -460,8 +460,8 @@ def _synthetic_fss(monkeypatch) -> tuple[fs.FiniteSizeResult, dict]:
 
     monkeypatch.setattr(fs, "headline", headline)
     scale = studies.Scale(
-        "synthetic", 5, 5, 0, 0, 0, 0.1, 0, 10, fss_sizes=SIZES, samples_fss=10,
-        studies=("fss",),
+        name="synthetic", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10,
+        fss_sizes=SIZES, samples_fss=10, studies=("fss",),
     )  # fmt: skip
     return fs.study_fss(None, scale), series
 
@@ -513,9 +513,12 @@ def test_the_report_counts_the_claims_whose_verdict_depends_on_nu(monkeypatch):
     # the comparison shows both readings of the finite-size factor
     key = "p_crit_compression_0.1"
     ours = Measurement.scalar(key, 0.58, 0.001, "n = 32")
-    clause = _evidence(CLAIMS[key], ours, [m for m in r.measured if m.claim == key])
+    clause, rows = _evidence(CLAIMS[key], ours, [m for m in r.measured if m.claim == key])
     assert "still disagrees" in clause and "the literature value)" in clause
     assert "then agrees" in clause
+    # the same evidence as rows of the report's table for the claim
+    fs_rows = [e for e in rows if e.factor == "finite size"]
+    assert {e.verdict for e in fs_rows} == {"still disagrees", "then agrees"}
 
 
 def test_free_fits_at_the_bound_of_nu_are_flagged():

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import re
+import shutil
+import subprocess
 
 import pytest
 
@@ -38,6 +40,7 @@ def test_report_is_self_contained(tiny):
     html = (tiny / "report.html").read_text()
     assert html.count("data:image/png;base64,") == len(FIGURES)
     text = re.sub(r'src="data:image/png;base64,[A-Za-z0-9+/=]+"', "", html)
+    text = re.sub(r'href="#[a-z0-9-]+"', "", text)  # the table of contents' in-page links
     assert not re.search(r"(https?:|ftp:|src=|href=|url\(|<link|<script|@import)", text, re.I)
 
 
@@ -59,9 +62,12 @@ def test_one_agreement_rule_stated_once_and_an_explanation_column(tiny):
     import pandas as pd
 
     from tensegrity_rigidity.paper.comparison import RULE
+    from tensegrity_rigidity.paper.render import split_paragraph
 
     md = (tiny / "report.md").read_text()
-    assert md.count(RULE) == 1
+    # stated once, as paragraphs of at most MAX_WORDS words
+    assert md.count(RULE[:60]) == 1 and md.count("A claim agrees when z") == 1
+    assert " ".join(split_paragraph(RULE)) == RULE
     comp = pd.read_csv(tiny / "tables" / "comparison.csv")
     assert {"z", "verdict", "explanation", "source"} <= set(comp.columns)
     dis = comp[comp.verdict == "disagree"]
@@ -111,3 +117,72 @@ def test_evidence_without_a_finished_fss_run_is_refused_before_anything_runs(tmp
         err = capsys.readouterr().err.strip().splitlines()
         assert code == 2 and expected in err[-1]
         assert not (tmp_path / "o" / "studies").exists()
+
+
+def _paragraphs(md: str) -> list[str]:
+    """The prose paragraphs of a Markdown report (not headings, tables, lists or images)."""
+    blocks = [b.strip() for b in md.split("\n\n")]
+    return [b for b in blocks if b and b[0] not in "#|-!" and not b.startswith("Contents:")]
+
+
+def test_the_report_reads_top_down_in_short_pieces(tiny):
+    """It opens with one summary table of at most 6 columns, no cell over 160 characters and no
+    paragraph over about 120 words; the evidence follows in one table per claim."""
+    from tensegrity_rigidity.paper.render import MAX_WORDS
+
+    md = (tiny / "report.md").read_text()
+    first = md.index("\n| ")
+    header = md[first + 1 :].split("\n", 1)[0]
+    assert header == "| claim | paper | ours | verdict | reason |"
+    assert md.index("## Comparison with the paper") < first < md.index("## How claims are compared")
+    for line in md.splitlines():
+        if line.startswith("| ") and not line.startswith("|---"):
+            cells = line.strip("|").split(" | ")
+            assert len(cells) <= 6 and max(map(len, cells)) <= 160, line
+            break
+    table = md[first:].split("\n\n", 1)[0].splitlines()[2:]
+    assert table and all(max(len(c) for c in row.strip("|").split(" | ")) <= 160 for row in table)
+    longest = max(len(p.split()) for p in _paragraphs(md))
+    # a paragraph is split at sentence ends: only a single long sentence may exceed the limit
+    assert longest <= MAX_WORDS + 40, longest
+    assert (
+        "extrapolated to n -> infinity from n =" not in md
+        or md.count("extrapolated to n -> infinity from n =") <= 2
+    )
+
+
+def test_the_html_report_has_contents_and_no_raw_markdown(tiny):
+    """The rendered page: a table of contents linking every section, and no Markdown markup
+    left in its text (it used to print "at scale **tiny**")."""
+    page = (tiny / "report.html").read_text()
+    assert '<nav id="contents">' in page
+    heads = re.findall(r'<h2 id="([a-z0-9-]+)">', page)
+    assert len(heads) >= 5 and all(f'href="#{h}"' in page for h in heads)
+    body = re.sub(r"<[^>]+>", " ", re.sub(r'src="data:[^"]+"', "", page))
+    assert "**" not in body and "](" not in body and "`" not in body
+    assert not re.search(r"^#+ ", body, re.M)
+    assert "<strong>tiny</strong>" in page and "<em>Rigidity of generic" in page
+
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium is not installed")
+def test_the_html_report_renders_in_a_real_browser(tiny, tmp_path):
+    """Headless Chromium (Debian's package) loads the page: its DOM has the contents and no raw
+    Markdown, and its first screen is drawn (docs/report-first-screen.png is such a shot)."""
+    url = (tiny / "report.html").resolve().as_uri()
+    flags = ["--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars"]
+    dom = subprocess.run(
+        [CHROMIUM, *flags, "--dump-dom", url], capture_output=True, text=True, timeout=120
+    ).stdout
+    assert '<nav id="contents">' in dom and "Comparison with the paper" in dom
+    text = re.sub(r"<[^>]+>", " ", re.sub(r'src="data:[^"]+"', "", dom))
+    assert "**" not in text and "`" not in text
+    shot = tmp_path / "first-screen.png"
+    subprocess.run(
+        [CHROMIUM, *flags, "--window-size=1280,900", f"--screenshot={shot}", url],
+        capture_output=True,
+        timeout=120,
+    )
+    assert shot.stat().st_size > 20_000  # a drawn page, not a blank one

@@ -13,7 +13,7 @@ import pytest
 from tensegrity_rigidity.model.strain import NAMED_STRAINS
 from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS
-from tensegrity_rigidity.paper.report import _bracketed_sentence, bracketed_rows, excluded_samples
+from tensegrity_rigidity.paper.report import _exclusions, bracketed_rows, excluded_samples
 from tensegrity_rigidity.paper.studies import (
     interval_straddles,
     keep_decided,
@@ -91,19 +91,12 @@ def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeyp
             )  # fmt: skip
     frame = pd.DataFrame(rows)
 
-    def fake_rows(out, name, spec, workers, scheduler, progress, energy=False):
-        if name.startswith("fig2_pt0.0"):
-            return keep_decided(frame, energy)
-        if name == "fig2_thresholds":
-            return pd.DataFrame(
-                {"sample": range(1, 5), "p_t": 0.0, "phi": math.pi, "threshold_p_r": 0.55}
-            ), 0
-        return frame.iloc[:0], 0
-
-    monkeypatch.setattr(studies, "sweep_rows", fake_rows)
-    monkeypatch.setattr(studies, "PT4", [0.0])
-    monkeypatch.setattr(studies, "_displacement_field", lambda out, scale, **kw: (None, 0, 0))
-    r = studies.study_fig2(None, TINY, **SERIAL)
+    thresholds = pd.DataFrame(
+        {"sample": range(1, 5), "p_t": 0.0, "phi": math.pi, "threshold_p_r": 0.55}
+    )
+    # the rows Fig. 2 reads: one grid (p_t = 0) and its thresholds, no field sweeps
+    rows = {"fig2_pt0.0": keep_decided(frame, True), "fig2_thresholds": (thresholds, 0)}
+    r = studies.fig2.analyse(rows, TINY)
     at = r.curves.set_index("p_r").loc[0.6]  # three rigid samples at E = 3, one at E ~ 0
     assert at.energy == pytest.approx(2.25) and at.energy_n == 4 and at.N == 3 and at.P == 1
     assert r.bracketed == {"fig2_pt0.0": 1} and r.excluded["fig2_pt0.0"] == 1
@@ -111,12 +104,21 @@ def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeyp
 
 
 def test_the_report_counts_the_bracketed_rows():
-    results = {"a": SimpleNamespace(bracketed={"x": 2, "y": 0}), "b": SimpleNamespace()}
+    results = {
+        "a": SimpleNamespace(excluded={"x": 3, "y": 1}, bracketed={"x": 2, "y": 0}),
+        "b": SimpleNamespace(excluded={}),
+    }
     assert bracketed_rows(results) == {"x": 2, "y": 0}
-    text = _bracketed_sentence(bracketed_rows(results))
-    assert text.startswith(" Of these, 2 grid configurations") and text.endswith("(x: 2).")
+    text, table = _exclusions(results)
+    assert text.startswith("4 samples are excluded") and " 2 of them still enter" in text
     assert "at most 1e-09 of the affine energy" in text
-    assert _bracketed_sentence({"y": 0}) == ""
+    assert table.to_dict("list") == {
+        "sweep": ["x", "y"],
+        "excluded": [3, 1],
+        "still in the energies": [2, 0],
+    }
+    text, _ = _exclusions({"a": SimpleNamespace(excluded={"y": 1}, bracketed={"y": 0})})
+    assert "still enter" not in text
 
 
 def test_threshold_interval_keeps_undecided_samples():
@@ -266,3 +268,25 @@ def test_samples_known_only_from_below_bracket_the_median_nonaffinity():
     old = studies.gamma_median_brackets(rows.drop(columns="nonaffinity_lower")).set_index("p_r")
     assert old.loc[0.5, "gamma_median_low"] == 1.5 and old.gamma_bounded.tolist() == [0, 0]
     assert _bracket_sentence(old.reset_index()) == ""
+
+
+def test_scales_are_keyword_only_and_seed_each_estimator_on_its_own_stream():
+    with pytest.raises(TypeError):
+        studies.Scale("paper", 32, 32)  # type: ignore[misc]
+    scale = studies.Scale(name="x", bootstrap=5)
+    assert scale.n_threshold == 32 and scale.bootstrap == 5
+    # a fresh generator per call, the same draws each time, one stream per estimator
+    a = scale.rng("collapse").integers(0, 1000, 8)
+    assert np.array_equal(a, scale.rng("collapse").integers(0, 1000, 8))
+    assert not np.array_equal(a, scale.rng("contour").integers(0, 1000, 8))
+    shifted = dataclasses.replace(scale, bootstrap_seed=100)
+    assert not np.array_equal(a, shifted.rng("collapse").integers(0, 1000, 8))
+    with pytest.raises(KeyError):
+        scale.rng("no such estimator")
+
+
+def test_every_figure_module_offers_sweeps_analyse_and_claims():
+    for name, module in studies.MODULES.items():
+        for fn in ("sweeps", "analyse", "claims", "study"):
+            assert callable(getattr(module, fn)), (name, fn)
+        assert isinstance(module.sweeps(TINY), dict)

@@ -56,7 +56,7 @@ from .studies import SCALES, Scale
 #
 # THRESHOLD_SECONDS: one exact threshold search along p_r (certified verdicts, an interval when
 #   probes are undecided) at p_t = 0.3, the means of the p_t = 0.3 rows (f_c = 0, 0.5, 1; three
-#   strains) of the finite-size run of 2026-11-26 (`reproduce --scale fss` from a clean clone at
+#   strains) of the first clean finite-size run (`reproduce --scale fss` from a clean clone at
 #   a3eff61, 2 workers; benchmarks/calibrate_budget.py, BENCHMARKS.md): 0.080, 0.327, 2.90 and
 #   73.2 s at n = 8, 16, 32, 64 over 3600, 1800, 864 and 92 rows (medians 0.067, 0.270,
 #   1.86, 61.9 s). The constants before (0.01, 0.17, 1.56, 48 s, from the
@@ -68,12 +68,12 @@ THRESHOLD_SECONDS = {8: 0.080, 16: 0.33, 32: 2.90, 64: 73.0}
 #   the 4,800 threshold rows of Fig. 1C of a quick run (n = 12, solve_seconds per row): means
 #   0.029, 0.100, 0.158, 0.171 s at p_t = 0, 0.1, 0.2, 0.3. Rods only needs no active set.
 #   Above 0.3 Fig. 1B's rows (p_t up to 0.8) averaged 0.081 s: 1 errs long. The finite-size
-#   run of 2026-11-26 agrees: 0.52 and 0.82 at p_t = 0.1 and 0.2 (n = 32), 0.56 and 0.90 (16).
+#   first clean run agrees: 0.52 and 0.82 at p_t = 0.1 and 0.2 (n = 32), 0.56 and 0.90 (16).
 THRESHOLD_PT_FACTOR = ((0.0, 0.17), (0.1, 0.58), (0.2, 0.92), (0.3, 1.0))
 # RODS_THRESHOLD_SECONDS: a rods-only threshold search (p_t = 0), measured directly because its
 #   cost relative to a search at p_t = 0.3 falls with n: means of the rows of the rods-only p_c
 #   sweeps (Scale.fss_pc, 4000, 1200, 400, 100 and 64 samples at n = 8 to 128) run on 2 workers
-#   on 2026-11-25 with the refine stage (`--scale pc`, 34 min 11 s): 113.0, 73.4, 117.9, 282.9
+#   with the refine stage (`--scale pc`, 34 min 11 s): 113.0, 73.4, 117.9, 282.9
 #   and 3395.7 s of search in all. The medians are lower (11.8 s at n = 128, max 219 s): a few
 #   searches meet undecided probes (153 in 64 searches at n = 128), and an undecided probe runs
 #   every stage. Before the refine stage (same day): 0.076, 0.40, 6.2 and 139 s at n = 16 to 128.
@@ -91,7 +91,7 @@ GRID_EXPONENT = 2.6
 # GRID_WITHOUT_DISPLACEMENTS: a grid row solved without the minimum-norm displacements
 #   (``solver.min_norm = false``, the energy sweeps of the finite-size study), relative to one
 #   with them: 0.67, the CPU time of the four energy sweeps at n = 32 (4 samples, 528 rows,
-#   both strains) without and with them, measured one after the other on 2026-11-27 (29.2 s
+#   both strains) without and with them, measured one after the other (29.2 s
 #   against 43.4 s; with them 82 ms per row, the model above prices 70).
 GRID_WITHOUT_DISPLACEMENTS = 0.67
 # GRID_PT_FACTOR: cost relative to the reference p_t = 0.15, by p_t (linear in between, constant

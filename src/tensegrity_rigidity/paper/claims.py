@@ -53,7 +53,7 @@ REFERENCES = {
         0.66027,
         None,
         "Javerzat & Notarmuzi, generic rigidity percolation of the bond-diluted triangular "
-        "lattice, as quoted in issue 15 (0.66027; the reference was not verified here)",
+        "lattice, as quoted in the project's brief (0.66027; the reference was not verified here)",
     ),
     "nu_jacobs_thorpe": Reference(
         1.21, 0.06, "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995): correlation-length exponent"
@@ -67,7 +67,7 @@ REFERENCES = {
 }
 
 
-#: the precision the reproduction aims at per family of claims (issue 15; paper.budget chooses
+#: the precision the reproduction aims at per family of claims (paper.budget chooses
 #: sample counts from them): S_t/S_r +-0.013 (the paper's error on cables under compression),
 #: p_crit and p_c +-0.005, the fraction of taut cables +-0.02, Fig. 4C +-0.1 (the paper prints no
 #: number: a third of the 0.28 deviation the quick run measured at f_c = 0 and 1)

@@ -74,6 +74,47 @@ RULE = (
 )
 
 
+#: the longest a cell of the report's summary table may be (characters)
+CELL_CHARS = 160
+
+
+@dataclass(frozen=True)
+class Evidence:
+    """One measurement of a claim with one factor changed, beside ours.
+
+    Attributes
+    ----------
+    factor : str
+        One of :data:`~tensegrity_rigidity.paper.claims.FACTORS` or the replication.
+    label : str
+        What was changed ("" for a factor not yet tested).
+    value : str
+        Its value with its error, formatted ("" when not tested).
+    system : str
+        System size and samples behind it.
+    z : float
+        Its agreement statistic with the paper (NaN when not tested).
+    verdict : str
+        How it reads: "then agrees", "still disagrees", "agrees only through its larger error:
+        ...", "not yet tested", ...
+    resolved : bool
+        False when its error exceeds its value at every point (see
+        :attr:`ComparisonRow.resolved`).
+    """
+
+    factor: str
+    label: str
+    value: str
+    system: str
+    z: float
+    verdict: str
+    resolved: bool = True
+
+    def clause(self) -> str:
+        """The measurement as the explanation's words put it."""
+        return f"{self.label}: {self.value} ({self.system}, z = {self.z:.2f}: {self.verdict})"
+
+
 @dataclass(frozen=True)
 class ComparisonRow:
     """One claim of the paper beside our measurement.
@@ -104,6 +145,14 @@ class ComparisonRow:
     replication : str
         The verdict of the replications at our size ("disagree" when any disagrees, else
         "agree" when any agrees, else "inconclusive"); empty without one that has a value.
+    reason : str
+        The verdict's reason in one line (at most :data:`CELL_CHARS` characters): the z, and for
+        a disagreement which factors account for it, for an inconclusive one why.
+    evidence : tuple of Evidence
+        The rows of the explanation as data: one per measurement of another factor (or per
+        factor not yet tested), for the report's table per claim.
+    value, err : tuple of float
+        Our value(s) and standard error(s) (k points).
     """
 
     key: str
@@ -117,10 +166,20 @@ class ComparisonRow:
     note: str
     source: str
     replication: str = ""
+    reason: str = ""
+    evidence: tuple[Evidence, ...] = ()
+    value: tuple[float, ...] = ()
+    err: tuple[float, ...] = ()
+
+    @property
+    def resolved(self) -> bool:
+        """False when an error exceeds the size of its value at every point: such a value is
+        not resolved at this precision, and the report says so instead of printing it."""
+        return _resolved(self.value, self.err)
 
 
-#: columns of the comparison table as the report shows it
-TABLE_COLUMNS = ["claim", "paper", "ours", "system", "z", "verdict", "explanation", "note"]
+#: columns of the summary table that opens the report
+SUMMARY_COLUMNS = ["claim", "paper", "ours", "verdict", "reason"]
 
 
 def fmt(value, err=None, digits=3) -> str:
@@ -242,41 +301,52 @@ def _words(v: str, plain: bool) -> str:
     }.get(v, "no value")
 
 
-def _part(claim: Claim, a: Measurement, z: float, judged: str) -> str:
+def _resolved(value, err) -> bool:
+    """True when some point's error is at most the size of its value."""
+    v, e = np.abs(np.asarray(value, float)), np.asarray(err, float)
+    ok = np.isfinite(v) & np.isfinite(e)
+    return bool(ok.any() and (e[ok] <= v[ok]).any())
+
+
+def _part(claim: Claim, a: Measurement, z: float, judged: str, factor: str = "") -> Evidence:
     """One alternative in an explanation: its label, value, system, z and verdict."""
-    return f"{a.label}: {_ours(a, claim)} ({a.system}, z = {z:.2f}: {judged})"
+    resolved = _resolved(a.value, a.err)
+    return Evidence(factor or a.factor, a.label, _ours(a, claim), a.system, z, judged, resolved)
 
 
-def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str]:
-    """The replications' clause for an explanation and their overall verdict (see
-    :attr:`ComparisonRow.replication`); two empty strings without one with a value."""
+def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str, list[Evidence]]:
+    """The replications' clause for an explanation, their overall verdict (see
+    :attr:`ComparisonRow.replication`) and their evidence rows; empty without one with a
+    value."""
     replications = [a for a in replications if np.isfinite(a.value).any()]
     if not replications:
-        return "", ""
+        return "", "", []
     parts, verdicts = [], []
     for a in replications:
         z, v = verdict(claim, a)
         verdicts.append(v)
         parts.append(_part(claim, a, z, _words(v, plain=True)))
     overall = next((v for v in ("disagree", "agree", "inconclusive") if v in verdicts), "")
-    return f"{REPLICATION}: " + " / ".join(parts), overall
+    return f"{REPLICATION}: " + " / ".join(p.clause() for p in parts), overall, parts
 
 
 def _evidence(
     claim: Claim, ours: Measurement, alternatives: list[Measurement], agreeing: bool = False
-) -> str:
+) -> tuple[str, list[Evidence]]:
     """One clause per factor: the alternative measurements and whether they agree.
 
     For a disagreement (the default) an alternative "then agrees" or "still disagrees", and
     one that agrees only because its error is larger than ours is named so. For an agreement
     (``agreeing``: one that a replication contradicts) the words are plain, "agrees" or
     "disagrees": our error is not the yardstick there, since it is what is in question.
+    Returns the clauses joined, and the evidence rows behind them.
     """
-    clauses = []
+    clauses, rows = [], []
     for factor in FACTORS:
         alts = [_applied(ours, a) if a.shift else a for a in alternatives if a.factor == factor]
         if not alts:
             clauses.append(f"{factor}: not yet tested")
+            rows.append(Evidence(factor, "", "", "", float("nan"), "not yet tested"))
             continue
         parts = []
         for a in alts:
@@ -286,9 +356,10 @@ def _evidence(
                 z_ours = _at_our_error(claim, ours, a)
                 if z_ours >= AGREE_BELOW:
                     judged = f"agrees only through its larger error: at our error z = {z_ours:.2f}"
-            parts.append(_part(claim, a, z, judged))
-        clauses.append(f"{factor}: " + " / ".join(parts))
-    return "; ".join(clauses)
+            parts.append(_part(claim, a, z, judged, factor))
+        rows += parts
+        clauses.append(f"{factor}: " + " / ".join(p.clause() for p in parts))
+    return "; ".join(clauses), rows
 
 
 def shared_measurements(rows: list[ComparisonRow]) -> list[tuple[str, str, float]]:
@@ -342,18 +413,27 @@ def compare(results: dict) -> list[ComparisonRow]:
         same_size = [
             a for a in others if a.factor == REPLICATION and a.size is not None and a.size == m.size
         ]
-        replicated, replication = _replicated(claim, same_size)
-        explanation = ""
+        replicated, replication, evidence = _replicated(claim, same_size)
+        explanation, reason = "", f"z = {z:.2f}" if np.isfinite(z) else "no value"
         if v == "disagree":
-            explanation = "; ".join(filter(None, [replicated, _evidence(claim, m, others)]))
+            said, rows_ = _evidence(claim, m, others)
+            evidence += rows_
+            explanation = "; ".join(filter(None, [replicated, said]))
+            reason = _reason_disagree(z, evidence)
         elif v == "inconclusive":
             explanation = "; ".join(filter(None, [replicated, _why_inconclusive(claim, m)]))
-        elif replication == "disagree":
+            reason = (
+                f"z = {z:.2f}, but our error exceeds {RESOLVES_WITHIN:g} x the claim's "
+                f"resolution ({claim.resolution:.3g})"
+            )
+        elif v == "agree" and replication == "disagree":
             # "precision" where the replication is the more precise, else the sample set
             sharper = any(np.all(a.err < m.err) for a in same_size)
             only = "at our precision only" if sharper else "on our samples only"
-            evidence = _evidence(claim, m, others, agreeing=True)
-            explanation = f"agrees {only}: {replicated}; {evidence}"
+            said, rows_ = _evidence(claim, m, others, agreeing=True)
+            evidence += rows_
+            explanation = f"agrees {only}: {replicated}; {said}"
+            reason = f"z = {z:.2f}; agrees {only}: the same size on other samples disagrees"
         rows.append(
             ComparisonRow(
                 key=key,
@@ -367,14 +447,171 @@ def compare(results: dict) -> list[ComparisonRow]:
                 note=m.note,
                 source=claim.source,
                 replication=replication,
+                reason=reason[:CELL_CHARS],
+                evidence=tuple(evidence),
+                value=tuple(float(x) for x in m.value),
+                err=tuple(float(x) for x in m.err),
             )
         )
     return rows
 
 
+def _reason_disagree(z: float, evidence: list[Evidence]) -> str:
+    """One line: the z, and which factors account for the disagreement (the evidence rows
+    whose verdict reads "then agrees"), which do not, and which are not yet tested."""
+    by: dict[str, list[str]] = {}
+    for e in evidence:
+        if e.factor == REPLICATION:
+            continue
+        if e.verdict == "then agrees":
+            kind = "accounted for by"
+        elif e.verdict in ("not yet tested", "no value"):
+            kind = "not yet tested"
+        elif e.verdict.startswith("inconclusive"):
+            kind = "unresolved"
+        else:
+            kind = "not by"
+        if e.factor not in by.setdefault(kind, []):
+            by[kind].append(e.factor)
+    # a factor is listed once, by its most telling measurement
+    seen: set[str] = set()
+    for kind in ("accounted for by", "not by", "unresolved", "not yet tested"):
+        by[kind] = [f for f in by.get(kind, []) if f not in seen]
+        seen |= set(by[kind])
+    parts = [f"z = {z:.2f}"]
+    if by["accounted for by"]:
+        parts.append("accounted for by " + ", ".join(by["accounted for by"]))
+    if by["not by"]:
+        parts.append("not by " + ", ".join(by["not by"]))
+    if by["unresolved"]:
+        parts.append("unresolved: " + ", ".join(by["unresolved"]))
+    if by["not yet tested"]:
+        parts.append("not yet tested: " + ", ".join(by["not yet tested"]))
+    return "; ".join(parts)
+
+
+def summary_cell(row: ComparisonRow) -> str:
+    """Our value with its error and system, as the summary table shows it (at most
+    :data:`CELL_CHARS` characters): "not resolved at this precision" where every error exceeds
+    its value; the system shortened to its first clause where the cell would be too long."""
+    finite = np.isfinite(np.asarray(row.value, float)).any()
+    ours = row.ours if row.resolved or not finite else "not resolved at this precision"
+    if len(row.value) > 1 and len(ours) > CELL_CHARS // 2:
+        v, e = np.abs(np.asarray(row.value)), np.asarray(row.err)
+        bad = int(np.sum(~(e <= v)))
+        ours = f"{len(row.value)} points" + (
+            f", {bad} not resolved at this precision" if bad else ""
+        )
+    cell = f"{ours} ({row.system})"
+    if len(cell) > CELL_CHARS:
+        cell = f"{ours} ({row.system.split(';')[0]})"
+    return cell if len(cell) <= CELL_CHARS else cell[: CELL_CHARS - 3] + "..."
+
+
+def summary_frame(rows: list[ComparisonRow]) -> pd.DataFrame:
+    """The report's opening table: claim, paper, ours (value ± error, system), verdict and a
+    one-line reason."""
+    return pd.DataFrame(
+        {
+            "claim": [r.claim for r in rows],
+            "paper": [r.paper for r in rows],
+            "ours": [summary_cell(r) for r in rows],
+            "verdict": [r.verdict for r in rows],
+            "reason": [r.reason for r in rows],
+        },
+        columns=SUMMARY_COLUMNS,
+    )
+
+
+def evidence_frame(row: ComparisonRow) -> pd.DataFrame:
+    """The evidence for one claim's verdict, numbers in columns: factor, what changed, value,
+    system, z and how it reads; our own measurement first. A value whose error exceeds it is
+    "not resolved at this precision"."""
+    ours = Evidence("ours", "", row.ours, row.system, row.z, row.verdict, row.resolved)
+    rows = [ours, *row.evidence]
+    return pd.DataFrame(
+        {
+            "factor": [e.factor for e in rows],
+            "changed": [e.label for e in rows],
+            "value": [e.value if e.resolved else "not resolved at this precision" for e in rows],
+            "system": [e.system for e in rows],
+            "z": [f"{e.z:.2f}" if np.isfinite(e.z) else "" for e in rows],
+            "reads": [e.verdict for e in rows],
+        }
+    )
+
+
 def comparison_frame(rows: list[ComparisonRow]) -> pd.DataFrame:
-    """The rows as a table (every field, one column each); z rounded for display."""
-    df = pd.DataFrame([asdict(r) for r in rows])
+    """The rows as a table (every field but the evidence rows, one column each); z rounded
+    for display."""
+    df = pd.DataFrame([{k: v for k, v in asdict(r).items() if k != "evidence"} for r in rows])
     if len(df):
         df["z"] = df.z.round(2)
     return df
+
+
+#: the p_t whose p_crit the paper's tables give beside p_t = 0, for lambda from p_crit
+SELF_P_T = 0.3
+#: strain -> the claims that state S_t/S_r of rods + cables twice: p_crit at p_t = 0 and at
+#: :data:`SELF_P_T` (under P = F(p_r + lambda p_t), lambda = (p_crit(0) - p_crit(0.3)) / 0.3),
+#: and the headline efficacy
+SELF_CONSISTENCY = {
+    "compression": ("p_crit_compression_0.0", "p_crit_compression_0.3", "st_sr_cables_compression"),
+    "dilation": ("p_crit_dilation_0.0", "p_crit_dilation_0.3", "st_sr_cables_dilation"),
+}
+
+
+def _difference_quotient(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
+    """(a - b) / SELF_P_T with the errors added in quadrature."""
+    return (a[0] - b[0]) / SELF_P_T, float(np.hypot(a[1], b[1])) / SELF_P_T
+
+
+def paper_against_itself(results: dict) -> pd.DataFrame:
+    """Where the paper states S_t/S_r of rods + cables twice, both readings beside ours.
+
+    Under P = F(p_r + lambda p_t) the paper's own p_crit tables give lambda = (p_crit(0) -
+    p_crit(0.3)) / 0.3: (0.66 - 0.51) / 0.3 = 0.50 under compression and (0.65 - 0.46) / 0.3 =
+    0.63 under dilation, against its headline S_t/S_r of 0.372 and about 0.67. Ours comes from
+    the same p_crit estimator (our median thresholds; errors in quadrature, an upper bound since
+    the thresholds at both p_t share samples) and from the collapse fit; "agrees with" applies
+    the agreement rule (z < 2) to the collapse fit against each of the paper's readings.
+
+    Returns
+    -------
+    DataFrame
+        One row per strain whose claims were measured (empty without Figs. 1C and 2).
+    """
+    ours = {
+        m.claim: (float(m.value[0]), float(m.err[0]))
+        for r in results.values()
+        for m in getattr(r, "measured", ())
+        if m.factor == "ours" and m.value.size == 1
+    }
+    rows = []
+    for strain, (k0, k3, headline) in SELF_CONSISTENCY.items():
+        if not {k0, k3, headline} <= set(ours):
+            continue
+        c0, c3, ch = CLAIMS[k0], CLAIMS[k3], CLAIMS[headline]
+        assert c0.value is not None and c3.value is not None and ch.value is not None
+        tables = _difference_quotient((c0.value, c0.error), (c3.value, c3.error))
+        from_pc = _difference_quotient(ours[k0], ours[k3])
+        fit = ours[headline]
+        z_tables = agreement_z(fit[0], fit[1] ** 2, tables[0], tables[1])
+        z_head = agreement_z(fit[0], fit[1] ** 2, ch.value, ch.error)
+        agrees = [
+            f"{name} (z = {z:.1f})"
+            for name, z in (("its p_crit tables", z_tables), ("its headline", z_head))
+            if z < AGREE_BELOW
+        ]
+        rows.append(
+            {
+                "rods + cables": strain,
+                "paper: p_crit tables": fmt(*tables, digits=2),
+                "paper: headline": ch.paper,
+                "ours: p_crit": fmt(*from_pc),
+                "ours: collapse fit": fmt(*fit),
+                "collapse fit agrees with": " and ".join(agrees)
+                or f"neither (z = {z_tables:.1f} and {z_head:.1f})",
+            }
+        )
+    return pd.DataFrame(rows)

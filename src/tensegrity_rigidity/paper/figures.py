@@ -4,16 +4,17 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from cycler import cycler  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
-from matplotlib.ticker import NullLocator  # noqa: E402
+from matplotlib.ticker import NullFormatter, NullLocator  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
@@ -31,12 +32,41 @@ if TYPE_CHECKING:
         Fig4Result,
     )
 
-STRAIN_COLOURS = {
-    "dilation": "tab:red",
-    "shear": "tab:green",
-    "compression": "tab:blue",
-    "average": "black",
+#: Okabe and Ito's palette, distinguishable with every common colour-vision deficiency
+#: (Wong, Nature Methods 8, 441, 2011): black, orange, sky blue, bluish green, yellow, blue,
+#: vermillion, reddish purple
+OKABE_ITO = (
+    "#000000", "#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7"
+)  # fmt: skip
+#: the colour cycle of every figure: the palette without black (kept for averages) and yellow
+#: (too light on white)
+CYCLE = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
+#: one style for every figure: sizes a journal column takes, the palette, no top and right spines
+STYLE: dict[Any, Any] = {
+    "axes.prop_cycle": cycler(color=CYCLE),
+    "font.size": 9,
+    "axes.titlesize": 9,
+    "axes.labelsize": 9,
+    "legend.fontsize": 7,
+    "legend.frameon": False,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "lines.linewidth": 1.3,
+    "lines.markersize": 4,
+    "errorbar.capsize": 2,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "image.cmap": "cividis",
+    "savefig.dpi": 150,
 }
+STRAIN_COLOURS = {
+    "dilation": "#D55E00",
+    "shear": "#009E73",
+    "compression": "#0072B2",
+    "average": "#000000",
+}
+#: how the paper's values are drawn beside ours: open stars, in the colour of the curve
+PAPER_MARKER: dict[str, Any] = {"marker": "*", "ms": 11, "mfc": "none", "mew": 1.2, "ls": "none"}
 
 
 def _yerr(P, lo, hi):
@@ -79,18 +109,27 @@ def fig1b(r: Fig1bResult, figdir: Path):
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     P = np.ma.masked_invalid(r.P)
     mesh = ax.pcolormesh(r.p_r, r.p_t, P, shading="nearest", cmap="viridis", vmin=0, vmax=1)
-    fig.colorbar(mesh, ax=ax, label="P (shear, f_c = 0.5)")
+    fig.colorbar(mesh, ax=ax, label=r"$P$ (shear, $f_c$ = 0.5)")
     ax.contour(r.p_r, r.p_t, P, levels=[0.5], colors="white", linewidths=1)
     # the mean-field line p_r + p_t / 2 = const through P = 1/2 at p_t = 0
     x0 = float(np.interp(0.5, np.nan_to_num(r.P[0]), r.p_r))
     pt = np.linspace(0, r.p_t.max(), 50)
     ax.plot(x0 - pt / 2, pt, color="orange", lw=2, label=r"$p_r + p_t/2$ = const")
     ax.set_xlim(0, 1)
-    ax.set_xlabel("p_r")
-    ax.set_ylabel("p_t")
+    ax.set_xlabel(r"rod probability $p_r$")
+    ax.set_ylabel(r"one-sided probability $p_t$")
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(f"1B  P(p_r, p_t), n = {r.n}, {r.samples} samples per p_t", fontsize=9)
     return _save(fig, figdir, "1B")
+
+
+#: the paper's values drawn in Fig. 1C: (claim, f_c, strain)
+FIG1C_PAPER = (
+    ("st_sr_cables_compression", 1.0, "compression"),
+    ("st_sr_struts_dilation", 0.0, "dilation"),
+    ("st_sr_cables_dilation", 1.0, "dilation"),
+    ("st_sr_half_average", 0.5, "average"),
+)
 
 
 def fig1c(r: Fig1cResult, figdir: Path):
@@ -107,10 +146,13 @@ def fig1c(r: Fig1cResult, figdir: Path):
             label=strain,
         )
     ax.axhline(0.5, color="grey", ls=":", lw=1)
-    ax.set_xlabel("f_c (cable fraction)")
-    ax.set_ylabel("S_t / S_r")
-    ax.legend(fontsize=8)
-    ax.set_title(f"1C  efficacy of one-sided elements, n = {r.n}", fontsize=9)
+    for key, f_c, strain in FIG1C_PAPER:
+        ax.plot([f_c], [CLAIMS[key].value or np.nan], color=STRAIN_COLOURS[strain], **PAPER_MARKER)
+    ax.plot([], [], color="grey", **PAPER_MARKER, label="paper")
+    ax.set_xlabel(r"cable fraction $f_c$")
+    ax.set_ylabel(r"efficacy $S_t / S_r$")
+    ax.legend()
+    ax.set_title(f"1C  $n$ = {r.n}, {r.samples} samples per point; error bars: bootstrap")
     return _save(fig, figdir, "1C")
 
 
@@ -189,7 +231,8 @@ def fig2b(r: Fig2Result, figdir: Path):
             ax.axvline(float(pc.iloc[0]), color=colour, ls="--", lw=1)
     ax.plot([], [], "o", mfc="none", color="grey", label="mean")
     title = (
-        f"2B  rods + cables, compression, n = {r.n}: median, quartiles (band), mean (o); "
+        f"2B  rods + cables, compression, $n$ = {r.n}, {r.samples} samples: median, quartiles "
+        "(band), mean (o); "
         "dashed: p_crit"
     )
     if bars:
@@ -199,8 +242,8 @@ def fig2b(r: Fig2Result, figdir: Path):
             "(^: unbounded above)"
         )
     ax.set_yscale("log")
-    ax.set_xlabel("p_r")
-    ax.set_ylabel("nonaffinity Gamma")
+    ax.set_xlabel(r"rod probability $p_r$")
+    ax.set_ylabel(r"nonaffinity $\Gamma$")
     ax.legend(fontsize=7)
     ax.set_title(title, fontsize=8)
     return _save(fig, figdir, "2B")
@@ -275,8 +318,8 @@ def fig2e(r: Fig2Result, figdir: Path):
         ax.legend(fontsize=7)
     else:
         ax.text(0.5, 0.5, "no nonaffinity at p_crit", ha="center", transform=ax.transAxes)
-    ax.set_xlabel("Gamma")
-    ax.set_ylabel("fraction of samples with a larger Gamma")
+    ax.set_xlabel(r"nonaffinity $\Gamma$")
+    ax.set_ylabel(r"fraction of samples with a larger $\Gamma$")
     ax.set_title(f"2E  distribution of Gamma at p_crit (compression), n = {r.n}", fontsize=9)
     return _save(fig, figdir, "2E")
 
@@ -295,22 +338,28 @@ def _energy_fig(r: Fig2Result, phi: float, fid: str, figdir: Path):
             marker="o",
             ms=3,
             capsize=2,
-            label=f"p_t = {p_t:.1f}",
+            label=f"$p_t$ = {p_t:.1f}",
         )
+        paper = CLAIMS.get(f"p_crit_{'compression' if phi == math.pi else 'dilation'}_{p_t}")
+        if paper is not None and paper.value is not None:
+            ax.plot([paper.value], [0], color=line[0].get_color(), clip_on=False, **PAPER_MARKER)
         f = fits[np.isclose(fits.phi, phi) & np.isclose(fits.p_t, p_t)].iloc[0]
         m = (s.p_r > f.p_crit) & (s.energy > 0)
         inset.loglog(s.p_r[m] - f.p_crit, s.energy[m], "o", ms=2, color=line[0].get_color())
         if np.isfinite(f.alpha):
             x = np.geomspace((s.p_r[m] - f.p_crit).min(), (s.p_r[m] - f.p_crit).max(), 20)
             inset.loglog(x, np.exp(f.beta) * x**f.alpha, "--", lw=1, color=line[0].get_color())
-    inset.set_xlabel("p_r - p_crit", fontsize=6)
-    inset.set_ylabel("E", fontsize=6)
+    inset.set_xlabel(r"$p_r - p_{crit}$", fontsize=6)
+    inset.set_ylabel(r"$E$", fontsize=6)
     inset.tick_params(labelsize=6)
-    ax.set_xlabel("p_r")
-    ax.set_ylabel("mean energy E (gamma = 1)")
+    inset.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel(r"rod probability $p_r$")
+    ax.set_ylabel(r"mean energy $E$ ($\gamma$ = 1)")
     ax.legend(fontsize=8, loc="lower right")
     name = "compression" if phi == math.pi else "dilation"
-    ax.set_title(f"{fid}  energy, rods + cables, {name}, n = {r.n}", fontsize=9)
+    ax.plot([], [], color="grey", **PAPER_MARKER, label=r"paper's $p_{crit}$")
+    ax.legend(fontsize=8, loc="lower right")
+    ax.set_title(f"{fid}  energy, rods + cables, {name}, $n$ = {r.n}, {r.samples} samples")
     return _save(fig, figdir, fid)
 
 
@@ -337,8 +386,8 @@ def fig3b(r: Fig3Result, figdir: Path):
             capsize=2,
             color=line[0].get_color(),
         )
-    ax.set_xlabel("f_c")
-    ax.set_ylabel("P_N")
+    ax.set_xlabel(r"cable fraction $f_c$")
+    ax.set_ylabel(r"$P_N$")
     ax.legend(fontsize=8)
     ax.set_title(f"3B  single node: theory (lines), {r.trials} trials (95%)", fontsize=9)
     return _save(fig, figdir, "3B")
@@ -347,7 +396,7 @@ def fig3b(r: Fig3Result, figdir: Path):
 def fig4a(r: Fig4Result, figdir: Path):
     pp = r.per_phi
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    cmap = plt.get_cmap("coolwarm")
+    cmap = plt.get_cmap("cividis")
     for phi, s in pp.groupby("phi"):
         ax.errorbar(
             s.f_c,
@@ -359,8 +408,8 @@ def fig4a(r: Fig4Result, figdir: Path):
             color=cmap(phi / math.pi),
             label=f"phi = {phi / math.pi:.3g} pi",
         )
-    ax.set_xlabel("f_c")
-    ax.set_ylabel("P")
+    ax.set_xlabel(r"cable fraction $f_c$")
+    ax.set_ylabel(r"probability of rigidity $P$")
     ax.legend(fontsize=6, ncol=2)
     ax.set_title(f"4A  P at p_r = 0.3, p_t = 0.6, n = {r.n}, {r.samples} samples", fontsize=9)
     return _save(fig, figdir, "4A")
@@ -369,11 +418,11 @@ def fig4a(r: Fig4Result, figdir: Path):
 def fig4b(r: Fig4Result, figdir: Path):
     a = r.average
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    ax.errorbar(a.f_c, a.S_c_rel, yerr=a.S_c_rel_err, marker="o", capsize=3, label="S_c / S_r")
-    ax.errorbar(a.f_c, a.S_s_rel, yerr=a.S_s_rel_err, marker="s", capsize=3, label="S_s / S_r")
+    ax.errorbar(a.f_c, a.S_c_rel, yerr=a.S_c_rel_err, marker="o", capsize=3, label=r"$S_c / S_r$")
+    ax.errorbar(a.f_c, a.S_s_rel, yerr=a.S_s_rel_err, marker="s", capsize=3, label=r"$S_s / S_r$")
     ax.axhline(0.5, color="grey", ls=":", lw=1)
-    ax.set_xlabel("f_c")
-    ax.set_ylabel("efficacy relative to a rod")
+    ax.set_xlabel(r"cable fraction $f_c$")
+    ax.set_ylabel(r"efficacy relative to a rod, $S_c/S_r$, $S_s/S_r$")
     ax.legend(fontsize=8)
     ax.set_title("4B  cable and strut efficacies, strain average", fontsize=9)
     return _save(fig, figdir, "4B")
@@ -393,8 +442,8 @@ def fig4c(r: Fig4Result, figdir: Path):
             label=name,
         )
     ax.axhline(1.0, color="grey", ls=":", lw=1)
-    ax.set_xlabel("f_c")
-    ax.set_ylabel("(S_c + S_s) / S_r")
+    ax.set_xlabel(r"cable fraction $f_c$")
+    ax.set_ylabel(r"$(S_c + S_s) / S_r$")
     ax.legend(fontsize=8)
     ax.set_title("4C  combined efficacy of a cable and a strut", fontsize=9)
     return _save(fig, figdir, "4C")
@@ -510,7 +559,12 @@ def _width_panel(ax, w) -> None:
 
 
 def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
-    """Draw every figure; returns {figure id: [png, svg]}."""
+    """Draw every figure in :data:`STYLE`; returns {figure id: [png, svg]}."""
+    with plt.rc_context(STYLE):
+        return _all_figures(results, figdir)
+
+
+def _all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
     out = {}
     if "fig2" in results:
         out["1A"] = fig1a(results["fig2"].field, figdir)

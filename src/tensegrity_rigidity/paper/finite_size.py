@@ -16,14 +16,14 @@ n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
   threshold does not depend on the strain, and it is the one extrapolation with a literature
   value precise to 3e-4. Estimates pooled over strains bootstrap samples, not rows.
   Each is extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
-  (:func:`~tensegrity_rigidity.analysis.estimators.fit_finite_size`): for the rods-only
+  (:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`): for the rods-only
   threshold with nu fitted (the literature's nu = 1.16 to 1.21 is a check, not an input), for
   the other claims with nu fixed at that fitted value (its error widens theirs). Every claim
   is extrapolated a second time with nu fixed at the literature's :data:`NU_CHECK`: with four
   sizes the free fit barely determines nu, and where the two readings' verdicts differ the
   extrapolation depends on nu. The widths of the rods-only threshold distributions give a
   further reading with no fitted exponent
-  (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
+  (:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`).
 * :func:`study_delta`: the same claims at one size for each delta.
 
 Both hand their values to the comparison as evidence for the factors "finite size" (the
@@ -54,6 +54,7 @@ from .studies import (
     mask_uncertified_tensions,
     p_r_grid,
     strain_name,
+    stream,
     sweep_rows,
     taut_with_error,
 )
@@ -134,7 +135,7 @@ def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
     others have none). ``count`` samples per point
     (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`), keyword-only (until
-    2026-11-29 the third argument was the thresholds' count, capped at 24); no minimum-norm
+    earlier releases the third argument was the thresholds' count, capped at 24); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
     base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
@@ -192,9 +193,9 @@ def energy_claims(
             t = thresholds.get((strain, p_t), empty)
             th.append(t[["sample", "threshold_p_r"]].assign(phi=phi, p_t=p_t))
             sub = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
-            fit = energy_exponent(sub, t, n_boot)
+            fit = energy_exponent(sub, t, n_boot, rng=stream("energy_exponent"))
             out.append({"key": f"alpha_{strain}_{p_t}", "value": fit.alpha, "err": fit.alpha_err})
-    tr = taut_with_error(rows, pd.concat(th, ignore_index=True), n_boot)
+    tr = taut_with_error(rows, pd.concat(th, ignore_index=True), n_boot, rng=stream("taut"))
     if tr is not None:
         out.append({"key": "taut_cables_transition", "value": tr[0], "err": tr[1]})
     return out
@@ -216,7 +217,11 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
     rods, mixed, pcrit = frames["rods"], frames["mixed"], frames["pcrit"]
     rows = []
     # rods-only thresholds do not depend on the strain: a sample is one unit, not three
-    pc, pc_err = an.critical_point(rods.threshold_p_r.to_numpy(), groups=rods["sample"].to_numpy())
+    pc, pc_err = an.critical_point(
+        rods.threshold_p_r.to_numpy(),
+        groups=rods["sample"].to_numpy(),
+        rng=stream("critical_point"),
+    )
     rows.append({"key": "rods_only_pc", "value": pc, "err": pc_err})
     grid = np.arange(0.3, 0.9001, 0.01)
     for key, f_c, strain in LAMBDA_CLAIMS:
@@ -228,7 +233,7 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
             ]
         )
         y, pr, pt = an.outcomes_from_thresholds(sub, grid)
-        fit = an.fit_collapse(y, pr, pt, n_boot=n_boot)
+        fit = an.fit_collapse(y, pr, pt, n_boot=n_boot, rng=stream("collapse"))
         rows.append({"key": key, "value": fit.lam, "err": fit.lam_err})
     cables = pd.concat([pcrit, mixed[np.isclose(mixed.f_c, 1.0)]], ignore_index=True)
     crit = {}
@@ -237,7 +242,9 @@ def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, 
         for p_t in PT4:
             src = rods if p_t == 0 else cables
             crit[strain, p_t] = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)]
-            v, e = an.critical_point(crit[strain, p_t].threshold_p_r.to_numpy())
+            v, e = an.critical_point(
+                crit[strain, p_t].threshold_p_r.to_numpy(), rng=stream("critical_point")
+            )
             rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
     grids = []
     for name, spec in energy_sweeps(n, delta, count=energy).items():
@@ -272,7 +279,7 @@ class FiniteSizeResult:
         Per (n, key): value and err.
     extrapolated : DataFrame
         Per key: ``y_inf``, ``y_inf_err``, ``a``, ``nu``, ``nu_err``, ``nu_fixed``, ``chi2``,
-        ``dof`` (:class:`~tensegrity_rigidity.analysis.estimators.FiniteSizeFit`; nu fitted
+        ``dof`` (:class:`~tensegrity_rigidity.analysis.scaling.FiniteSizeFit`; nu fitted
         for the rods-only threshold, fixed at its fitted value for the other claims),
         ``z_paper``, the agreement statistic of ``y_inf`` against the paper's claim, and
         ``verdict_paper``, the comparison's verdict on it
@@ -306,7 +313,7 @@ class FiniteSizeResult:
         The rods-only threshold distributions' widths and centres against size (where the
         scale gives ``fss_pc``): nu from the widths alone and p_c from the centre against the
         width, a second reading with no fitted exponent
-        (:func:`~tensegrity_rigidity.analysis.estimators.width_scaling`).
+        (:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`).
     pc_widths_z, pc_widths_nu_z : float
         Its p_c against :data:`PC_CHECK` and its nu against :data:`NU_CHECK`.
     pc_by_smallest : DataFrame
@@ -342,7 +349,7 @@ class FiniteSizeResult:
 
 def _at_bound(nu: float) -> bool:
     """Whether a free fit's 1/nu ended at a bound of
-    :data:`~tensegrity_rigidity.analysis.estimators.THETA` (False for NaN)."""
+    :data:`~tensegrity_rigidity.analysis.scaling.THETA` (False for NaN)."""
     return bool(np.any(np.isclose(1.0 / nu, an.THETA, rtol=1e-6)))
 
 
@@ -365,7 +372,7 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
         One row per ``n_min`` leaving at least two sizes: ``n_min``, ``sizes``; the free fit's
         ``p_c``, ``p_c_err``, ``nu``, ``nu_err``, ``chi2``, ``dof`` and ``z`` against
         :data:`PC_CHECK` (NaN with fewer than three sizes) and ``nu_at_bound``, whether its
-        1/nu ended at a bound of :data:`~tensegrity_rigidity.analysis.estimators.THETA` (the
+        1/nu ended at a bound of :data:`~tensegrity_rigidity.analysis.scaling.THETA` (the
         sizes do not determine nu; False where the fit failed); the fit with nu fixed at
         :data:`NU_CHECK`'s ``p_c_fixed``, ``p_c_fixed_err``, ``chi2_fixed``, ``dof_fixed``
         and ``z_fixed``.
@@ -374,10 +381,11 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
     rows = []
     for n_min in n[:-1]:
         keep = n >= n_min
-        free = an.fit_finite_size(n[keep], y[keep], err[keep])
+        free = an.fit_finite_size(n[keep], y[keep], err[keep], rng=stream("finite_size"))
         fixed = an.fit_finite_size(
-            n[keep], y[keep], err[keep], nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0
-        )
+            n[keep], y[keep], err[keep], nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0,
+            rng=stream("finite_size"),
+        )  # fmt: skip
         rows.append(
             {
                 "n_min": int(n_min),
@@ -430,7 +438,7 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
             rows, excluded[name] = sweep_rows(out, name, spec, **kw)
             per_size.append(rows.threshold_p_r.to_numpy(float))
-            value, err = an.critical_point(per_size[-1])
+            value, err = an.critical_point(per_size[-1], rng=stream("critical_point"))
             width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
             pc_rows.append(
                 {
@@ -447,21 +455,26 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         by_size = pd.concat(
             [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
         )
-        widths = an.width_scaling(np.asarray(scale.pc_sizes, float), per_size)
+        widths = an.width_scaling(np.asarray(scale.pc_sizes, float), per_size, rng=stream("widths"))
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
         return s.n.to_numpy(float), s.value.to_numpy(float), s.err.to_numpy(float)
 
-    pc_fit = an.fit_finite_size(*series("rods_only_pc"))
+    pc_fit = an.fit_finite_size(*series("rods_only_pc"), rng=stream("finite_size"))
     fits = {"rods_only_pc": pc_fit}
     for key in by_size.key.unique():
         if key != "rods_only_pc":
-            fits[key] = an.fit_finite_size(*series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err)
+            fits[key] = an.fit_finite_size(
+                *series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err, rng=stream("finite_size")
+            )
     # the second reading of every claim: nu fixed at the literature's value, not the free fit's
     nu_check, nu_check_err = NU_CHECK.value, NU_CHECK.error or 0.0
     checks = {
-        key: an.fit_finite_size(*series(key), nu=nu_check, nu_err=nu_check_err) for key in fits
+        key: an.fit_finite_size(
+            *series(key), nu=nu_check, nu_err=nu_check_err, rng=stream("finite_size")
+        )
+        for key in fits
     }
     extrapolated = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
     free = [_judged(r.key, r.y_inf, r.y_inf_err) for r in extrapolated.itertuples()]
@@ -621,8 +634,9 @@ MISFIT_P = 0.01
 def misfit(chi2: float, dof: int) -> str:
     """A clause for an extrapolation whose form does not fit its points ("" when it does).
 
-    With the per-size errors taken as right (:func:`~tensegrity_rigidity.analysis.estimators.
-    fit_finite_size`), a chi-square above its 99th percentile means the values do not follow
+    With the per-size errors taken as right
+    (:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`), a chi-square above its
+    99th percentile means the values do not follow
     ``y_inf + a n^(-1/nu)`` (non-monotone in n, say), and ``y_inf`` and its error say little:
     the comparison says so beside the extrapolated value.
     """

@@ -32,7 +32,7 @@ import pandas as pd
 from ..analysis import estimators as an
 from ..solver.inexact import PAPER_THRESHOLD
 from .claims import Measurement
-from .studies import PT4, Scale, p_r_grid, strain_name, sweep_rows
+from .studies import PT4, Scale, p_r_grid, strain_name, stream, sweep_rows
 
 #: thresholds (relative to the affine energy) at which the paper's verdict is also read
 THRESHOLDS = (1e-6, PAPER_THRESHOLD, 1e-10)
@@ -260,11 +260,8 @@ def _cluster_interval(
     _, inverse = np.unique(unit, return_inverse=True)
     d = np.bincount(inverse, weights=wrong.astype(float))
     n = np.bincount(inverse).astype(float)
-    draw = an.resampler(units, rng=np.random.default_rng(seed))
-    reps = np.empty(n_boot)
-    for i in range(n_boot):
-        idx = draw()
-        reps[i] = d[idx].sum() / n[idx].sum()
+    rng = np.random.default_rng(seed)
+    reps = np.array(an.replicas(lambda idx: d[idx].sum() / n[idx].sum(), units, n_boot, rng))
     lo, hi = np.percentile(reps, [2.5, 97.5])
     return float(lo), float(hi), "", units
 
@@ -304,7 +301,7 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
             ok = np.all(np.isfinite(y), axis=1)
             return an.fit_collapse(y[ok], pr, pt, n_boot=0).lam
 
-        est = an.paired_bootstrap(lam, ya, yb, n_boot)
+        est = an.paired_bootstrap(lam, ya, yb, n_boot, rng=stream("paired"))
         add(f"st_sr_cables_{strain}", est, "collapse fit over p_t = 0, 0.1, 0.2, 0.3")
         if strain == "compression":
             add("st_sr_struts_dilation", est, "equal to rods + cables under compression (e -> -e)")
@@ -316,7 +313,7 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
             def cross(y, x=pr1):
                 return an.crossing_point(y, x, n_boot=0).value
 
-            est = an.paired_bootstrap(cross, ya, yb, n_boot)
+            est = an.paired_bootstrap(cross, ya, yb, n_boot, rng=stream("paired"))
             add(f"p_crit_{strain}_{p_t}", est, "P = 1/2 of a logistic fit over the p_r grid")
             ea, _, _ = _matrix(one, "energy")
             eb, _, _ = _matrix(one, "paper_energy")
@@ -327,7 +324,9 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
                 fit = an.fit_energy_power_law(x, np.nanmean(e, axis=0), pc)
                 return fit.alpha
 
-            est = an.paired_bootstrap(alpha, np.hstack([ya, ea]), np.hstack([yb, eb]), n_boot)
+            est = an.paired_bootstrap(
+                alpha, np.hstack([ya, ea]), np.hstack([yb, eb]), n_boot, rng=stream("paired")
+            )
             add(f"alpha_{strain}_{p_t}", est, "mean energies from each method, its own p_crit")
     rods = rows[np.isclose(rows.p_t, 0.0)]
     stack = [
@@ -348,6 +347,7 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
         ya,
         yb,
         n_boot,
+        rng=stream("paired"),
         groups=np.concatenate(units),
     )
     add("rods_only_pc", est, "P = 1/2 of a logistic fit, p_t = 0, both strains")

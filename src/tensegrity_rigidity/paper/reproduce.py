@@ -24,16 +24,15 @@ from .studies import SCALES, STORED
 #: the two in step) until someone times a run
 EXPECTED = {
     "tiny": "about a minute",
-    "quick": "8 min 33 s measured on 2026-11-26 from a clean clone at fe7943b, install included "
+    "quick": "8 min 33 s measured from a clean clone at fe7943b, install included "
     "(estimated 8 minutes)",
-    "paper": "33 min 12 s measured on 2026-11-27 from a clean clone at ef3ed37 (estimated 33 "
-    "minutes)",
-    "fss": "97 minutes measured on 2026-11-26 in one run from a clean clone at 5a78b41 for its "
+    "paper": "33 min 12 s measured from a clean clone at ef3ed37 (estimated 33 minutes)",
+    "fss": "97 minutes measured in one run from a clean clone at 5a78b41 for its "
     "threshold sweeps (estimated 109 minutes then); with the energy grids (24 samples per "
-    "point at every size since 2026-11-29), estimated 119 minutes; resumable: re-run to "
+    "point at every size), estimated 119 minutes; resumable: re-run to "
     "continue",
     "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
-    "minutes measured on 2026-11-25 (estimated 33 minutes)",
+    "minutes measured (estimated 33 minutes)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 62 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }

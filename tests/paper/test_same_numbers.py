@@ -1,0 +1,66 @@
+"""The claims' numbers are those of the release before the paper layer was split by figure.
+
+``data/release_claims.json`` holds every measurement of every study at the tiny scale as the
+release at 5454841 computed it (``data/make_release_claims.py`` says how it was generated: that
+release's sources, run once in a subprocess). The same samples and the same estimators must give
+the same values and, the bootstrap streams being the ones those estimators always drew, the same
+error bars.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tensegrity_rigidity.paper.registry import STUDIES
+from tensegrity_rigidity.paper.studies import STORED
+
+from .conftest import TINY
+
+RELEASE = json.loads((Path(__file__).with_name("data") / "release_claims.json").read_text())
+#: relative tolerance of a value or an error against the release's (the arithmetic is the same;
+#: only the order of floating-point sums may differ)
+RTOL = 1e-9
+
+
+@pytest.fixture(scope="module")
+def measured(tiny_out):
+    stored = dict(workers=STORED, scheduler=None, progress=False)
+    results = {name: STUDIES[name](tiny_out, TINY, **stored) for name in TINY.studies}
+    return [
+        {
+            "study": study,
+            "claim": m.claim,
+            "factor": m.factor,
+            "label": m.label,
+            "value": np.asarray(m.value, float),
+            "err": np.asarray(m.err, float),
+        }
+        for study, result in sorted(results.items())
+        for m in result.measured
+    ]
+
+
+def test_the_fixture_is_the_release_at_the_tiny_scale():
+    assert RELEASE["release"] == "5454841" and RELEASE["scale"] == "tiny"
+    assert len(RELEASE["measurements"]) > 200
+
+
+def test_the_same_claims_are_measured_in_the_same_order(measured):
+    def key(m):
+        return (m["study"], m["claim"], m["factor"], m["label"])
+
+    assert [key(m) for m in measured] == [key(m) for m in RELEASE["measurements"]]
+
+
+def test_every_value_and_error_is_the_release_s(measured):
+    differ = []
+    for ours, theirs in zip(measured, RELEASE["measurements"], strict=True):
+        for field in ("value", "err"):
+            a, b = ours[field], np.asarray(theirs[field], float)
+            if a.shape != b.shape or not np.allclose(a, b, rtol=RTOL, atol=0, equal_nan=True):
+                differ.append((ours["study"], ours["claim"], ours["label"], field, a, b))
+    assert not differ, differ[:5]
