@@ -30,109 +30,23 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import InputError, UndecidedWarning
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
-from .certificates import FloppyCertificate, Resolution, RigidCertificate
+from .certificates import FloppyCertificate, RigidCertificate
 from .displacements import project
 from .ipm import IpmState, interior_point
 from .linalg import one_blas_thread
-from .newton import CROSSOVER_TAUS, crossover, newton
+from .newton import crossover, newton
+from .options import SolverOptions
 from .problem import Problem
-from .selfstress import SUPPORT_TOL, kept, optimal_on_support, purify
-from .stages import BALANCE, DEFAULT_STAGES, POLISH, STAGES, search
-
-
-@dataclass(frozen=True)
-class SolverOptions:
-    """Tolerances, limits and switches of :func:`solve` and :func:`decide` (dimensionless).
-
-    Attributes
-    ----------
-    violation_tol : float
-        ``tau`` of the resolution model: the largest violation of a floppy certificate, and
-        the smallest normalised work of a rigid one, in units of ``max |e0|``.
-    displacement_bound : float
-        ``U`` of the resolution model: the largest displacement of a floppy certificate, in
-        units of ``max |e0|``; a rigid certificate's force residual is weighed against it.
-    stages : tuple of str
-        Stages of the verdict search, in order (see :mod:`tensegrity_rigidity.solver.stages`).
-    polish : bool
-        Polish floppy candidates that narrowly fail onto their tight set in extended precision
-        before rejecting them (:class:`~tensegrity_rigidity.solver.stages.Polish`).
-    balance : bool
-        Balance rigid candidates that narrowly fail to extended round-off after purification
-        (:class:`~tensegrity_rigidity.solver.stages.Balance`).
-    regularization : float
-        ``mu`` of the Newton matrix, relative to the mean stiffness (the relaxation's long
-        run, where the short one leaves the energy uncertified, uses
-        :data:`RELAX_LONG_SHIFT` instead).
-    max_iter : int
-        Newton iterations when the energy is minimised for the relaxed state.
-    min_norm : bool
-        Compute the minimum-norm minimiser (needed for the nonaffinity).
-    factorization : str
-        Sparse factorisation backend: "auto" (CHOLMOD, QDLDL where Cholesky fails), "cholmod"
-        or "qdldl"; see :mod:`tensegrity_rigidity.solver.linalg`.
-    """
-
-    violation_tol: float = Resolution.violation
-    displacement_bound: float = Resolution.displacement
-    stages: tuple[str, ...] = DEFAULT_STAGES
-    polish: bool = True
-    balance: bool = True
-    regularization: float = 1e-12
-    max_iter: int = 40
-    min_norm: bool = True
-    factorization: str = "auto"
-
-    def __post_init__(self):
-        if self.factorization not in ("auto", "cholmod", "qdldl"):
-            raise InputError(
-                "SolverOptions.factorization must be 'auto', 'cholmod' or 'qdldl', "
-                f"got {self.factorization!r}"
-            )
-        stages = self.stages
-        if isinstance(stages, str) or not all(isinstance(x, str) for x in stages):
-            raise InputError(f"SolverOptions.stages must be a list of names, got {stages!r}")
-        unknown = [x for x in stages if x not in STAGES]
-        if unknown:
-            raise InputError(
-                f"unknown solver stage {unknown[0]!r}; choose from {', '.join(STAGES)}"
-            )
-        object.__setattr__(self, "stages", tuple(stages))
-        for f in fields(self):
-            value = getattr(self, f.name)
-            kind = {"int": int, "float": float, "bool": bool}.get(str(f.type))
-            if kind is None:
-                continue
-            if kind is bool:
-                ok = isinstance(value, bool)
-            elif kind is float:
-                ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-            else:
-                ok = isinstance(value, int) and not isinstance(value, bool)
-            if not ok:
-                raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {value!r}")
-            if kind is not bool and not (np.isfinite(value) and value >= 0):
-                raise InputError(
-                    f"SolverOptions.{f.name} must be finite and non-negative, got {value!r}"
-                )
-
-    @property
-    def resolution(self) -> Resolution:
-        """The resolution model of the certificates.
-
-        Returns
-        -------
-        Resolution
-            ``Resolution(violation_tol, displacement_bound)``.
-        """
-        return Resolution(self.violation_tol, self.displacement_bound)
+from .selfstress import kept, optimal_on_support, purify
+from .stages import search
+from .tolerances import Tolerances
 
 
 @dataclass(frozen=True)
@@ -347,23 +261,14 @@ def _search(
         hint = " (load a file with load_instance(path) first)"
         hint = hint if isinstance(instance, (str, os.PathLike)) else ""
         raise InputError(f"expected an Instance, got {type(instance).__name__}{hint}")
-    p = Problem(instance, opts.regularization, opts.factorization, unit_stiffness=True)
+    p = Problem(instance, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
     _check_scale(p)
     u0 = t0 = None
     if start is not None and p.scale > 0:
         u0 = np.asarray(start, dtype=float).ravel() / p.scale
     if start_tensions is not None:
         t0 = np.asarray(start_tensions, dtype=float)[p.sites]
-    stages = [STAGES[name] for name in opts.stages]
-    s = search(
-        p,
-        opts.resolution,
-        stages,
-        u0,
-        t0,
-        POLISH if opts.polish else None,
-        BALANCE if opts.balance else None,
-    )
+    s = search(p, opts.resolution, opts.stages, u0, t0, opts.refiner, opts.polish, opts.balance)
     return p, s
 
 
@@ -417,19 +322,7 @@ def decide(
     return _verdict(p, s)
 
 
-#: Largest relative gap ``(E - E_lower) / E`` between the relaxed energy and its certified lower
-#: bound for which the minimum-norm displacements are computed and can be certified. The
-#: projection's polyhedron uses the relaxed tensions ``t`` as ``t*``; by the strong convexity of
-#: the energy in the tensions, ``sum (t_b - t*_b)^2 / k_b <= 2 (E - E*) <= 2 (E - E_lower)``,
-#: so a small gap bounds how far the polyhedron's targets ``t / k`` are from ``t* / k``. Where
-#: the relaxation has not converged (near a sample's own threshold at n >= 32, force residual
-#: 1e-3 to 1; only the verdict's self-stress bounds E*, at 0 to 0.26 of E) the gap is large
-#: and the displacements are not claimed minimum-norm; certified relaxations have gaps below
-#: 4e-12 (phase-diagram and at-threshold samples, n = 16 and 32).
-ENERGY_GAP = 1e-8
-
-
-def energy_certified(energy, energy_lower):
+def energy_certified(energy, energy_lower, gap: float = Tolerances.energy_gap):
     """Whether the relaxed energy is within :data:`ENERGY_GAP` of its certified lower bound.
 
     Parameters
@@ -437,61 +330,22 @@ def energy_certified(energy, energy_lower):
     energy, energy_lower : float or (k,) float array
         Relaxed energies and their lower bounds (``SolveResult.energy``, ``energy_lower``;
         the sweep rows' columns of the same names).
+    gap : float
+        The largest relative gap (``Tolerances.energy_gap``).
 
     Returns
     -------
     bool or (k,) bool array
         True where the relaxed tensions are certified to be t* (False where either is NaN).
     """
-    return energy_lower >= (1.0 - ENERGY_GAP) * energy
-
-
-#: (iterations, tolerance) of the relaxation's interior point (run when Newton stops with a
-#: force residual above :data:`STATIONARY`): first the short run; then, only where that leaves the
-#: energy uncertified (:data:`ENERGY_GAP`), the relaxation again from its result with the long
-#: run, on a Newton matrix shifted by :data:`RELAX_LONG_SHIFT` only. Near a sample's own
-#: threshold the energy keeps falling long after the scaled residuals stall (one n = 32 sample:
-#: 1.97e-4, 1.77e-4, 1.71e-4 after 60, 100, 200 iterations). The long run's result is kept
-#: where its energy is lower (the lower bound kept is the larger of the two runs'); the long run
-#: alone is not a replacement for the short one: its last iterate can be worse (an at-threshold
-#: n = 32 sample whose energy 60 iterations certify ends 1e-4 higher, uncertified, after 200).
-#: The long run's interior point starts cold: started from where the short run's ended (its
-#: iterate, slacks and multipliers, on the shifted matrix), it took 20 to 121 fewer
-#: factorisations on the 6 rigid at-threshold configurations that reach it (of 8; n = 32 and
-#: 64), but ended at a higher energy on 4 of them (up to 1.8 times; lower on one), certified
-#: none more, and left an n = 32 energy uncertified that the cold start certifies (scratch,
-#: 2026-11-29).
-RELAX_IPM = ((60, 1e-10), (200, 1e-14))
-
-#: Diagonal shift of the Newton matrix ``R^T D R + mu I`` (relative to the mean stiffness) in
-#: the relaxation's long run, in place of ``SolverOptions.regularization`` (1e-12). Near a
-#: sample's own threshold the energy falls along near-mechanisms whose curvature is below
-#: 1e-12: a shift of 1e-12 cuts every step along them to that curvature over the shift, and the
-#: interior point crawls. Measured on the 24 rigid at-threshold samples (n = 24, 32, 64; the
-#: near-threshold set) whose energy the short run leaves uncertified, the long run certifies
-#: 4 with a shift of 1e-12, 5 with 1e-13, 11 with 1e-14, 14 with 1e-15 and 7 with 1e-16 (where
-#: 10 factorisations fail: the shift is then below the round-off of exact mechanisms' pivots).
-#: Its energy at 1e-15 is lower than the short run's on all 24 (by up to 870 times) and than
-#: the long run's at 1e-12 on 23 (scratch, 2026-11-27). Where the factorisation fails all the
-#: same, the long run is skipped.
-RELAX_LONG_SHIFT = 1e-15
-
-#: Relative force residual ``|R^T t| / |t|`` of the tensions ``t = k (e0 + R u)`` below which
-#: Newton's end point is taken as the energy's minimiser and the relaxation's interior point
-#: is not run (about 1e5 times double-precision round-off).
-STATIONARY = 1e-10
-
-#: Engagement tolerance of the final crossover from the relaxed minimiser (an exact solve on
-#: the elements within ``1e-9`` of engaging), kept when it lowers the force residual without
-#: raising the energy by more than 1e-12 relative.
-FINAL_CROSSOVER_TAU = 1e-9
+    return energy_lower >= (1.0 - gap) * energy
 
 
 def _relax(
     p: Problem,
     u: np.ndarray,
     opts: SolverOptions,
-    ipm: tuple[int, float] = RELAX_IPM[0],
+    ipm: tuple[int, float] | None = None,
     ipm_start: IpmState | None = None,
 ) -> tuple[np.ndarray, float, int]:
     """Minimise the energy from u: Newton, then (if not stationary) the interior point with
@@ -504,10 +358,12 @@ def _relax(
         _, _, t = p.state(x)
         return float(np.linalg.norm(p.RT @ t)) / max(float(np.linalg.norm(t)), 1e-300)
 
+    tol = p.tol
+    ipm = tol.relax_short_ipm if ipm is None else ipm
     u, E, it = newton(p, u, opts.max_iter)
-    if E > 0 and residual(u) > STATIONARY:
+    if E > 0 and residual(u) > tol.stationary:
         x, _, _, _ = interior_point(p, max_iter=ipm[0], tol=ipm[1], start=ipm_start)
-        for tau in CROSSOVER_TAUS:  # the first that does not raise the energy
+        for tau in tol.crossover_taus:  # the first that does not raise the energy
             y = crossover(p, x, tau=tau)
             if y is not None and p.energy(y) <= p.energy(x):
                 x = y
@@ -517,10 +373,10 @@ def _relax(
         if E_x < E:
             u, E = x, E_x
     if E > 0:
-        y = crossover(p, u, tau=FINAL_CROSSOVER_TAU)
+        y = crossover(p, u, tau=tol.final_crossover_tau)
         if y is not None:
             E_y = p.energy(y)
-            if E_y <= E * (1 + 1e-12) and residual(y) < residual(u):
+            if E_y <= E * (1 + tol.final_crossover_raise) and residual(y) < residual(u):
                 u, E = y, E_y
     return u, E, it
 
@@ -530,7 +386,7 @@ def _relaxed(
     u: np.ndarray,
     opts: SolverOptions,
     certificate: RigidCertificate | None,
-    ipm: tuple[int, float] = RELAX_IPM[0],
+    ipm: tuple[int, float] | None = None,
     ipm_start: IpmState | None = None,
 ) -> tuple[np.ndarray, float, int, np.ndarray, np.ndarray, float]:
     """The relaxation from ``u`` (2N,) and what certifies it (``ipm_start``: see
@@ -555,11 +411,11 @@ def _relaxed(
     _, _, t_relaxed = p.state(u)
     t_n, tensions_bound = _balanced_tensions(p, t_relaxed)
     E_lower = min(_energy_lower(p, tensions_bound, certificate), E)
-    if E > 0 and not energy_certified(E, E_lower):
+    if E > 0 and not energy_certified(E, E_lower, opts.tolerances.energy_gap):
         t_opt, bound = _support_optimal_tensions(p, t_relaxed)
         if bound > E_lower:
             E_lower = min(bound, E)
-            if energy_certified(E, E_lower):
+            if energy_certified(E, E_lower, opts.tolerances.energy_gap):
                 t_n = t_opt
     return u, E, more, t_relaxed, t_n, E_lower
 
@@ -582,9 +438,10 @@ def _long_relaxation(
     factorizations : int
         Numeric factorisations spent.
     """
-    pl = Problem(instance, RELAX_LONG_SHIFT, opts.factorization, unit_stiffness=unit_stiffness)
+    tol = opts.tolerances
+    pl = Problem(instance, tol.relax_long_shift, opts.factorization, unit_stiffness, tol)
     try:
-        return _relaxed(pl, u, opts, certificate, RELAX_IPM[1]), pl.factorizations
+        return _relaxed(pl, u, opts, certificate, tol.relax_long_ipm), pl.factorizations
     except ArithmeticError:
         return None, pl.factorizations
 
@@ -618,16 +475,16 @@ def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
     if not np.any(t):
         return t, 0.0
     # purification's own support: the round-off tensions of elements only touched dropped
-    t_kept = np.where(kept(t, SUPPORT_TOL), t, 0.0)
+    t_kept = np.where(kept(t, p.tol.support_tol), t, 0.0)
     exact = _exact_residual(p, t_kept)
-    if exact <= 1e-13:  # already balanced: purification could only refine round-off
+    if exact <= p.tol.balanced_residual:  # already balanced: purify could only refine round-off
         return t_kept, _self_stress_bound(p, t_kept, exact)
     try:
         tp = purify(p, t)
     except ArithmeticError:
         return t, 0.0
     bound = _self_stress_bound(p, tp, _exact_residual(p, tp))
-    if float(np.abs(p.RT @ tp).sum()) <= 1e-13 * float(np.abs(tp).sum()):
+    if float(np.abs(p.RT @ tp).sum()) <= p.tol.balanced_residual * float(np.abs(tp).sum()):
         return tp, bound
     return t, bound
 
@@ -678,7 +535,7 @@ def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
     bound is 0 unless the residual is at round-off (``<= 1e-12``).
     """
     work = float(np.dot(t, p.e0))
-    if residual > 1e-12 or work <= 0 or not np.all(np.isfinite(t)):
+    if residual > p.tol.bound_residual or work <= 0 or not np.all(np.isfinite(t)):
         return 0.0
     return work**2 / (2.0 * float(np.dot(t, t / p.k)))
 
@@ -737,6 +594,7 @@ def solve(
     bounded size whose extensions are admissible to ``violation_tol``.
     """
     opts = options or SolverOptions()
+    tol = opts.tolerances
     start = time.perf_counter()
     with one_blas_thread():  # the same last bits whatever the thread settings
         p, s = _search(instance, opts, initial_displacements)
@@ -745,7 +603,11 @@ def solve(
         k_sites = net.stiffness_or_ones()[p.sites]
         uniform = k_sites.size == 0 or bool(np.all(k_sites == k_sites[0]))
         # with one stiffness the verdict's unit-stiffness problem is the energy's too
-        pe = p if uniform else Problem(instance, opts.regularization, opts.factorization)
+        pe = (
+            p
+            if uniform
+            else Problem(instance, opts.regularization, opts.factorization, tolerances=tol)
+        )
         k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
         extra_factorizations = 0
         if verdict.status == "floppy":
@@ -759,7 +621,7 @@ def solve(
             u_n, E_n, more, t_relaxed, t_n, E_lower = _relaxed(
                 pe, s.u, opts, verdict.rigid, ipm_start=s.ipm_end
             )
-            if not energy_certified(E_n, E_lower):  # near the threshold: see RELAX_IPM
+            if not energy_certified(E_n, E_lower, tol.energy_gap):  # near the threshold
                 long, extra_factorizations = _long_relaxation(
                     instance, opts, uniform, u_n, verdict.rigid
                 )
@@ -775,7 +637,7 @@ def solve(
         norm_lower = np.nan  # of |u*|^2, units of scale^2
         # the polyhedron of minimisers is built from the relaxed tensions: it is U* only when
         # they are t*, which the energy's lower bound certifies (see ENERGY_GAP)
-        certified = verdict.status == "floppy" or energy_certified(E_n, E_lower)
+        certified = verdict.status == "floppy" or energy_certified(E_n, E_lower, tol.energy_gap)
         if opts.min_norm and p.sites.size and np.any(p.e0):
             if not certified:
                 message = _joined(

@@ -28,7 +28,7 @@ objective's Hessian) keeps the system regular however near-floppy ``R`` is, whic
 minimum-norm displacements are large (near a sample's own threshold, ``|u|`` reaches ``1e5`` to
 ``1e7`` times the strain). The iteration starts from the minimiser the verdict found (a point
 of ``U*`` up to its tolerance), stops at the first iterate its certificate accepts with a
-margin (:data:`CERTIFY_BELOW`), and otherwise returns the iterate with the smallest KKT
+margin (``min_norm_certify_below``), and otherwise returns the iterate with the smallest KKT
 residual; the multipliers start on the scale of ``|u|``.
 
 Where the tensions are not zero (a rigid verdict) the projection is first tried by a primal-dual
@@ -220,7 +220,7 @@ def active_set(
         return max(1.0, float(np.abs(u).max(initial=0.0)))
 
     v = p.e0 + p.R @ u0
-    held = sig * v[In] >= -1e-9 * scale(u0)  # touched by the start
+    held = sig * v[In] >= -p.tol.min_norm_held * scale(u0)  # touched by the start
     bE = (c - p.e0)[E]
     u = u0
     residuals: tuple[float, float, float] = (np.inf, np.inf, np.inf)
@@ -236,12 +236,14 @@ def active_set(
         polyhedron = (E, H, eq, ineq, c)
         start = (u0, np.zeros(E.size), np.zeros(H.size))
         u, y, z, residuals = _equality_step(p, kkt_system, bE, h, start, polyhedron)
-        if _certified(*residuals, tol):
+        if _certified(*residuals, tol, p.tol.min_norm_dual):
             return MinNormResult(u, *residuals, it, True)
         v = p.e0 + p.R @ u
         z_all = np.zeros(In.size)
         z_all[held] = z
-        new = (sig * v[In] > 1e-12 * scale(u)) | (held & (z_all >= 0))  # violated, or right sign
+        new = (sig * v[In] > p.tol.min_norm_violated * scale(u)) | (
+            held & (z_all >= 0)
+        )  # violated, or right sign
         if not np.array_equal(new, held):
             held = new
             continue
@@ -250,7 +252,7 @@ def active_set(
         for _ in range(corrections):
             previous = max(residuals[:2])
             u, y, z, residuals = _equality_step(p, kkt_system, bE, h, (u, y, z), polyhedron)
-            if _certified(*residuals, tol):
+            if _certified(*residuals, tol, p.tol.min_norm_dual):
                 return MinNormResult(u, *residuals, it, True)
             if max(residuals[:2]) >= 0.5 * previous:
                 break
@@ -271,21 +273,6 @@ def _equality_step(
     u, y, z = u + du, y + dy, z + dz
     E, H, eq, ineq, c = polyhedron
     return u, y, z, _certificate(p, u, y, z, E, H, eq, ineq, c)
-
-
-#: The interior point checks its certificate once its own KKT measure (inf-norms, the
-#: complementarity as ``m mu / |u|_inf^2``) is below this, and stops where the certificate
-#: holds with a margin (:func:`_certified_with_margin`): feasibility 100 times below its
-#: tolerance, as the old stop on the KKT measure below ``1e-10`` required, so that the
-#: ``project`` stage's floppy candidates keep their margin against the floppy certificate's
-#: ``1e-9``; stationarity, duality gap and dual residual 10 times below (``|u|^2`` within
-#: ``2e-9`` of its minimum). On the complementarity the KKT measure is the more pessimistic
-#: (by about ``|u|_2^2 / |u|_inf^2``): the stop on it took 2 to 3 more iterations on the easy
-#: floppy projections at n = 64 (11 to 15 in all), 1 or 2 on most at n = 16 and 32, and up
-#: to 16 and 23 more near the transition (n = 16 and 64; captured inputs of
-#: ``bench_solver.py``'s floppy projections, scratch, 2026-11-27). The certificate costs two
-#: sparse products.
-CERTIFY_BELOW = 1e-4
 
 
 def min_norm_minimizer(
@@ -350,7 +337,7 @@ def min_norm_minimizer(
     -------
     MinNormResult
         The displacements and their KKT residuals: the first iterate certified with a
-        margin (:data:`CERTIFY_BELOW`), else the iterate with the smallest KKT residual.
+        margin (``min_norm_certify_below``), else the iterate with the smallest KKT residual.
     """
     eq, ineq, c, E, In = _polyhedron(p, t)
     kkt_system = _ReducedKKT(p, E, In, p.sigma[In], regularization, refinement)
@@ -379,11 +366,11 @@ def min_norm_minimizer(
         )
         if best is None or kkt < best[0]:
             best = (kkt, u.copy(), y.copy(), z.copy(), it)
-        if kkt <= 1e-12 or (kkt < 1e-6 and it - best[4] > 8):
+        if kkt <= p.tol.min_norm_kkt_exact or (kkt < p.tol.min_norm_kkt_stall and it - best[4] > 8):
             break
-        if kkt <= CERTIFY_BELOW:
+        if kkt <= p.tol.min_norm_certify_below:
             residuals = _certificate(p, u, y, z, E, In, eq, ineq, c)
-            if _certified_with_margin(*residuals, tol):
+            if _certified_with_margin(*residuals, tol, p.tol.min_norm_dual):
                 return MinNormResult(u, *residuals, it, True, _multipliers(p, y, z, E, In))
         try:
             kkt_system.factor(s / z)
@@ -411,10 +398,10 @@ def min_norm_minimizer(
     _, u, y, z, _ = best
     lam = _multipliers(p, y, z, E, In)
     feas, stat, dual = _residuals(p, u, p.e0 + p.R @ u, lam, eq, ineq, c)
-    ok = _certified(feas, stat, dual, tol)
+    ok = _certified(feas, stat, dual, tol, p.tol.min_norm_dual)
     if refine_multipliers and not ok and feas <= tol:  # see refine_multipliers
         refined = _refined_certificate(p, u, lam, eq, ineq, c)
-        if refined is not None and _certified(*refined[0], tol):
+        if refined is not None and _certified(*refined[0], tol, p.tol.min_norm_dual):
             (feas, stat, dual), lam = refined
             ok = True
     lower = np.nan if ok else norm_lower_bound(p, lam, eq, ineq, c)
@@ -487,16 +474,20 @@ def _polyhedron(p: Problem, t: np.ndarray):
     return eq, ineq, c, np.flatnonzero(eq), np.flatnonzero(ineq)
 
 
-def _certified(feasibility: float, stationarity: float, dual: float, tol: float) -> bool:
-    """The KKT residuals within their tolerances (``dual``: ``1e-9``)."""
-    return feasibility <= tol and stationarity <= tol and dual <= 1e-9
+def _certified(
+    feasibility: float, stationarity: float, dual: float, tol: float, dual_tol: float
+) -> bool:
+    """The KKT residuals within their tolerances (``tol``; ``dual_tol`` for ``dual``)."""
+    return feasibility <= tol and stationarity <= tol and dual <= dual_tol
 
 
-def _certified_with_margin(feasibility: float, stationarity: float, dual: float, tol: float):
+def _certified_with_margin(
+    feasibility: float, stationarity: float, dual: float, tol: float, dual_tol: float
+):
     """Certified (:func:`_certified`) with feasibility ``100`` times and the other residuals
-    ``10`` times below ``tol``: where :func:`min_norm_minimizer` stops (:data:`CERTIFY_BELOW`)."""
+    ``10`` times below ``tol``: where :func:`min_norm_minimizer` stops."""
     return (
-        _certified(feasibility, stationarity, dual, tol)
+        _certified(feasibility, stationarity, dual, tol, dual_tol)
         and feasibility <= 1e-2 * tol
         and max(stationarity, dual) <= 0.1 * tol
     )
@@ -514,10 +505,6 @@ def _multipliers(p, y, z, E, In) -> np.ndarray:
 def _certificate(p, u, y, z, E, In, eq, ineq, c) -> tuple[float, float, float]:
     """The KKT residuals (:func:`_residuals`) of displacements ``u`` and multipliers y, z."""
     return _residuals(p, u, p.e0 + p.R @ u, _multipliers(p, y, z, E, In), eq, ineq, c)
-
-
-#: Diagonal shifts of ``R^T R`` tried in turn by :func:`_refined_certificate`.
-MULTIPLIER_SHIFTS = (1e-12, 1e-10, 1e-8)
 
 
 def _refined_certificate(
@@ -540,7 +527,7 @@ def _refined_certificate(
     on the round-off of the extended-precision forces; feasibility and complementarity are
     :func:`_residuals`'.
     """
-    f = p.factor_shifted(np.ones(p.sites.size), MULTIPLIER_SHIFTS)
+    f = p.factor_shifted(np.ones(p.sites.size), p.tol.min_norm_multiplier_shifts)
     if f is None:
         return None
     U = np.asarray(u, dtype=np.longdouble)

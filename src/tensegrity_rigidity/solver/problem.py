@@ -16,6 +16,7 @@ from ..model.mechanics import affine_extensions, rigidity_matrix
 from ..model.network import Element, Instance
 from .certificates import ExactGeometry, bond_vectors
 from .linalg import PatternFactor
+from .tolerances import Tolerances
 
 _AT_I, _AT_J, _OFF_DIAGONAL = 0, 1, 2
 
@@ -69,6 +70,9 @@ class Problem:
         Factorisation backend (:class:`~.linalg.PatternFactor`).
     unit_stiffness : bool
         Use unit stiffness on every element (the verdict does not depend on stiffness).
+    tolerances : Tolerances, optional
+        The numeric constants the routines working on the problem read (default
+        ``Tolerances()``).
 
     Attributes
     ----------
@@ -86,6 +90,8 @@ class Problem:
         ``max |e0|`` over all bond sites and the mean stiffness (physical units).
     factorizations : int
         Numeric factorisations so far.
+    tol : Tolerances
+        The numeric constants of the search and the relaxation.
     """
 
     def __init__(
@@ -94,8 +100,10 @@ class Problem:
         regularization: float = 1e-12,
         backend: str = "auto",
         unit_stiffness: bool = False,
+        tolerances: Tolerances | None = None,
     ):
         net = instance.network
+        self.tol = Tolerances() if tolerances is None else tolerances
         self.instance = instance
         self.sites = np.flatnonzero(net.kinds != Element.EMPTY)
         kinds = net.kinds[self.sites]

@@ -20,16 +20,11 @@ import numpy as np
 
 from .problem import Problem
 
-#: :func:`purify`'s default relative size below which a tension is dropped before balancing:
-#: elements only touched by a minimiser carry round-off tensions (``1e-18`` to ``1e-17`` of the
-#: largest on the rigid phase-diagram instances at n = 64), which belong to no self-stress.
-SUPPORT_TOL = 1e-9
-
 
 def purify(
     p: Problem,
     t: np.ndarray,
-    support_tol: float = SUPPORT_TOL,
+    support_tol: float | None = None,
     rounds: int = 8,
     refine: int = 6,
     hopeless: float = 1e-3,
@@ -104,7 +99,7 @@ def purify(
     t_max = float(np.abs(t).max(initial=0.0))
     if t_max == 0.0 or not np.isfinite(t_max):
         return np.zeros_like(t)
-    t[~kept(t, support_tol)] = 0.0
+    t[~kept(t, p.tol.support_tol if support_tol is None else support_tol)] = 0.0
     t[p.sigma * t < 0] = 0.0
     w = t * t
     w[p.rod] += rod_weight * t_max**2
@@ -115,7 +110,7 @@ def purify(
         for _ in range(refine):
             r = p.RT @ t
             r_norm = float(np.abs(r).sum())
-            if r_norm >= 0.5 * r_prev or r_norm <= 1e-16 * float(np.abs(t).sum()):
+            if r_norm >= 0.5 * r_prev or r_norm <= p.tol.purify_roundoff * float(np.abs(t).sum()):
                 break  # converged, or stagnating at round-off
             r_prev = r_norm
             t = t - w * (p.R @ solver.solve(r))
@@ -319,7 +314,7 @@ def rebalance(
             ratios = np.asarray(-x[flips] / step[flips], dtype=float)
             alpha = float(ratios.min())
             trial = x + alpha * step
-            hit = np.flatnonzero(flips)[ratios <= alpha * (1 + 1e-9)]
+            hit = np.flatnonzero(flips)[ratios <= alpha * (1 + p.tol.rebalance_ratio_slack)]
             trial[hit] = 0.0
             w[hit] = 0.0
             solver = None  # the weights changed
