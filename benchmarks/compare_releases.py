@@ -1,15 +1,15 @@
 """Verdicts of two releases side by side on the same instances: the refactoring check.
 
 Exports the source of ``--old`` (a git revision, default the commit the solver refactoring
-started from) into a temporary directory and runs :func:`~tensegrity_rigidity.decide` (and, on
-the small instances, :func:`~tensegrity_rigidity.solve`) on every instance in both releases,
+started from) into a temporary directory and runs :func:`~tensegrity_rigidity.decide` and
+:func:`~tensegrity_rigidity.solve` on every instance in both releases,
 each release in its own subprocess with ``PYTHONPATH`` pointing at its ``src``. The new side is
 this working tree (uncommitted changes included) unless ``--new`` names a revision too.
 
 Instances (written once as ``.npz`` files by the old release, read by both):
 
 * ``--small`` random small lattice samples (n in 4..10, p_r, p_t, f_c and the strain random,
-  seeded by their index);
+  seeded by their index), a fifth of them again with random stiffnesses;
 * ``--suite`` instances of the test suite's generator (``tests/instances.py``);
 * the near-threshold set at n = 16 (``near_threshold_set.py``): ``--near`` samples cycling
   through its six configurations, five events around each sample's threshold (found by the
@@ -26,6 +26,7 @@ Run: python benchmarks/compare_releases.py [--old 5454841] [--small 300] [--suit
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import hashlib
 import json
 import os
@@ -77,7 +78,7 @@ def _check_import(root: Path) -> None:
 
 def _generate(folder: Path, small: int, suite: int, near: int) -> None:
     """Write the instances as ``.npz`` files (names sort in the order they are run)."""
-    from tensegrity_rigidity import find_threshold, lattice_instance, save_instance
+    from tensegrity_rigidity import Instance, find_threshold, lattice_instance, save_instance
     from tensegrity_rigidity.ensemble.thresholds import EventPath
 
     folder.mkdir(parents=True, exist_ok=True)
@@ -92,6 +93,10 @@ def _generate(folder: Path, small: int, suite: int, near: int) -> None:
             theta=float(rng.uniform(0, 2 * np.pi)), seed=rng,
         )  # fmt: skip
         save_instance(folder / f"small-{i:04d}.npz", inst)
+        if i % 5 == 0:  # a fifth again with random stiffnesses (the relaxation's own problem)
+            k = 10 ** rng.uniform(-1, 1, inst.network.n_sites)
+            net = dataclasses.replace(inst.network, stiffness=k)
+            save_instance(folder / f"small-{i:04d}-k.npz", Instance(net, inst.strain))
     if suite:
         from tests.instances import random_instance
 
@@ -101,8 +106,6 @@ def _generate(folder: Path, small: int, suite: int, near: int) -> None:
         from benchmarks.near_threshold_set import samples
 
         for c, k, (net, u, v, eps, p_t, f_c) in samples(16, near):
-            from tensegrity_rigidity import Instance
-
             th = find_threshold(net, u, v, eps, p_t, f_c)
             path = EventPath(u, v, "p_r", p_t, f_c)
             if not np.isfinite(th.s):
@@ -125,8 +128,9 @@ def _bits(*arrays) -> str:
     return h.hexdigest()[:16]
 
 
-def _run(folder: Path, out: Path, solve_prefix: str) -> None:
-    """decide() (and solve() on files starting with ``solve_prefix``) on every instance."""
+def _run(folder: Path, out: Path, solve_prefix: tuple[str, ...]) -> None:
+    """decide() (and solve() on files starting with one of ``solve_prefix``) on every
+    instance."""
     from tensegrity_rigidity import decide, load_instance, solve
 
     warnings.simplefilter("ignore")
@@ -204,7 +208,7 @@ def main(argv=None) -> None:
         if a.worker == "generate":
             _generate(a.folder, a.small, a.suite, a.near)
         else:
-            _run(a.folder, a.result, "small-")
+            _run(a.folder, a.result, ("small-", "suite-", "near-"))
         return
     with tempfile.TemporaryDirectory(prefix="compare-releases-") as tmp:
         tmp_path = Path(tmp)

@@ -710,7 +710,7 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
     purification runs once and its bound is the one checked on its own (the bound used to
     purify again). Either way the bound is below the relaxed energy and certifies it on most
     rigid samples."""
-    from tensegrity_rigidity.solver.core import (
+    from tensegrity_rigidity.solver.relaxation import (
         _balanced_tensions,
         _energy_lower,
         _relax,

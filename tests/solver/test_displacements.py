@@ -282,11 +282,12 @@ def test_the_active_set_projects_rigid_samples_like_the_interior_point():
     iterations on at least 90% of them, and whenever it does its |u| is the interior point's to
     1e-7 and ``project`` takes it as it is; some need more than one iteration (the held set's
     update does work), and where one iteration is not enough ``project`` still certifies."""
-    from tensegrity_rigidity.solver.core import _balanced_tensions, _relax, _search, _verdict
+    from tensegrity_rigidity.solver.core import _search, _verdict
     from tensegrity_rigidity.solver.displacements import active_set, project
     from tensegrity_rigidity.solver.displacements import (
         min_norm_minimizer as interior_point,
     )
+    from tensegrity_rigidity.solver.relaxation import _balanced_tensions, _relax
 
     rng = np.random.default_rng(23)
     opts = SolverOptions()

@@ -63,6 +63,7 @@ calls it only when those are certified to be ``t*`` (the relaxed energy within
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -71,6 +72,9 @@ from .certificates import EPS
 from .ipm import step_to_boundary
 from .linalg import PatternFactor
 from .problem import Problem
+
+if TYPE_CHECKING:
+    from .relaxation import Relaxation
 
 
 @dataclass(frozen=True)
@@ -112,6 +116,91 @@ class MinNormResult:
     ok: bool
     multipliers: np.ndarray | None = None
     norm_lower: float = float("nan")
+
+
+@dataclass(frozen=True)
+class MinimumNorm:
+    """The displacements :func:`~tensegrity_rigidity.solver.core.solve` reports.
+
+    Attributes
+    ----------
+    status : str
+        "certified" (the minimum-norm minimiser, by its KKT residuals), "uncertified" (a
+        minimiser), "not computed" (the relaxed energy is not certified) or "not asked".
+    message : str
+        Why the displacements are not certified minimum-norm ("" when they are).
+    u : (2N,) float
+        The displacements (units of ``max |e0|``).
+    residuals : tuple of 3 float
+        Feasibility, stationarity and dual KKT residuals (NaN where no projection ran).
+    norm_lower : float
+        Where the projection ran uncertified, a lower bound on ``|u*|^2``; NaN elsewhere.
+    """
+
+    status: str
+    message: str
+    u: np.ndarray
+    residuals: tuple[float, float, float] = (np.nan, np.nan, np.nan)
+    norm_lower: float = np.nan
+
+    @property
+    def ok(self) -> bool:
+        """Whether ``u`` is the certified minimum-norm minimiser."""
+        return self.status == "certified"
+
+
+def minimum_norm(relaxed: Relaxation, asked: bool = True) -> MinimumNorm:
+    """The minimum-norm minimiser of a relaxed state, projected from its displacements.
+
+    Parameters
+    ----------
+    relaxed : Relaxation
+        The relaxed state (its problem, displacements and tensions).
+    asked : bool
+        Whether to compute it (``SolverOptions.min_norm``).
+
+    Returns
+    -------
+    MinimumNorm
+        The displacements, their status and KKT residuals.
+
+    Notes
+    -----
+    The polyhedron of minimisers is built from the relaxed tensions: it is ``U*`` only when they
+    are ``t*``, which the energy's lower bound certifies, so it is not projected onto
+    otherwise. The targets are ``t*/k`` as the relaxed minimiser realises them on every
+    equality (rods, and one-sided elements where the balanced tensions are not zero), so that
+    the equalities are consistent: a rod's target is its extension at ``u`` even where its
+    balanced tension is 0.
+    """
+    p, u = relaxed.problem, relaxed.u
+    if not (p.sites.size and np.any(p.e0)):  # nothing strained or no element: u = 0 is exact
+        if asked:
+            return MinimumNorm("certified", "", np.zeros(p.n2), (0.0, 0.0, 0.0))
+        return MinimumNorm("not asked", _NOT_ASKED, u)
+    if not asked:
+        return MinimumNorm("not asked", _NOT_ASKED, u)
+    if not relaxed.certified:
+        message = (
+            f"minimum-norm displacements not computed: {relaxed.message}, so its tensions "
+            "need not be t*; the displacements are the relaxation's lowest point"
+        )
+        return MinimumNorm("not computed", message, u)
+    targets = np.where(p.rod | (relaxed.tensions != 0), relaxed.tensions_relaxed, 0.0)
+    mn = project(p, targets, u)
+    kkt = (mn.feasibility, mn.stationarity, mn.dual)
+    if mn.ok:
+        return MinimumNorm("certified", "", mn.u, kkt)
+    message = (
+        "minimum-norm displacements not certified (KKT residuals: feasibility "
+        f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual {mn.dual:.1e}); the "
+        "displacements are a minimiser; the minimum norm is at least "
+        f"{np.sqrt(mn.norm_lower):.3g} times the largest affine extension"
+    )
+    return MinimumNorm("uncertified", message, u, kkt, mn.norm_lower)
+
+
+_NOT_ASKED = "minimum-norm displacements not asked for (SolverOptions.min_norm)"
 
 
 def project(p: Problem, t: np.ndarray, u_start: np.ndarray | None = None) -> MinNormResult:
