@@ -11,6 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from benchmarks.reference import lp_verdict
 from tensegrity_rigidity import Instance, SolverOptions, lattice_instance, solve, strain_tensor
 from tensegrity_rigidity.solver import decide
 from tensegrity_rigidity.solver.certificates import (
@@ -20,7 +21,6 @@ from tensegrity_rigidity.solver.certificates import (
     violation_roundoff,
 )
 from tensegrity_rigidity.solver.problem import Problem
-from tensegrity_rigidity.solver.reference import lp_verdict
 from tensegrity_rigidity.solver.selfstress import purify
 from tests.instances import random_instance
 

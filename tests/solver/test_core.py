@@ -9,13 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from benchmarks.reference import lp_verdict, qp_solve
 from tensegrity_rigidity import SolverOptions, solve
 from tensegrity_rigidity.errors import InputError
 from tensegrity_rigidity.solver import decide
 from tensegrity_rigidity.solver.certificates import Resolution
 from tensegrity_rigidity.solver.options import strategy_named
 from tensegrity_rigidity.solver.problem import Problem
-from tensegrity_rigidity.solver.reference import lp_verdict, qp_solve
 from tensegrity_rigidity.solver.stages import DEFAULT_STRATEGIES, Refiner, Search
 from tests.instances import near_threshold_instance, random_instance
 
@@ -86,9 +86,9 @@ def test_the_lp_verdict_between_its_box_bounds_is_the_l1_optimum():
     (below: its vertex's; above: its optimum and its dual's largest violation), the
     l1-normalised LP decides: its optimum lies between the bounds, and its tensions are an
     admissible self-stress with |t|_1 <= 1 doing exactly that work."""
+    from benchmarks.reference import _farkas_lp, _largest_violation, _nonempty
     from tensegrity_rigidity.model.mechanics import affine_extensions, net_forces
     from tensegrity_rigidity.model.network import Element
-    from tensegrity_rigidity.solver.reference import _farkas_lp, _largest_violation, _nonempty
 
     rng = np.random.default_rng(5)
     checked = 0

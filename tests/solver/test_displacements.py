@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from benchmarks.reference import min_norm_minimizer
 from tensegrity_rigidity import (
     Element,
     Instance,
@@ -16,7 +17,6 @@ from tensegrity_rigidity import (
 )
 from tensegrity_rigidity.analysis.observables import nonaffinity
 from tensegrity_rigidity.model.mechanics import affine_extensions, energy
-from tensegrity_rigidity.solver.reference import min_norm_minimizer
 from tests.instances import (
     NEAR_THRESHOLD,
     near_threshold_instance,

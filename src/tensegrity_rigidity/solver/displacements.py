@@ -1,63 +1,15 @@
 """Minimum-norm minimising displacements, with their optimality certificate.
 
-Minimisers are not unique on floppy networks. Given the unique tensions ``t*``, the minimisers
-form the polyhedron
-
-    U* = {u : v_b = t*_b / k_b  on rods and stressed one-sided elements (equalities),
-              sigma_b v_b <= 0   on unstressed one-sided elements (inequalities)},
-
-``v = e0 + R u`` (on a floppy verdict ``t* = 0``: rods unstretched, the zero-energy set). The
-reported displacements are the projection of the origin onto ``U*``, the limit of the
-minimiser of ``E(u) + mu/2 |u|^2`` as ``mu -> 0`` (a vanishing background stiffness).
-
-Method: a primal-dual interior-point method (Mehrotra's predictor-corrector) on the
-projection, a strongly convex QP (:func:`min_norm_minimizer`). With ``G = diag(sigma) R`` and
-``h = -sigma e0`` on the inequalities, multipliers ``y`` (equalities) and ``z >= 0`` with
-slacks ``s >= 0`` (inequalities), each step solves the system
-
-    [ I    R_E^T   G^T    ] [du]
-    [ R_E  0       0      ] [dy] = rhs
-    [ G    0       -S/Z   ] [dz]
-
-regularised by ``d`` in its last two diagonal blocks and reduced to ``2N x 2N``: ``(d I +
-R_E^T R_E + G^T diag(d / (S/Z + d)) G) du = ...``, a matrix in the pattern of the verdict's own
-Newton matrix, factorised by its sparse Cholesky (:class:`_ReducedKKT`), the corrector's solve
-with a few steps of iterative refinement against the unregularised, unreduced system (the
-predictor's, which only sets the centring, without). The identity block (the
-objective's Hessian) keeps the system regular however near-floppy ``R`` is, which is where the
-minimum-norm displacements are large (near a sample's own threshold, ``|u|`` reaches ``1e5`` to
-``1e7`` times the strain). The iteration starts from the minimiser the verdict found (a point
-of ``U*`` up to its tolerance), stops at the first iterate its certificate accepts with a
-margin (``min_norm_certify_below``), and otherwise returns the iterate with the smallest KKT
-residual; the multipliers start on the scale of ``|u|``.
-
-Where the tensions are not zero (a rigid verdict) the projection is first tried by a primal-dual
-active set (:func:`active_set`): each iteration solves the projection onto the equalities and
-the held inequalities as one equality-constrained system, with the same ``2N x 2N`` reduction
-(one factorisation and four solves, half an interior-point step), and a rigid sample's
-equalities (rods and stressed one-sided elements outnumber the ``2N`` displacements) leave
-few inequalities to guess. On the phase-diagram instances of ``benchmarks/bench_solver.py``
-it certifies every rigid projection at n = 64 and 128 in 1 to 4 iterations (scratch,
-2026-11-27): with the interior point as fallback the rigid projections took 163 ms against
-391 ms at n = 64 and 1.75 s against 8.38 s at n = 128 for the augmented Lagrangian with
-semismooth Newton steps it replaced (which certified 4 of the 9 at n = 128 within its 12
-steps; the same at n = 16 and 32 within the noise). Floppy verdicts go straight to the
-interior point: there every one-sided element is an inequality, many are held, and the
-active set's stationarity stalls at ``4e-8`` to ``9e-7`` (none of 9 certified at n = 64).
-
-Certificate (KKT of the projection): primal feasibility (largest violation of ``U*``, units of
-``max |e0|``), stationarity ``|u + R^T lam| / |u|`` and complementarity as the relative
-duality gap ``sum |lam_b v_b| / |u|^2`` (the larger of the two is reported), dual
-feasibility (largest wrong-signed multiplier of an inequality, relative to ``|lam|_inf``).
-The displacements are reported as minimum-norm (``min_norm_ok``) only when all three are
-below their tolerances; then ``|u|^2`` is within twice that fraction of its minimum. Where
-the interior point ends at a feasible point it has not certified, its multipliers are refined
-in extended precision and the certificate checked again (:func:`_refined_certificate`): near a
-sample's own threshold they can reach ``1e8`` times ``|u|``, and the stationarity of the
-double-precision ``R^T lam`` stalls at its round-off. The certificate is relative to the
-polyhedron built from the tensions it is given: :func:`~tensegrity_rigidity.solver.core.solve`
-calls it only when those are certified to be ``t*`` (the relaxed energy within
-``ENERGY_GAP`` of its lower bound).
+Minimisers are not unique on floppy networks. Given the unique tensions ``t*`` they form a
+polyhedron ``U*`` (equalities on rods and stressed one-sided elements, inequalities on the
+others), and the reported displacements are the projection of the origin onto it: the limit of
+a vanishing background stiffness. :func:`active_set` tries the projection first where ``t*`` is
+not zero (a rigid sample's equalities leave few inequalities to guess); the primal-dual
+interior point :func:`min_norm_minimizer` does the rest. Both solve reduced ``2N x 2N`` systems
+in the pattern of the verdict's Newton matrix (:class:`_ReducedKKT`), whose identity block
+keeps them regular however near-floppy the network is. The result is reported as minimum-norm
+only when its KKT residuals (feasibility, stationarity with the duality gap, dual) are below
+their tolerances. docs/model.md ("The minimum-norm projection") gives the derivation.
 """
 
 from __future__ import annotations
@@ -260,17 +212,7 @@ def active_set(
 
     Rigid verdicts are where it applies (:func:`project`): the equalities (rods and stressed
     one-sided elements) outnumber the ``2N`` displacements and fix all but a few mechanisms,
-    and few inequalities are held. On the rigid projections of ``benchmarks/bench_solver.py``'s
-    phase-diagram instances it certifies every one the augmented Lagrangian it replaced did
-    (n = 16 and 32: 9 of 13 each; n = 64: 9 of 9) and all 9 at n = 128 (the augmented
-    Lagrangian 4), in 1 to 4 iterations; with the interior point as fallback these
-    projections took 163 ms against 391 ms at n = 64 and 1.75 s against 8.38 s at n = 128,
-    the same within the noise at n = 16 and 32 (scratch, 2026-11-27; BENCHMARKS.md). Near a
-    sample's own threshold it rarely certifies (3 of 12 rigid projections at n = 16, none of
-    11 at n = 32 and of 2 at n = 64) and the interior point does the work. On floppy verdicts
-    (every one-sided element an inequality, many held, the equalities short of ``2N``) three
-    refinement steps leave stationarity at ``4e-8`` to ``9e-7`` and it certifies none of the 9
-    easy floppy ones at n = 64, so those go to the interior point.
+    and few inequalities are held; on floppy verdicts its stationarity stalls.
 
     Parameters
     ----------
@@ -397,30 +339,16 @@ def min_norm_minimizer(
         unregularised system.
     stall : int, optional
         Stop after this many consecutive steps shorter than ``1e-2`` of the Newton step: the
-        iterate no longer moves, as when ``U*`` is empty (the zero-energy set of a rigid
-        sample, asked for by the ``project`` stage of the verdict search). Converging
-        projections near the threshold take at most 7 such steps in a row (n = 64); without
-        this the iteration runs to ``max_iterations``.
+        iterate no longer moves, as when ``U*`` is empty.
     predictor_refinement : int
         Steps of iterative refinement of the predictor's solve. The predictor only sets the
         centring and the corrector's second-order term, and the corrector's own solve is
-        refined: unrefined, an iteration costs one factorisation and 5 triangular solves
-        instead of 8. On the projections of ``solve()`` on ``benchmarks/bench_solver.py``'s
-        phase diagrams (n = 32 and 64) and on the 14 it runs on the probes of one n = 64
-        threshold search (scratch, 2026-11-28, best of 3): the same iterations on every
-        phase-diagram projection and 17 to 26 % less time (n = 64 floppy: 66 to 97 ms against
-        52 to 76 ms); at the threshold every certificate kept and one rigid projection more
-        certified (65 iterations where 3 refinement steps ran to the limit of 150), one 11
-        iterations longer. One refinement step lost a certificate there.
+        refined: unrefined, an iteration costs 5 triangular solves instead of 8.
     refine_multipliers : bool
         Where the iteration ends at a feasible point it has not certified, refine its
         multipliers in extended precision and check again (:func:`_refined_certificate`):
         near a sample's own threshold their size can stall the stationarity residual at the
-        round-off of ``R^T lam``. The same test at the checkpoints (wherever only the
-        stationarity failed, within 100 times its tolerance) shortened one of the 39
-        projections of ``bench_solver.py``'s n = 64 instances (phase diagram and threshold),
-        from 55 to 36 iterations, and certified none more (scratch, 2026-11-28): it runs at the
-        end only.
+        round-off of ``R^T lam``.
 
     Returns
     -------
@@ -512,11 +440,7 @@ def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
     contribution), the product with ``e0 - c`` less a bound on its summation error.
 
     Where the interior point stalls near a sample's own threshold this is what is known of
-    the minimum norm. On the 11 n = 64 floppy projections that end uncertified (the sweep rows
-    of ``benchmarks/bench_sweep.py`` and the at-threshold instances of ``bench_solver.py``,
-    2026-11-28) it lies above the interior point's own ``|u|^2`` on every one, by 1.00002 to
-    22.5 times (that point is infeasible, so its norm is no bound either way), and below the
-    verdict's floppy certificate's ``|u|^2`` (an upper bound) by 2.5 to 9.0e5 times.
+    the minimum norm.
 
     Parameters
     ----------
@@ -603,16 +527,13 @@ def _refined_certificate(
     precision, and those multipliers ((m,) longdouble); None when the factorisation fails.
 
     Near a sample's own threshold the interior point's multipliers can grow to ``1e8`` times
-    ``|u|`` along near-self-stresses of the constraints (``1e10`` to ``1e11`` against ``|u|``
-    of ``1e2`` to ``1e3`` on the floppy rows of the n = 64 sweep of ``bench_sweep.py``), where
+    ``|u|`` along near-self-stresses of the constraints, where
     their stationarity residual ``u + R^T lam`` is the round-off of ``R^T lam`` in double
     precision (``|lam| eps``, ``1e-8`` of ``|u|``: just above the tolerance) and the last bit
     of the bond directions. Each step here corrects ``lam`` by the least-squares solution of
     ``R^T dlam = -(u + R^T lam)``, the residual evaluated in extended precision on the
     certificates' geometry (``p.exact``) and ``lam`` accumulated in it (one factorisation of
-    ``R^T R + shift I`` and one solve per step). On those rows one step takes the residual from
-    ``4e-8`` to ``8e-8`` to ``1e-11`` of ``|u|`` and leaves the multipliers' signs as they
-    were (wrong-signed ones ``4e-17`` of ``|lam|``). The stationarity reported includes a bound
+    ``R^T R + shift I`` and one solve per step). The stationarity reported includes a bound
     on the round-off of the extended-precision forces; feasibility and complementarity are
     :func:`_residuals`'.
     """
@@ -660,13 +581,6 @@ class _ReducedKKT:
     refined against the unregularised system (the interior point refines its corrector's).
     The elimination loses accuracy along the mechanisms of ``R_E`` (relative errors of order
     ``eps / d`` per solve), which the refinement removes at a factor of about 100 a step.
-    Against a QDLDL factorisation of the full ``(2N + m)``-sized system, with the same three
-    refinement steps, on the interior-point projections of
-    ``benchmarks/bench_solver.py``'s instances (scratch, 2026-11-27; BENCHMARKS.md): the same
-    certificates on the phase diagrams (n = 16 to 64) and at the threshold at n = 16 and 32,
-    one more at n = 64 (3 of 8 against 2), in 0.6 to 0.9 times the time (0.5 at the n = 64
-    threshold). One refinement step, or one until the KKT residual falls below ``1e-4`` or
-    ``1e-6``, lost a certificate at the n = 32 threshold; four steps lost the n = 64 one.
     """
 
     def __init__(self, p: Problem, E, In, sigma_in, d: float, refinement: int):

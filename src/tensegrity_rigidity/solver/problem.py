@@ -152,14 +152,9 @@ class Problem:
         ``R`` (``vals = (-dhat, dhat)`` at columns ``(2i, 2i + 1, 2j, 2j + 1)``) to the entries
         on or above the diagonal (:data:`_BOND_TERMS`). ``_assemble`` is the sparse matrix
         (entries x sites) whose row ``e`` holds entry ``e``'s terms ordered by bond, then by
-        ``k = 4p + q``, so that ``_assemble @ w`` adds them in that order, as the ``np.bincount``
-        of eeb682e did (the same sums to the last bit on x86-64, where SciPy's product fuses no
-        multiply-add), and as the per-entry construction of 4228468 did (a sort of every term,
-        10 per bond and 12 for a bond to its own image, and of the ``2N`` diagonal entries,
-        into the entries): the same matrices to the last bit (tests/solver/test_problem.py
-        keeps that construction as the reference). Paired on the 27 n = 64 phase-diagram
-        instances of ``benchmarks/bench_solver.py`` (scratch, 2026-11-29), the whole
-        ``Problem`` build takes 6.9 ms against 10.6 ms (medians, best of 7).
+        ``k = 4p + q``, so that ``_assemble @ w`` adds them in that order: the same sums to the
+        last bit as a per-entry construction (tests/solver/test_problem.py keeps it as the
+        reference).
         """
         net = self.instance.network
         n_nodes = net.n_nodes

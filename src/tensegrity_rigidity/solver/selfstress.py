@@ -65,14 +65,8 @@ def purify(
         Stop after this many consecutive rounds whose tensions, balanced but with one-sided
         elements of the wrong sign left, do no positive work on the strain (see
         ``work_floor``); the result then keeps those signs and is no certificate. 0 never
-        stops early. Such rounds almost never end in a certificate: on the purifications of
-        issue 13's threshold searches (n = 16: 6 samples per configuration, 1,539 calls;
-        n = 32: 3, 1,330 calls; scratch, 2026-11-28) no accepted result came after two of them,
-        one after a single one (its work went from -8.6e-5 to 7.9e-4), and the rounds after
-        the second took an estimated 29 % of the purifications' time at n = 32, whose
-        searches spend a quarter of their time purifying. Measured on whole searches
-        (BENCHMARKS.md): the same thresholds, n = 32 median 1.95 -> 1.77 s, n = 64 unchanged
-        (76 s). Once a round is hopeless, the extended-precision steps are skipped too: they
+        stops early. Such rounds almost never end in a certificate. Once a round is
+        hopeless, the extended-precision steps are skipped too: they
         cannot bring a residual above ``hopeless`` near the certificates' margin.
     work_floor : float
         A round counts toward ``stall`` when its tensions' work is at most ``work_floor`` of
@@ -80,14 +74,7 @@ def purify(
         needs ``t . e0 / |t|_1`` above the resolution's ``violation``, whose default this
         is). Rounds that balance a self-stress of the rods alone do work at round-off,
         ``1e-18`` to ``1e-16`` of their size, of either sign; counting only ``t . e0 <= 0``
-        let those of positive sign go on for up to 8 rounds. On the purifications of issue
-        13's threshold searches at n = 32 (4 samples per configuration, 1,814 calls,
-        scratch, 2026-11-28) ``1e-9`` stops 355 calls earlier than ``0`` does and saves 704
-        of their 5,722 factorisations; none of those calls ended in an accepted
-        certificate. Paired on whole searches (scratch, 2026-11-28): the same 72 n = 32
-        thresholds (12 samples per configuration), 161.0 s against 163.6 s in all; on
-        ``benchmarks/bench_solver.py``'s n = 64 phase diagram the same verdicts and stages,
-        1 to 7 factorisations fewer on 12 of the 27 ``solve()`` calls, times within the noise.
+        let those of positive sign go on for up to 8 rounds.
 
     Returns
     -------
@@ -152,9 +139,7 @@ def optimal_on_support(
     maximiser of ``D`` over the self-stresses supported on ``S`` (the tensions of the energy's
     minimiser with exactly ``S`` engaged), which is ``t*`` when ``S`` is the optimal engaged
     set. :func:`purify` weighs by ``t^2`` instead, which keeps signs but not that optimality,
-    and its self-stress bounds ``E*`` loosely where the minimiser is not converged: on an
-    at-threshold n = 32 sample (configuration 4 of issue 13's set) its bound is 0.34 of the
-    relaxed energy, this one's equals it to ``4e-12``.
+    and its self-stress bounds ``E*`` loosely where the minimiser is not converged.
 
     The residuals are evaluated in extended precision (as in :func:`_refine_extended`) and the
     corrections stop once one does not cut the residual by ``0.7``. One-sided elements whose
