@@ -1,28 +1,13 @@
-"""Exact relaxation of the linear tensegrity energy and a certified rigid/floppy verdict.
+"""The certified rigid/floppy verdict of an instance and its exact relaxed state.
 
-:func:`decide` returns the verdict and the certificate behind it; :func:`solve` adds the
-relaxed state: the minimum energy ``E*``, the unique tensions ``t*`` and the minimum-norm
-minimising displacements.
-
-Verdict. By Farkas' lemma an instance is rigid iff an admissible self-stress does positive work
-on the strain, floppy iff a displacement puts every element in its admissible set. The search
-(:mod:`.stages`) runs fast specialised stages that propose displacements and tensions;
-:mod:`.certificates` accepts a candidate only under one resolution model that makes the two
-certificates exclude each other (a floppy displacement within a stated bound, a self-stress
-whose work exceeds what its force residual could explain). The verdict does not depend on the
-stiffnesses or on the strain magnitude, so the search runs on unit stiffnesses and unit strain
-scale. An instance with no accepted certificate is reported undecided, with both best
-candidates, never guessed.
-
-Relaxed state. On a floppy verdict ``E* = 0`` and ``t* = 0``. On a rigid one (or an undecided
-one) the energy with the given stiffnesses is minimised from the search's lowest-energy point
-by semismooth Newton, the interior point and a crossover (:mod:`.newton`, :mod:`.ipm`), and the
-report includes a lower bound on ``E*`` from the purified tensions (weak duality), so the
-accuracy of ``E*`` is stated, not assumed.
-
-Displacements. Minimisers are not unique on floppy networks; :func:`solve` returns the
-minimum-norm minimiser (the limit of a vanishing background stiffness), with the mean
-translation removed (see :mod:`.displacements`).
+:func:`decide` runs the verdict search (:mod:`.stages`) on unit stiffnesses and unit strain
+scale (the verdict depends on neither) and returns a :class:`Verdict`: by Farkas' lemma an
+instance is rigid iff an admissible self-stress does positive work on the strain, floppy iff a
+displacement puts every element in its admissible set, and only a certificate accepted by the
+resolution model of :mod:`.certificates` decides; otherwise the instance is undecided, with both
+best candidates, never guessed. :func:`solve` composes the verdict with the relaxation
+(:mod:`.relaxation`: ``E*``, ``t*`` and a certified lower bound) and the minimum-norm projection
+(:mod:`.displacements`) into a :class:`SolveResult` in the instance's units.
 """
 
 from __future__ import annotations

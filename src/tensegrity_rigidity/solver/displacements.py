@@ -194,25 +194,14 @@ def active_set(
     """Projection of the origin onto ``U*`` by a primal-dual active set: each iteration solves
     the projection onto the equalities and the held inequalities, all as equalities.
 
-    The held set starts as the inequalities the start touches (``sigma_b v_b >= -1e-9
-    max(1, |u_start|_inf)``). Each iteration solves
-
-        [ I    B_H^T ] [u + du]   [0  ]
-        [ B_H  0     ] [lam_H ] = [b_H],   B_H = [R_E; G_H],
-
-    from ``u_start`` by one step of :class:`_ReducedKKT` (its third block's diagonal zero: a
-    ``2N x 2N`` sparse Cholesky factorisation in the verdict's pattern and four solves), and
-    checks the KKT residuals of :func:`min_norm_minimizer` with the multipliers ``lam_H``.
-    Where they are not certified, the next held set is the held inequalities whose multiplier
-    has the right sign and the others that the new point violates (``sigma_b v_b > 1e-12
-    max(1, |u|_inf)``). Where that leaves the held set as it was, up to ``corrections``
-    further steps from the point reached (the same system, so the same factorisation) run
-    while each halves the feasibility and stationarity residuals; then it stops, as on a
-    singular system or after ``max_iterations``.
-
-    Rigid verdicts are where it applies (:func:`project`): the equalities (rods and stressed
-    one-sided elements) outnumber the ``2N`` displacements and fix all but a few mechanisms,
-    and few inequalities are held; on floppy verdicts its stationarity stalls.
+    The held set starts as the inequalities the start touches; each iteration takes one step of
+    :class:`_ReducedKKT` from ``u_start`` (its third block's diagonal zero) and checks the KKT
+    residuals of :func:`min_norm_minimizer` with the multipliers of the held rows. Where they are
+    not certified, the next held set is the held inequalities whose multiplier has the right sign
+    and the others the new point violates; where that leaves it as it was, up to ``corrections``
+    further steps on the same factorisation run while each halves the feasibility and
+    stationarity residuals. It suits rigid verdicts (:func:`project`), whose equalities fix all
+    but a few mechanisms; on floppy ones its stationarity stalls.
 
     Parameters
     ----------
@@ -231,12 +220,9 @@ def active_set(
     refinement : int
         Steps of iterative refinement per solve, against the unregularised system.
     corrections : int
-        Most further solves with the same factorisation, from the point reached, where the
-        held set did not change but the residuals are not certified (they stop once they no
-        longer halve the residuals). On the rigid verdicts of 150 random small instances (the
-        test's), one solve left stationarity at ``1e-8`` to ``1e-2`` on 17 of 84, where the
-        start lay far from ``U*``'s lowest point along the held rows' mechanisms (``|u|`` up to
-        1000 times the minimum); with the corrections all 84 are certified.
+        Most further solves with the same factorisation where the held set did not change but
+        the residuals are not certified (the start can lie far from ``U*``'s lowest point along
+        the held rows' mechanisms).
 
     Returns
     -------
@@ -314,7 +300,6 @@ def min_norm_minimizer(
     max_iterations: int = 150,
     regularization: float = 1e-14,
     refinement: int = 3,
-    stall: int | None = None,
     predictor_refinement: int = 0,
     refine_multipliers: bool = True,
 ) -> MinNormResult:
@@ -337,9 +322,6 @@ def min_norm_minimizer(
     refinement : int
         Steps of iterative refinement of the corrector's solve (the step taken), against the
         unregularised system.
-    stall : int, optional
-        Stop after this many consecutive steps shorter than ``1e-2`` of the Newton step: the
-        iterate no longer moves, as when ``U*`` is empty.
     predictor_refinement : int
         Steps of iterative refinement of the predictor's solve. The predictor only sets the
         centring and the corrector's second-order term, and the corrector's own solve is
@@ -368,7 +350,7 @@ def min_norm_minimizer(
     y, z = np.zeros(E.size), np.full(mI, max(1.0, float(np.abs(u).max(initial=0.0))))
     s = np.maximum(h - G @ u, 1.0)
     best: tuple | None = None
-    it = short = 0
+    it = 0
     for it in range(1, max_iterations + 1):
         rd = u + REt @ y + Gt @ z
         re = RE @ u - bE
@@ -408,9 +390,6 @@ def min_norm_minimizer(
         y += a * dy
         z += a * dz
         s += a * ds
-        short = short + 1 if a < 1e-2 else 0
-        if stall is not None and short >= stall:
-            break
     assert best is not None
     _, u, y, z, _ = best
     lam = _multipliers(p, y, z, E, In)
@@ -428,19 +407,11 @@ def min_norm_minimizer(
 def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
     """A certified lower bound on ``|u*|^2`` from any multipliers, by weak duality.
 
-    For multipliers ``lam`` with ``sigma lam >= 0`` on the inequalities (any sign on the
-    equalities) the dual function of the projection,
-
-        g(lam) = -1/2 |R^T lam|^2 + lam . (e0 - c),
-
-    bounds ``1/2 |u*|^2`` from below (``c``: the targets, 0 on the inequalities), whether or not
-    ``lam`` is optimal. Wrong-signed multipliers are set to 0 first, so the bound holds for
-    any input. It is evaluated on the certificates' geometry (``p.exact``): the forces in
-    extended precision, less their round-off bound (:attr:`ExactGeometry.roundoff` per
-    contribution), the product with ``e0 - c`` less a bound on its summation error.
-
-    Where the interior point stalls near a sample's own threshold this is what is known of
-    the minimum norm.
+    For multipliers ``lam`` with ``sigma lam >= 0`` on the inequalities the dual function of the
+    projection, ``g(lam) = -1/2 |R^T lam|^2 + lam . (e0 - c)``, bounds ``1/2 |u*|^2`` from below
+    whether or not ``lam`` is optimal (wrong-signed multipliers are set to 0 first). It is evaluated
+    on the certificates' geometry, less bounds on its round-off: where the interior point stalls
+    near a threshold, this is what is known of the minimum norm.
 
     Parameters
     ----------
@@ -526,16 +497,12 @@ def _refined_certificate(
     """The KKT residuals of ``u`` (2N,) with its multipliers ``lam`` (m,) refined in extended
     precision, and those multipliers ((m,) longdouble); None when the factorisation fails.
 
-    Near a sample's own threshold the interior point's multipliers can grow to ``1e8`` times
-    ``|u|`` along near-self-stresses of the constraints, where
-    their stationarity residual ``u + R^T lam`` is the round-off of ``R^T lam`` in double
-    precision (``|lam| eps``, ``1e-8`` of ``|u|``: just above the tolerance) and the last bit
-    of the bond directions. Each step here corrects ``lam`` by the least-squares solution of
-    ``R^T dlam = -(u + R^T lam)``, the residual evaluated in extended precision on the
-    certificates' geometry (``p.exact``) and ``lam`` accumulated in it (one factorisation of
-    ``R^T R + shift I`` and one solve per step). The stationarity reported includes a bound
-    on the round-off of the extended-precision forces; feasibility and complementarity are
-    :func:`_residuals`'.
+    Near a sample's own threshold the multipliers can grow to ``1e8`` times ``|u|`` along
+    near-self-stresses of the constraints, where the stationarity residual ``u + R^T lam`` is the
+    round-off of ``R^T lam`` in double precision. Each step corrects ``lam`` by the least-squares
+    solution of ``R^T dlam = -(u + R^T lam)``, the residual evaluated in extended precision and
+    ``lam`` accumulated in it (one factorisation of ``R^T R + shift I``, one solve per step). The
+    stationarity reported includes a bound on the round-off of the extended-precision forces.
     """
     f = p.factor_shifted(np.ones(p.sites.size), p.tol.min_norm_multiplier_shifts)
     if f is None:
@@ -561,26 +528,19 @@ def _force_roundoff(p: Problem, lam: np.ndarray) -> np.ndarray:
 
 
 class _ReducedKKT:
-    """The interior-point system of the projection, reduced to ``2N x 2N`` on the problem's
-    own factorisation pattern.
+    """The interior-point system of the projection, reduced to ``2N x 2N``.
 
     The step of :func:`min_norm_minimizer` (and, with ``D = 0``, of :func:`active_set`) solves
 
-        [ I    R_E^T   G^T        ] [du]   [r1]
-        [ R_E  0       0          ] [dy] = [r2]
-        [ G    0       -D         ] [dz]   [r3]
+        [ I    R_E^T   G^T  ] [du]   [r1]
+        [ R_E  0       0    ] [dy] = [r2],    G = diag(sigma) R_I,  D = S / Z.
+        [ G    0       -D   ] [dz]   [r3]
 
-    with ``G = diag(sigma) R_I`` and the diagonal ``D = S / Z``. Regularised by ``d`` (``-d I``
-    in the second block, ``-(D + d)`` in the third), ``dy`` and ``dz`` are eliminated:
-
-        (d I + R_E^T R_E + G^T diag(d / (D + d)) G) du = d r1 + R_E^T r2 + G^T (d r3 / (D + d)),
-        dy = (R_E du - r2) / d,   dz = (G du - r3) / (D + d),
-
-    a matrix ``R^T W R + d I`` in the pattern of the verdict's Newton matrix, factorised by the
-    problem's sparse Cholesky (CHOLMOD; :meth:`Problem.factor_shifted`). A solve can be
-    refined against the unregularised system (the interior point refines its corrector's).
-    The elimination loses accuracy along the mechanisms of ``R_E`` (relative errors of order
-    ``eps / d`` per solve), which the refinement removes at a factor of about 100 a step.
+    Regularised by ``d`` in its last two blocks, ``dy`` and ``dz`` are eliminated, leaving
+    ``(d I + R_E^T R_E + G^T diag(d / (D + d)) G) du = d r1 + R_E^T r2 + G^T (d r3 / (D + d))``:
+    a matrix in the pattern of the verdict's Newton matrix, factorised by the problem's sparse
+    Cholesky. A solve can be refined against the unregularised system, which removes the errors
+    the elimination leaves along the mechanisms of ``R_E`` (order ``eps / d``).
     """
 
     def __init__(self, p: Problem, E, In, sigma_in, d: float, refinement: int):

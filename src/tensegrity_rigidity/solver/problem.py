@@ -147,14 +147,10 @@ class Problem:
         """Fixed upper-triangular CSC pattern of R^T D R + mu I and the map into it.
 
         Built per node pair: node ``J``'s two columns hold rows ``2I, 2I + 1`` for every
-        node ``I < J`` bonded to it (in increasing ``I``), then its own diagonal block. Each
-        bond ``b`` from node ``i`` to ``j`` adds the products ``vals_p vals_q`` of its row of
-        ``R`` (``vals = (-dhat, dhat)`` at columns ``(2i, 2i + 1, 2j, 2j + 1)``) to the entries
-        on or above the diagonal (:data:`_BOND_TERMS`). ``_assemble`` is the sparse matrix
-        (entries x sites) whose row ``e`` holds entry ``e``'s terms ordered by bond, then by
-        ``k = 4p + q``, so that ``_assemble @ w`` adds them in that order: the same sums to the
-        last bit as a per-entry construction (tests/solver/test_problem.py keeps it as the
-        reference).
+        node ``I < J`` bonded to it, then its own diagonal block. ``_assemble`` (entries x
+        sites) holds each entry's terms (:data:`_BOND_TERMS`) ordered by bond, so that
+        ``_assemble @ w`` adds them in a fixed order: the same sums to the last bit as a
+        per-entry construction (tests/solver/test_problem.py keeps it as the reference).
         """
         net = self.instance.network
         n_nodes = net.n_nodes
