@@ -128,22 +128,12 @@ def optimal_on_support(
 ) -> np.ndarray | None:
     """The best self-stress for the energy's dual on the support of a minimiser's tensions.
 
-    The energy's dual is ``D(t) = t . e0 - 1/2 t . K^-1 t`` over admissible self-stresses
-    (docs/model.md); every admissible self-stress bounds ``E* >= D(t)``, with equality at
-    ``t*``. Given tensions ``t = K (e0 + R u)`` of the elements engaged at ``u`` (zero on the
-    others), the stiffness-weighted correction
-
-        t <- t - K_S R y,    (R^T K_S R + shift I) y = R^T t,
-
-    on their support ``S`` keeps ``K^-1 t - e0`` in the range of ``R`` and converges to the
-    maximiser of ``D`` over the self-stresses supported on ``S`` (the tensions of the energy's
-    minimiser with exactly ``S`` engaged), which is ``t*`` when ``S`` is the optimal engaged
-    set. :func:`purify` weighs by ``t^2`` instead, which keeps signs but not that optimality,
-    and its self-stress bounds ``E*`` loosely where the minimiser is not converged.
-
-    The residuals are evaluated in extended precision (as in :func:`_refine_extended`) and the
-    corrections stop once one does not cut the residual by ``0.7``. One-sided elements whose
-    sign flips leave ``S`` and the projection is repeated, so the result is admissible.
+    Every admissible self-stress bounds ``E* >= D(t) = t . e0 - 1/2 t . K^-1 t``, with equality
+    at ``t*``. The stiffness-weighted correction ``t <- t - K_S R y``, ``(R^T K_S R) y = R^T t``
+    on the support ``S`` of ``t`` (residuals in extended precision) converges to the maximiser of
+    ``D`` over the self-stresses on ``S``, which is ``t*`` when ``S`` is the optimal engaged set;
+    :func:`purify` weighs by ``t^2`` instead, which keeps signs but not that optimality. One-sided
+    elements whose sign flips leave ``S`` and the projection is repeated (docs/model.md).
 
     Parameters
     ----------
@@ -155,10 +145,9 @@ def optimal_on_support(
         Most projections (each one numeric factorisation), each after dropping the flipped
         one-sided elements.
     steps : int
-        Most corrections per projection.
+        Most corrections per projection (they stop once one does not cut the residual by 0.7).
     shift : float
-        Regularisation of ``R^T K_S R`` relative to the mean stiffness (the support has
-        mechanisms; the residual ``R^T t`` is orthogonal to them).
+        Regularisation of ``R^T K_S R`` relative to the mean stiffness.
 
     Returns
     -------

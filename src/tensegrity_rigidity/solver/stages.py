@@ -550,30 +550,15 @@ def _extrapolate(us, rs, residual):
 class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
-    First the verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1``: HiGHS's
-    interior point (one thread, at most ``max_iter`` iterations), followed by its crossover to
-    a vertex when ``refine`` is set. Its tensions are purified and offered, its dual
-    displacements offered and crossed over. When the simplex clean-up after the crossover hits
-    its iteration limit HiGHS returns no solution at all; the LP is then solved again without
-    the crossover and the interior point's solution offered (``interior_fallback``).
-
-    HiGHS accepts a vertex whose variables miss their bounds by its feasibility tolerance, and
-    such tensions cannot simply be clipped: the forces they carry are balanced only by other
-    elements of the basis. So the vertex is refined as in LP iterative refinement (Gleixner,
-    Steffy & Wolter, INFORMS J. Comput. 28, 449 (2016)): with ``d`` the largest force residual
-    (in extended precision) or bound violation of the tensions ``t``, the correction LP
-
-        max e0 . x   s.t.   R^T x = -R^T t / d,   (lo - t) / d <= x <= (hi - t) / d
-
-    is solved by the primal simplex warm-started from the vertex's basis, and ``t + d x``
-    (accumulated in extended precision) is offered as it is, its duals as displacements; each
-    of the ``refine`` rounds gains about HiGHS's tolerance.
-
-    Then, if nothing was accepted and the problem has at most ``feasibility_sites_max``
-    non-empty sites, the feasibility LP for a zero-energy displacement by the simplex
-    variants of ``feasibility_simplex`` (:func:`_feasibility_lp`): a vertex is checked as it
-    is; a proof of infeasibility, a dual ray, is an admissible self-stress with positive work
-    (Farkas' lemma), purified and offered. A HiGHS failure leaves the search as it was.
+    First the verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1`` by HiGHS's interior
+    point and crossover: its tensions are purified and offered, its dual displacements offered and
+    crossed over (when the clean-up after the crossover runs out of iterations HiGHS returns no
+    solution, and the LP is solved again without it: ``interior_fallback``). A vertex misses its
+    bounds by HiGHS's tolerance, so it is refined as in LP iterative refinement (Gleixner, Steffy &
+    Wolter, INFORMS J. Comput. 28, 449 (2016); docs/model.md), accumulated in extended precision.
+    Then, below ``feasibility_sites_max`` non-empty sites, the feasibility LP for a zero-energy
+    displacement (:func:`_feasibility_lp`): a vertex is a floppy candidate, a dual ray (Farkas'
+    lemma) a rigid one. A HiGHS failure leaves the search as it was.
 
     Attributes
     ----------
@@ -590,8 +575,7 @@ class LinearProgram:
         Simplex iterations per non-empty site of each refinement round, and of the clean-up
         HiGHS runs after the verdict LP's crossover.
     interior_fallback : bool
-        When that clean-up hits its limit, solve the verdict LP again without the crossover and
-        offer the interior point's tensions and dual displacements.
+        Solve the verdict LP again without the crossover when its clean-up hits its limit.
     feasibility_simplex : str
         ``"dual"``, ``"primal"`` or ``"dual+primal"``: the dual simplex, then the primal when
         the dual stops with status "Unknown" before its iteration limit.
