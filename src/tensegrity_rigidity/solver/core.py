@@ -87,7 +87,7 @@ class SolveResult:
     energy : float
         Minimum energy E* = min_u 1/2 sum_b k_b h_b(e_b) e_b^2 (docs/model.md) in the instance's
         units (stiffness x length^2); exactly 0 on a floppy verdict. On a rigid or undecided
-        verdict it is the relaxation's lowest energy, E* to within :data:`ENERGY_GAP` where
+        verdict it is the relaxation's lowest energy, E* to within ``Tolerances.energy_gap`` where
         :func:`energy_certified` holds for it and ``energy_lower``.
     energy_lower : float
         A certified lower bound on E* (weak duality from the relaxed tensions purified onto a
@@ -127,7 +127,7 @@ class SolveResult:
     min_norm_ok : bool
         Whether the displacements are the minimum-norm minimiser, certified by its KKT
         residuals (:mod:`.displacements`) on the polyhedron of minimisers, itself certified by
-        the energy's lower bound on a rigid or undecided verdict (:data:`ENERGY_GAP`).
+        the energy's lower bound on a rigid or undecided verdict (``Tolerances.energy_gap``).
     min_norm_residuals : tuple of 3 float
         Those residuals: feasibility (the largest violation of the polyhedron of minimisers,
         units of ``max |e0|``); stationarity (the larger of ``|u + R^T lam|_inf / |u|_inf``
