@@ -753,3 +753,34 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
         assert bound <= E * (1 + 1e-12), (bound, E)  # a lower bound
         checked += energy_certified(E, bound)  # and a tight one where the relaxation converged
     assert checked >= 10 and balanced >= 5 and purified >= 3, (checked, balanced, purified)
+
+
+class _Offer:
+    """A stub strategy: offers the given displacements and nothing else."""
+
+    name = "offer"
+
+    def __init__(self, u):
+        self.u = u
+
+    def run(self, search) -> None:
+        search.offer_u(self.u, self.name)
+
+
+def test_a_strategy_passed_in_with_the_options_proposes_to_the_search():
+    """Strategies are injected, not registered: a stub that offers a floppy certificate's
+    displacements decides the sample under its own name, and one that offers a point that is
+    no certificate leaves it undecided (only certificates decide)."""
+    from tensegrity_rigidity import lattice_instance
+
+    for seed in range(20):
+        inst = lattice_instance(6, 0.3, 0.1, 0.5, phi="shear", seed=seed)
+        v = decide(inst)
+        if v.status == "floppy" and np.any(v.floppy.u):
+            break
+    assert v.status == "floppy"
+    u = np.asarray(v.floppy.u, dtype=float)
+    stub = decide(inst, SolverOptions(stages=(_Offer(u),), min_norm=False))
+    assert stub.status == "floppy" and stub.stage == "offer"
+    wrong = decide(inst, SolverOptions(stages=(_Offer(np.zeros_like(u)),), min_norm=False))
+    assert wrong.status == "undecided" and wrong.stage == ""
