@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 from _record import machine, probe, record, table
 from near_threshold_set import samples
+from reference import lp_verdict, qp_solve
 from scipy.optimize import minimize
 
 from tensegrity_rigidity import SolverOptions, lattice_instance, solve
@@ -48,7 +49,6 @@ from tensegrity_rigidity.errors import UndecidedWarning
 from tensegrity_rigidity.model.network import Instance
 from tensegrity_rigidity.solver import decide
 from tensegrity_rigidity.solver.problem import Problem
-from tensegrity_rigidity.solver.reference import lp_verdict, qp_solve
 
 REGIMES = {"near": (0.55, 0.2), "rigid": (0.8, 0.1), "floppy": (0.4, 0.2)}
 NEAR_SAMPLES = {16: 6, 32: 6, 64: 6, 128: 2}

@@ -12,7 +12,7 @@ the first design's and brackets disjoint from it (certified verdicts that contra
 other: must be 0), and the stages that decided the probes.
 
 Run: python benchmarks/bench_stages.py [--sizes 32 64] [--samples 12 6]
-     [--designs affine,newton,crossover,ipm,lp affine,newton,crossover,ipm,project,lp ...]
+     [--designs affine,newton,crossover,ipm,lp affine,newton,refine,crossover,ipm,lp ...]
      [--configs 1 0 2]
 
 ``--configs`` keeps only the samples of the given configurations (the first ``--samples`` of
@@ -33,14 +33,15 @@ from near_threshold_set import CONFIGS, RODS_ONLY, interval_events, samples
 
 from tensegrity_rigidity.ensemble import thresholds
 from tensegrity_rigidity.ensemble.thresholds import find_threshold
+from tensegrity_rigidity.errors import InputError
 from tensegrity_rigidity.solver.core import SolverOptions
-from tensegrity_rigidity.solver.stages import DEFAULT_STAGES, STAGES
+from tensegrity_rigidity.solver.options import strategy_named
+from tensegrity_rigidity.solver.stages import DEFAULT_STRATEGIES
 
-#: the default design, and the opt-in projection stage before and after the LP stage
+#: the default design, and the same without the refine strategy
 DEFAULT_DESIGNS = [
-    ",".join(DEFAULT_STAGES),
-    ",".join(DEFAULT_STAGES).replace("lp", "project,lp"),
-    ",".join(DEFAULT_STAGES) + ",project",
+    ",".join(x.name for x in DEFAULT_STRATEGIES),
+    ",".join(x.name for x in DEFAULT_STRATEGIES if x.name != "refine"),
 ]
 
 HEADER = ["n", "stages", "samples", "median s", "max s", "total s", "probes", "undecided probes",
@@ -49,15 +50,16 @@ DETAIL = ["n", "stages", "config", "k", "s", "interval", "events", "probes", "un
           "wall s"]  # fmt: skip
 
 
-def stage_name(token: str) -> str:
-    """Register ``name:param=value:...`` as a stage of its own (named ``token``) and return
-    its name; parameters must be numbers."""
+def stage_name(token: str):
+    """The strategy ``name:param=value:...`` (named ``token`` when it has parameters);
+    parameters must be numbers."""
     base, *settings = token.split(":")
-    if base not in STAGES:
-        raise SystemExit(f"unknown stage {base!r}; choose from {', '.join(STAGES)}")
+    try:
+        stage = strategy_named(base)
+    except InputError as exc:
+        raise SystemExit(str(exc)) from None
     if not settings:
-        return base
-    stage = STAGES[base]
+        return stage
     changes: dict = {"name": token}
     for item in settings:
         key, value = item.split("=")
@@ -65,12 +67,11 @@ def stage_name(token: str) -> str:
         if kind not in (int, float, bool, str):
             raise SystemExit(f"{base}.{key} cannot be set here; only numbers, flags and names")
         changes[key] = bool(float(value)) if kind is bool else kind(value)
-    STAGES[token] = replace(stage, **changes)
-    return token
+    return replace(stage, **changes)
 
 
-def design(text: str) -> tuple[tuple[str, ...], dict]:
-    """(stage names, SolverOptions fields) of a design ``text`` (tokens separated by commas)."""
+def design(text: str) -> tuple[tuple, dict]:
+    """(strategies, SolverOptions fields) of a design ``text`` (tokens separated by commas)."""
     stages, options = [], {}
     for token in text.split(","):
         if "=" in token and ":" not in token:
@@ -137,7 +138,9 @@ def run(args, designs, decided_by: Counter) -> None:
         first: dict[tuple[int, int], tuple[float, float]] = {}
         for stages, options in designs:
             opts = SolverOptions(min_norm=False, stages=stages, **options)
-            label = " ".join(stages) + "".join(f" {k}={v:g}" for k, v in options.items())
+            label = " ".join(x.name for x in stages) + "".join(
+                f" {k}={v:g}" for k, v in options.items()
+            )
             decided_by.clear()
             secs, probes, undecided, widths, differ, disjoint = [], 0, 0, [], 0, 0
             for c, k, (net, u, v, eps, p_t, f_c) in insts:

@@ -25,12 +25,12 @@ import time
 import numpy as np
 from _record import machine, probe, record, table
 from near_threshold_set import interval_events, samples
+from reference import lp_verdict
 from threadpoolctl import threadpool_limits
 
 from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
 from tensegrity_rigidity.model.network import Element, Instance
 from tensegrity_rigidity.solver.problem import Problem
-from tensegrity_rigidity.solver.reference import lp_verdict
 
 
 def refactor_seconds(net, eps) -> float:

@@ -26,7 +26,7 @@ from tensegrity_rigidity.model.network import Instance
 from tensegrity_rigidity.solver.core import SolverOptions
 from tensegrity_rigidity.solver.linalg import one_blas_thread
 from tensegrity_rigidity.solver.problem import Problem
-from tensegrity_rigidity.solver.stages import BALANCE, DEFAULT_STAGES, POLISH, STAGES, Search
+from tensegrity_rigidity.solver.stages import Search
 
 RESULTS = Path(__file__).with_name("results") / "diagnose_stages.json"
 
@@ -39,11 +39,12 @@ def diagnose(n: int, c: int, k: int, p_r: float) -> list[dict]:
     trace = []
     with one_blas_thread(), warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        p = Problem(inst, opts.regularization, opts.factorization, unit_stiffness=True)
-        s = Search(p, opts.resolution, polish=POLISH, balance=BALANCE)
-        for name in DEFAULT_STAGES:
+        p = Problem(inst, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
+        s = Search(p, opts.resolution, opts.refiner, opts.polish, opts.balance)
+        for strategy in opts.stages:
+            name = strategy.name
             t0, f0 = time.perf_counter(), p.factorizations
-            STAGES[name].run(s)
+            strategy.run(s)
             r, fl = s.rigid, s.floppy
             trace.append(
                 {

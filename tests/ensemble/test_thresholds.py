@@ -62,19 +62,18 @@ def test_undecided_probes_give_an_interval_that_contains_the_threshold():
     assert widened >= 3
 
 
-def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_event(monkeypatch):
+def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_event():
     """n = 32, rods only (the rods-only set of benchmarks/near_threshold_set.py, sample 10):
     without the refinement stage, with the LP stage unrefined (``LinearProgram(refine=0)``) and
     without polishing, two probes below the threshold stay undecided (zero-energy displacements
     of 1.4e6 times the strain, violations stalled at 1.5e-9) and the threshold is an interval;
     with the refinement stage, with the LP stage's own refinement, or with the floppy
-    candidates polished (``Polish``), the threshold is the same one event, inside that interval,
-    and the same on a second search."""
-    from tensegrity_rigidity.solver.stages import STAGES, LinearProgram
+    candidates polished (``SolverOptions.polish``), the threshold is the same one event,
+    inside that interval, and the same on a second search."""
+    from tensegrity_rigidity.solver.stages import LinearProgram
 
-    monkeypatch.setitem(STAGES, "lp-unrefined", LinearProgram(refine=0, name="lp-unrefined"))
     net, u, v, eps = near_threshold_sample(32, [32, 100, 10], "dilation")
-    unrefined = ("affine", "newton", "crossover", "ipm", "lp-unrefined")
+    unrefined = ("affine", "newton", "crossover", "ipm", LinearProgram(refine=0))
     energy_only = SolverOptions(stages=unrefined, polish=False)
     lp_refined = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp"))
     with_refine = SolverOptions(stages=("affine", "newton", "refine", "crossover", "ipm", "lp"))

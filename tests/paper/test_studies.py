@@ -190,7 +190,7 @@ def test_rows_without_minimum_norm_displacements_lose_their_nonaffinity():
 
 
 def test_rigid_rows_without_certified_tensions_lose_their_taut_fractions():
-    """A rigid row whose relaxed energy is not within ENERGY_GAP of its lower bound has
+    """A rigid row whose relaxed energy is not within the energy gap of its lower bound has
     tensions that need not be t*: its taut fractions become NaN (counted); certified rigid
     rows and floppy rows keep theirs, and rows without ``energy_lower`` are left alone."""
     rows = pd.DataFrame(

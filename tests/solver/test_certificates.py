@@ -12,6 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from benchmarks.reference import lp_verdict
 from tensegrity_rigidity import (
     InputError,
     Instance,
@@ -28,7 +29,6 @@ from tensegrity_rigidity.solver.certificates import (
     violation_roundoff,
 )
 from tensegrity_rigidity.solver.problem import Problem
-from tensegrity_rigidity.solver.reference import lp_verdict
 from tensegrity_rigidity.solver.selfstress import purify
 from tests.instances import random_instance
 

@@ -9,13 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from benchmarks.reference import lp_verdict, qp_solve
 from tensegrity_rigidity import SolverOptions, solve
 from tensegrity_rigidity.errors import InputError
 from tensegrity_rigidity.solver import decide
 from tensegrity_rigidity.solver.certificates import Resolution
+from tensegrity_rigidity.solver.options import strategy_named
 from tensegrity_rigidity.solver.problem import Problem
-from tensegrity_rigidity.solver.reference import lp_verdict, qp_solve
-from tensegrity_rigidity.solver.stages import STAGES, Search
+from tensegrity_rigidity.solver.stages import DEFAULT_STRATEGIES, Refiner, Search
 from tests.instances import near_threshold_instance, random_instance
 
 N_INSTANCES = 300
@@ -85,9 +86,9 @@ def test_the_lp_verdict_between_its_box_bounds_is_the_l1_optimum():
     (below: its vertex's; above: its optimum and its dual's largest violation), the
     l1-normalised LP decides: its optimum lies between the bounds, and its tensions are an
     admissible self-stress with |t|_1 <= 1 doing exactly that work."""
+    from benchmarks.reference import _farkas_lp, _largest_violation, _nonempty
     from tensegrity_rigidity.model.mechanics import affine_extensions, net_forces
     from tensegrity_rigidity.model.network import Element
-    from tensegrity_rigidity.solver.reference import _farkas_lp, _largest_violation, _nonempty
 
     rng = np.random.default_rng(5)
     checked = 0
@@ -168,8 +169,7 @@ def test_larger_lattices_agree_with_lp_and_qp():
 # ------------------------------------------------------------------ each stage on its own
 
 #: how many of 40 random lattice samples each stage decides on its own (at least)
-STAGE_MINIMUM = {"affine": 5, "newton": 25, "crossover": 5, "ipm": 36, "project": 18, "refine": 25,
-                 "lp": 36}  # fmt: skip
+STAGE_MINIMUM = {"affine": 5, "newton": 25, "crossover": 5, "ipm": 36, "refine": 25, "lp": 36}
 
 
 @pytest.mark.parametrize("name", sorted(STAGE_MINIMUM))
@@ -182,7 +182,7 @@ def test_each_stage_alone_decides_like_the_lp(name):
         inst = random_instance(rng, "lattice")
         p = Problem(inst, unit_stiffness=True)
         s = Search(p, Resolution())
-        STAGES[name].run(s)
+        strategy_named(name).run(s)
         if not s.decided:
             continue
         decided += 1
@@ -260,24 +260,6 @@ def test_the_message_says_when_the_displacements_were_not_asked_for():
     assert on.min_norm_ok and "not asked for" not in on.message
 
 
-def test_the_projection_certifies_a_floppy_sample_at_n64_near_its_threshold():
-    """n = 64, one event below its threshold (configuration (0.3, 1, dilation) of the
-    near-threshold set, sample 0, event 12202), whose zero-energy displacements reach 1e6 times
-    the strain: the energy's interior point and its crossovers end there with violations of
-    1e-3 at |u| ~ 1.5e6, and the projection from its best candidate certifies it floppy. (If
-    the interior point comes to decide this configuration itself, pick another one that it
-    leaves undecided: the test is of the projection.)"""
-    from tensegrity_rigidity.solver.stages import InteriorPoint, Projection
-
-    inst = near_threshold_instance(64, [64, 1, 0], "dilation", 0.3, 1.0, 12202)  # config 1
-    s = Search(Problem(inst, unit_stiffness=True), Resolution())
-    InteriorPoint().run(s)
-    assert not s.decided
-    Projection().run(s)
-    assert s.decided and not s.rigid_verdict and s.stage == "project"
-    assert s.floppy is not None and s.floppy.size > 1e5
-
-
 def test_refine_reaches_the_minimum_norm_solution_of_a_rods_only_network():
     """Rods only, floppy: the stage's displacements are the minimum-norm solution of
     ``R u = -e0`` (dense least squares, an independent route) up to the drift along exact
@@ -295,7 +277,7 @@ def test_refine_reaches_the_minimum_norm_solution_of_a_rods_only_network():
         )  # fmt: skip
         p = Problem(inst, unit_stiffness=True)
         s = Search(p, Resolution())
-        STAGES["refine"].run(s)
+        strategy_named("refine").run(s)
         assert s.decided, i
         if s.rigid_verdict:
             continue
@@ -319,12 +301,12 @@ def test_refine_certifies_a_rods_only_sample_the_energy_stages_leave_undecided()
     p = Problem(inst, unit_stiffness=True)
     s = Search(p, Resolution())
     for name in ("affine", "newton", "crossover", "ipm"):
-        STAGES[name].run(s)
+        strategy_named(name).run(s)
     LinearProgram(refine=0).run(s)  # the LP stage's own refinement decides it too (floppy)
     assert not s.decided
     assert s.floppy is not None and s.floppy.violation > Resolution().violation
     s = Search(p, Resolution())
-    STAGES["refine"].run(s)
+    strategy_named("refine").run(s)
     assert s.decided and not s.rigid_verdict and s.stage == "refine"
     assert s.floppy is not None and s.floppy.size > 1e6 and s.floppy.violation < 1e-10
     assert lp_verdict(inst).rigid is False
@@ -436,7 +418,7 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
     this probe its verdict; see CHANGELOG). Purified without the stall rule here (with it, the
     coarse purification stops early, still rejected)."""
     from tensegrity_rigidity.solver.selfstress import purify
-    from tensegrity_rigidity.solver.stages import SUPPORT_TOLS, LinearProgram
+    from tensegrity_rigidity.solver.stages import LinearProgram
 
     inst = near_threshold_instance(64, [64, 4, 0], "shear", 0.6, 0.5, 8648)  # CONFIGS[4]
     p = Problem(inst, unit_stiffness=True)
@@ -444,7 +426,7 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
     t = np.clip(np.asarray(h.getSolution().col_value, dtype=float), lo, hi)
     res = Resolution()
     coarse, fine = (
-        p.exact.rigid(purify(p, t, support_tol=tol, stall=0), res) for tol in SUPPORT_TOLS
+        p.exact.rigid(purify(p, t, support_tol=tol, stall=0), res) for tol in Refiner().support_tols
     )
     assert coarse.residual < 1e-14 and coarse.work <= res.violation and not coarse.accepted
     assert fine.accepted and fine.work > 1e3 * res.violation
@@ -455,14 +437,12 @@ def test_the_lp_stage_needs_the_smaller_support_tolerance_after_a_balanced_purif
 def test_polish_moves_a_perturbed_floppy_certificate_back_onto_its_tight_set():
     """A floppy certificate perturbed by 1e-8 of the largest affine extension (the error a
     double-precision solver leaves on a point of size 1e7, or its tolerance) fails the
-    resolution model; :class:`Polish` moves it back onto the
+    resolution model; the refiner's polish moves it back onto the
     tight set of its rods and one-sided elements in extended precision, and the polished
     point passes again, close to where it started. Offered to a search with a polisher it is
     accepted; without one it is not."""
-    from tensegrity_rigidity.solver.stages import Polish
-
     rng = np.random.default_rng(31)
-    res, polish, polished = Resolution(), Polish(), 0
+    res, refiner, polished = Resolution(), Refiner(), 0
     for _ in range(60):
         inst = random_instance(rng, "lattice")
         p = Problem(inst, unit_stiffness=True)
@@ -472,14 +452,14 @@ def test_polish_moves_a_perturbed_floppy_certificate_back_onto_its_tight_set():
         u = np.asarray(v.floppy.u, dtype=float)
         noisy = u + 1e-8 * rng.standard_normal(u.size)
         cert = p.exact.floppy(noisy, res)
-        assert not cert.accepted and cert.violation <= polish.below
-        x = polish(Search(p, res), noisy)
+        assert not cert.accepted and cert.violation <= refiner.polish_below
+        x = refiner.polished(Search(p, res), noisy)
         assert x is not None
         back = p.exact.floppy(x, res)
         assert back.accepted and back.violation <= 0.1 * res.violation
         assert np.abs(np.asarray(x, dtype=float) - noisy).max() <= 1e-6
         assert not Search(p, res).offer_u(noisy, "test")
-        assert Search(p, res, polish=polish).offer_u(noisy, "test")
+        assert Search(p, res, polish=True).offer_u(noisy, "test")
         polished += 1
     assert polished >= 10
 
@@ -490,12 +470,12 @@ def test_polish_decides_an_lp_vertex_at_n64_that_no_stage_decides_as_it_is():
     size 9.9e6 (within U = 1e7) and violation 1.4e-8; every other stage's candidates are
     further off, and no self-stress does work (best 1e-17). Polished, the vertex violates
     nothing by more than 5e-13: floppy. Without polishing the search ends undecided."""
-    from tensegrity_rigidity.solver.stages import DEFAULT_STAGES, search
+    from tensegrity_rigidity.solver.stages import search
 
     inst = near_threshold_instance(64, [64, 1, 0], "dilation", 0.3, 1.0, 12245)  # CONFIGS[1]
     p = Problem(inst, unit_stiffness=True)
-    stages = [STAGES[name] for name in DEFAULT_STAGES]
-    s = search(p, Resolution(), stages, polish=None)
+    stages = DEFAULT_STRATEGIES
+    s = search(p, Resolution(), stages, polish=False)
     assert not s.decided
     assert s.floppy is not None and 1e-9 < s.floppy.violation < 1e-7
     s = search(Problem(inst, unit_stiffness=True), Resolution(), stages)
@@ -510,16 +490,19 @@ def test_polish_tries_a_narrower_slack_when_the_held_set_is_inconsistent():
     1e-6 of its bound holds 12 struts that are slack at the zero-energy points nearby, and the
     held set is inconsistent (it misses by 3.4e-8): the polish does not converge and the probe
     stays undecided. At a slack of 1e-9 it ends at a violation below 1e-10: floppy."""
-    from tensegrity_rigidity.solver.stages import LinearProgram, Polish, search
+    from tensegrity_rigidity.solver.stages import LinearProgram, search
 
     inst = near_threshold_instance(64, [64, 3, 0], "compression", 0.1, 0.0, 14909)  # CONFIGS[3]
     stages = [LinearProgram(simplex_iterations_per_site=0)]
     s = search(
-        Problem(inst, unit_stiffness=True), Resolution(), stages, polish=Polish(slacks=(1e-6,))
+        Problem(inst, unit_stiffness=True),
+        Resolution(),
+        stages,
+        refiner=Refiner(polish_slacks=(1e-6,)),
     )
     assert not s.decided
     assert s.floppy is not None and 1e-9 < s.floppy.violation < 2e-9
-    s = search(Problem(inst, unit_stiffness=True), Resolution(), stages, polish=Polish())
+    s = search(Problem(inst, unit_stiffness=True), Resolution(), stages, refiner=Refiner())
     assert s.decided and not s.rigid_verdict and s.stage == "lp"
     assert s.floppy is not None and s.floppy.violation < 1e-10 and s.floppy.size < 1e5
 
@@ -574,7 +557,6 @@ def test_balance_restores_perturbed_self_stresses_without_flipping_a_sign():
     were zero on one-sided elements, with a residual a thousand times smaller, and a search
     with a balancer accepts them."""
     from tensegrity_rigidity.solver.selfstress import rebalance
-    from tensegrity_rigidity.solver.stages import Balance
 
     rng = np.random.default_rng(47)
     res, balanced = Resolution(1e-9, 1e9), 0
@@ -595,31 +577,31 @@ def test_balance_restores_perturbed_self_stresses_without_flipping_a_sign():
         assert np.all(x[(p.sigma != 0) & (t == 0)] == 0)
         back = p.exact.rigid(x, res)
         assert back.accepted and back.residual < 1e-3 * cert.residual
-        assert Search(p, res, balance=Balance()).offer_t(noisy, "test")
+        assert Search(p, res, balance=True).offer_t(noisy, "test")
         balanced += 1
     assert balanced >= 10
 
 
 def test_balance_takes_only_candidates_a_bounded_reduction_would_certify():
     """A rejected rigid candidate is balanced only when its residual ``r`` need shrink by at
-    most ``Balance.reduction`` for ``w > tau + U r``: at U = 1e8, work 0.01 and residual
+    most ``Refiner.balance_reduction`` for ``w > tau + U r``: at U = 1e8, work 0.01 and residual
     1e-7 need a reduction of 1e3 and are taken; work 1e-4 with the same residual needs 1e5
     (taken at the limit), work 1e-5 needs 1e6 and is not, nor are candidates above ``below``
-    or without work above ``tau``."""
+    or without work above ``tau``, or once the attempts are spent."""
     from tensegrity_rigidity.solver.certificates import RigidCertificate
-    from tensegrity_rigidity.solver.stages import Balance
 
-    res, b = Resolution(1e-9, 1e8), Balance()
+    res, b = Resolution(1e-9, 1e8), Refiner()
 
     def cert(work, residual):
         return RigidCertificate(np.ones(3), work, residual, False)
 
-    assert b.takes(cert(0.01, 1e-7), res)
-    assert b.takes(cert(1e-4 + 1e-9, 1e-7), res)
-    assert not b.takes(cert(1e-5, 1e-7), res)
-    assert Balance(reduction=np.inf).takes(cert(1e-5, 1e-7), res)
-    assert not b.takes(cert(0.5, 2e-6), res)  # above ``below``
-    assert not b.takes(cert(1e-9, 1e-20), res)  # no work above tau
+    assert b.balances(cert(0.01, 1e-7), res)
+    assert b.balances(cert(1e-4 + 1e-9, 1e-7), res)
+    assert not b.balances(cert(1e-5, 1e-7), res)
+    assert Refiner(balance_reduction=np.inf).balances(cert(1e-5, 1e-7), res)
+    assert not b.balances(cert(0.5, 2e-6), res)  # above ``below``
+    assert not b.balances(cert(1e-9, 1e-20), res)  # no work above tau
+    assert not b.balances(cert(0.01, 1e-7), res, done=b.balance_attempts)
 
 
 def test_balance_decides_an_n64_probe_whose_purification_stalls():
@@ -628,18 +610,18 @@ def test_balance_decides_an_n64_probe_whose_purification_stalls():
     purified, do work 0.043 but keep a force residual of 4e-9 of their size: the support has
     near-mechanisms, and the correction that would remove it flips small cable tensions. At
     U = 1e8 that fails ``w > tau + U r`` and no energy stage decides the probe; balanced
-    (:class:`Balance`), the residual falls below 1e-10 and the probe is rigid."""
-    from tensegrity_rigidity.solver.stages import Balance, search
+    (by the refiner), the residual falls below 1e-10 and the probe is rigid."""
+    from tensegrity_rigidity.solver.stages import search
 
     inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12585)  # CONFIGS[2]
-    stages = [STAGES[name] for name in ("affine", "newton", "refine", "crossover", "ipm")]
+    stages = DEFAULT_STRATEGIES[:5]
     res = Resolution(1e-9, 1e8)
-    s = search(Problem(inst, unit_stiffness=True), res, stages, balance=None)
+    s = search(Problem(inst, unit_stiffness=True), res, stages, balance=False)
     assert not s.decided
-    s = search(Problem(inst, unit_stiffness=True), Resolution(1e-9, 1e7), stages, balance=None)
+    s = search(Problem(inst, unit_stiffness=True), Resolution(1e-9, 1e7), stages, balance=False)
     assert s.decided and s.rigid_verdict and s.stage == "ipm"
     assert s.rigid is not None and s.rigid.work > 0.01 and 1e-9 < s.rigid.residual < 1e-8
-    s = search(Problem(inst, unit_stiffness=True), res, stages, balance=Balance())
+    s = search(Problem(inst, unit_stiffness=True), res, stages, balance=True)
     assert s.decided and s.rigid_verdict and s.stage == "ipm" and s.balanced >= 1
     assert s.rigid is not None and s.rigid.work > 0.01 and s.rigid.residual < 1e-10
 
@@ -668,12 +650,13 @@ def test_the_lp_stage_offers_the_interior_point_when_the_crossover_clean_up_runs
 
 
 def test_a_support_tolerance_that_drops_nothing_new_is_not_purified_again():
-    """Offering tensions as a rigid candidate purifies them at each of ``SUPPORT_TOLS``, except
-    where a tolerance keeps the same entries as the one before: purification would see the
-    same input. On the affine tensions of random small instances the search spends one
-    purification's factorisations where the two tolerances keep the same entries (all of
-    them here) and both purifications' where they do not (the same tensions with one entry
-    moved between the tolerances), and decides as the purifications' certificates say."""
+    """Offering tensions as a rigid candidate purifies them at each of the refiner's support
+    tolerances, except where a tolerance keeps the same entries as the one before:
+    purification would see the same input. On the affine tensions of random small instances
+    the search spends one purification's factorisations where the two tolerances keep the
+    same entries (all of them here) and both purifications' where they do not (the same
+    tensions with one entry moved between the tolerances), and decides as the purifications'
+    certificates say."""
     rng = np.random.default_rng(5)
     same = different = 0
     for _ in range(60):
@@ -696,14 +679,14 @@ def _purifications_of_an_offer(p, t):
     """Check what ``Search.offer_t(t)`` spends against ``purify`` at each support tolerance;
     "decided" (at the first tolerance), "same" or "different" (the tolerances' kept entries)."""
     from tensegrity_rigidity.solver.selfstress import kept, purify
-    from tensegrity_rigidity.solver.stages import SUPPORT_TOLS
 
+    tols = Refiner().support_tols
     s = Search(p, Resolution())
     before = p.factorizations
     s.offer_t(t, "test")
     spent = p.factorizations - before
     costs, certificates = [], []
-    for tol in SUPPORT_TOLS:
+    for tol in tols:
         before = p.factorizations
         certificates.append(p.exact.rigid(purify(p, t, support_tol=tol), Resolution()))
         costs.append(p.factorizations - before)
@@ -711,7 +694,7 @@ def _purifications_of_an_offer(p, t):
         assert s.decided and spent == costs[0]
         return "decided"
     assert s.decided == certificates[1].accepted
-    if np.array_equal(kept(t, SUPPORT_TOLS[0]), kept(t, SUPPORT_TOLS[1])):
+    if np.array_equal(kept(t, tols[0]), kept(t, tols[1])):
         assert spent == costs[0]
         return "same"
     assert spent == sum(costs)
@@ -727,14 +710,14 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
     purification runs once and its bound is the one checked on its own (the bound used to
     purify again). Either way the bound is below the relaxed energy and certifies it on most
     rigid samples."""
-    from tensegrity_rigidity.solver.core import (
+    from tensegrity_rigidity.solver.relaxation import (
         _balanced_tensions,
         _energy_lower,
         _relax,
         _self_stress_bound,
         energy_certified,
     )
-    from tensegrity_rigidity.solver.selfstress import SUPPORT_TOL, kept, purify
+    from tensegrity_rigidity.solver.selfstress import kept, purify
 
     rng = np.random.default_rng(11)
     opts = SolverOptions()
@@ -752,7 +735,7 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
         t_n, bound = _balanced_tensions(p, t)
         lower = _energy_lower(p, bound)
         spent = p.factorizations - before
-        t_kept = np.where(kept(t, SUPPORT_TOL), t, 0.0)
+        t_kept = np.where(kept(t, p.tol.support_tol), t, 0.0)
         size = float(np.abs(t_kept).sum())
         residual = float(np.abs(p.exact.forces(t_kept)).sum()) / size
         if residual <= 1e-13:
@@ -770,3 +753,34 @@ def test_the_relaxed_tensions_and_their_energy_bound_share_one_purification():
         assert bound <= E * (1 + 1e-12), (bound, E)  # a lower bound
         checked += energy_certified(E, bound)  # and a tight one where the relaxation converged
     assert checked >= 10 and balanced >= 5 and purified >= 3, (checked, balanced, purified)
+
+
+class _Offer:
+    """A stub strategy: offers the given displacements and nothing else."""
+
+    name = "offer"
+
+    def __init__(self, u):
+        self.u = u
+
+    def run(self, search) -> None:
+        search.offer_u(self.u, self.name)
+
+
+def test_a_strategy_passed_in_with_the_options_proposes_to_the_search():
+    """Strategies are injected, not registered: a stub that offers a floppy certificate's
+    displacements decides the sample under its own name, and one that offers a point that is
+    no certificate leaves it undecided (only certificates decide)."""
+    from tensegrity_rigidity import lattice_instance
+
+    for seed in range(20):
+        inst = lattice_instance(6, 0.3, 0.1, 0.5, phi="shear", seed=seed)
+        v = decide(inst)
+        if v.status == "floppy" and np.any(v.floppy.u):
+            break
+    assert v.status == "floppy"
+    u = np.asarray(v.floppy.u, dtype=float)
+    stub = decide(inst, SolverOptions(stages=(_Offer(u),), min_norm=False))
+    assert stub.status == "floppy" and stub.stage == "offer"
+    wrong = decide(inst, SolverOptions(stages=(_Offer(np.zeros_like(u)),), min_norm=False))
+    assert wrong.status == "undecided" and wrong.stage == ""

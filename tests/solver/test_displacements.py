@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from benchmarks.reference import min_norm_minimizer
 from tensegrity_rigidity import (
     Element,
     Instance,
@@ -16,7 +17,6 @@ from tensegrity_rigidity import (
 )
 from tensegrity_rigidity.analysis.observables import nonaffinity
 from tensegrity_rigidity.model.mechanics import affine_extensions, energy
-from tensegrity_rigidity.solver.reference import min_norm_minimizer
 from tests.instances import (
     NEAR_THRESHOLD,
     near_threshold_instance,
@@ -163,12 +163,12 @@ def test_minimum_norm_is_not_claimed_when_the_relaxed_energy_is_not_certified():
     passing KKT residuals, before the energy's certificate was required; the n = 32 sample
     this test used until the support optimum certified its energy, configuration 4, sample 0,
     is now ``test_the_support_optimum_certifies_energies_purification_leaves_open``)."""
-    from tensegrity_rigidity.solver.core import ENERGY_GAP
+    from tensegrity_rigidity.solver.tolerances import Tolerances
 
     p_t, f_c, phi = NEAR_THRESHOLD[3]
     res = solve(near_threshold_instance(64, [64, 3, 0], phi, p_t, f_c, 14927))
     assert res.decided and res.rigid
-    certified = res.energy_lower >= (1 - ENERGY_GAP) * res.energy
+    certified = res.energy_lower >= (1 - Tolerances.energy_gap) * res.energy
     assert not certified  # the case this test is about (a relaxation that does converge
     # here would make it vacuous: then pick another sample)
     assert not res.min_norm_ok
@@ -188,14 +188,14 @@ def test_the_support_optimum_certifies_energies_purification_leaves_open():
     for the energy's dual (``selfstress.optimal_on_support``), they bound it to round-off, and
     the n = 16 and n = 32 displacements are then certified minimum-norm (the n = 24
     projection is not: its KKT residuals stall, a separate matter)."""
-    from tensegrity_rigidity.solver.core import ENERGY_GAP
+    from tensegrity_rigidity.solver.tolerances import Tolerances
 
     cases = ((16, 5, 4, 847, True), (24, 3, 0, 2071, False), (32, 4, 0, 2238, True))
     for n, c, k, event, min_norm in cases:
         p_t, f_c, phi = NEAR_THRESHOLD[c]
         res = solve(near_threshold_instance(n, [n, c, k], phi, p_t, f_c, event))
         assert res.decided and res.rigid
-        assert res.energy_lower >= (1 - ENERGY_GAP) * res.energy, (n, c, k, res.message)
+        assert res.energy_lower >= (1 - Tolerances.energy_gap) * res.energy, (n, c, k, res.message)
         if min_norm:
             assert res.min_norm_ok, (n, c, k, res.min_norm_residuals, res.message)
 
@@ -223,14 +223,14 @@ def test_the_long_relaxation_certifies_energies_the_short_one_leaves_uncertified
     """Two rigid samples of the paper-scale Fig. 2 sweeps (n = 32, the transition's rigid side)
     whose relaxed energy the short interior point (60 iterations at 1e-10) left uncertified
     (lower bound 0 and 0.99999 of the energy), so that the sweep stored no nonaffinity for
-    them: the long one (``RELAX_IPM``) certifies both, and their displacements are then
+    them: the long one (``relax_long_ipm``) certifies both, and their displacements are then
     certified minimum-norm. Without it both fail."""
-    from tensegrity_rigidity.solver.core import ENERGY_GAP
+    from tensegrity_rigidity.solver.tolerances import Tolerances
 
     for study, p_r, k in (("fig2_pt0.2", 0.55, 16), ("fig2_pt0.3", 0.5, 21)):
         res = solve(_paper_sample(study, p_r, 0.0, k))
         assert res.decided and res.rigid
-        assert res.energy_lower >= (1 - ENERGY_GAP) * res.energy, (study, res.message)
+        assert res.energy_lower >= (1 - Tolerances.energy_gap) * res.energy, (study, res.message)
         assert res.min_norm_ok, (study, res.min_norm_residuals, res.message)
 
 
@@ -238,7 +238,7 @@ def test_the_long_relaxation_never_replaces_a_certified_short_one():
     """At the rigid side of this n = 32 threshold (configuration 1 of the near-threshold set,
     sample 0) the short interior point certifies the energy. The long one alone ends 1e-4 higher
     and uncertified (its last iterate is worse), so it runs only where the short one fails
-    (``RELAX_IPM``)."""
+    (``relax_long_ipm``)."""
     from tensegrity_rigidity.ensemble.thresholds import EventPath, find_threshold
 
     n, c = 32, 1
@@ -260,17 +260,17 @@ def test_the_long_relaxation_resolves_near_mechanisms_below_the_default_shift():
     whose energy the short interior point leaves uncertified (lower bound 0.52, 0.00065 and 0.33
     of the energy). With the Newton matrix shifted by 1e-12, as in the short run, the long run
     certifies none of them: the energy falls along near-mechanisms whose curvature is below the
-    shift. With ``RELAX_LONG_SHIFT`` (1e-15) it certifies all three, the second at an energy
+    shift. With ``relax_long_shift`` (1e-15) it certifies all three, the second at an energy
     870 times below the short run's, and the first and third get certified minimum-norm
     displacements."""
-    from tensegrity_rigidity.solver.core import ENERGY_GAP
+    from tensegrity_rigidity.solver.tolerances import Tolerances
 
     cases = (((5, 3), 1924, 1e-4, True), ((5, 2), 1916, 1e-7, False), ((3, 3), 2088, 1e-2, True))
     for (c, k), event, energy_order, min_norm in cases:
         p_t, f_c, phi = NEAR_THRESHOLD[c]
         res = solve(near_threshold_instance(24, [24, c, k], phi, p_t, f_c, event))
         assert res.decided and res.rigid
-        assert res.energy_lower >= (1 - ENERGY_GAP) * res.energy, (c, k, res.message)
+        assert res.energy_lower >= (1 - Tolerances.energy_gap) * res.energy, (c, k, res.message)
         assert energy_order < res.energy < 10 * energy_order, (c, k, res.energy)
         if min_norm:
             assert res.min_norm_ok, (c, k, res.min_norm_residuals, res.message)
@@ -282,11 +282,12 @@ def test_the_active_set_projects_rigid_samples_like_the_interior_point():
     iterations on at least 90% of them, and whenever it does its |u| is the interior point's to
     1e-7 and ``project`` takes it as it is; some need more than one iteration (the held set's
     update does work), and where one iteration is not enough ``project`` still certifies."""
-    from tensegrity_rigidity.solver.core import _balanced_tensions, _relax, _search, _verdict
+    from tensegrity_rigidity.solver.core import _search, _verdict
     from tensegrity_rigidity.solver.displacements import active_set, project
     from tensegrity_rigidity.solver.displacements import (
         min_norm_minimizer as interior_point,
     )
+    from tensegrity_rigidity.solver.relaxation import _balanced_tensions, _relax
 
     rng = np.random.default_rng(23)
     opts = SolverOptions()
@@ -378,13 +379,13 @@ def test_the_interior_point_stops_at_its_first_certified_iterate():
         t, u = np.zeros(p.sites.size), np.asarray(s.floppy.u, dtype=float)
         full = interior_point(p, t, u, tol=tol)
         residuals = (full.feasibility, full.stationarity, full.dual)
-        if full.rounds < 2 or not _certified_with_margin(*residuals, tol):
+        if full.rounds < 2 or not _certified_with_margin(*residuals, tol, p.tol.min_norm_dual):
             continue  # ended otherwise (not certified, or at its KKT or iteration limits)
         shorter = interior_point(
             p, t, u, tol=tol, max_iterations=full.rounds - 1, refine_multipliers=False
         )
         assert not _certified_with_margin(
-            shorter.feasibility, shorter.stationarity, shorter.dual, tol
+            shorter.feasibility, shorter.stationarity, shorter.dual, tol, p.tol.min_norm_dual
         )
         checked += 1
     assert checked >= 20, checked
@@ -494,7 +495,7 @@ def test_refined_multipliers_do_not_certify_a_point_that_is_not_the_projection()
     res = interior_point(p, t, np.asarray(s.floppy.u, dtype=float))
     assert res.ok and res.multipliers is not None
     refined = _refined_certificate(p, res.u, res.multipliers, eq, ineq, c)
-    assert refined is not None and _certified(*refined[0], 1e-8), refined[0]
+    assert refined is not None and _certified(*refined[0], 1e-8, p.tol.min_norm_dual), refined[0]
     shift = 1e-3 * np.abs(res.u).max()
     moved = res.u + np.tile([shift, -shift], p.n2 // 2)
     refined = _refined_certificate(p, moved, res.multipliers, eq, ineq, c)

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from benchmarks.reference import lp_verdict
 from tensegrity_rigidity import SolverOptions, solve
 from tensegrity_rigidity.errors import InputError
 from tensegrity_rigidity.solver.linalg import PatternFactor
-from tensegrity_rigidity.solver.reference import lp_verdict
 from tests.instances import random_instance
 
 

@@ -105,7 +105,8 @@ def test_the_support_optimum_does_not_depend_on_the_point_the_tensions_come_from
     relative), whose dual bound is ``E*``; purification (weighed by ``t^2``) from the same
     tensions lands on another self-stress, whose bound is lower by more than 1e-6 relative on
     at least three quarters of them (all 12 here)."""
-    from tensegrity_rigidity.solver.core import SolverOptions, _relax
+    from tensegrity_rigidity.solver.core import SolverOptions
+    from tensegrity_rigidity.solver.relaxation import _relax
     from tensegrity_rigidity.solver.selfstress import optimal_on_support
 
     rng = np.random.default_rng(5)

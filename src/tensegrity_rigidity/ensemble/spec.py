@@ -75,7 +75,7 @@ import math
 import os
 import tomllib
 import warnings
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, is_dataclass
 from pathlib import Path
 from typing import Any
 
@@ -85,7 +85,6 @@ from ..model.limits import check_gamma
 from ..model.sampling import LATTICES
 from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
-from ..solver.stages import BALANCE, POLISH, STAGES
 
 GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
 FLAT_KEYS = GRID_KEYS + ("samples", "verdict")
@@ -93,7 +92,8 @@ VERDICTS = ("exact", "paper")
 SECTIONS = {
     "lattice": {"kind"},
     "strain": {"gamma", "angles"},
-    "solver": {f.name for f in fields(SolverOptions)},
+    # the scalar fields of SolverOptions, and ``stages`` as names
+    "solver": {f.name for f in fields(SolverOptions)} - {"refiner", "tolerances"},
     "output": {"chunk_size"},
     "threshold": {"path"},
 }
@@ -176,9 +176,34 @@ class GridPoint:
     seed: int
 
 
-def _fields(stage: Any) -> dict:
-    """A verdict stage's parameters (every stage is a dataclass)."""
-    return asdict(stage)
+def _plain(obj: Any) -> Any:
+    """``obj`` as JSON reads it back: a dataclass as its class name and fields (recursively),
+    tuples as lists; other objects (a strategy that is not a dataclass) by their type name."""
+    if is_dataclass(obj) and not isinstance(obj, type):
+        return {"class": type(obj).__name__} | {
+            f.name: _plain(getattr(obj, f.name)) for f in fields(obj)
+        }
+    if isinstance(obj, (list, tuple)):
+        return [_plain(x) for x in obj]
+    if obj is None or isinstance(obj, (bool, int, float, str)):
+        return obj
+    return {"class": type(obj).__name__}
+
+
+def solver_settings(options: SolverOptions) -> dict:
+    """The solver options as the settings record them: the whole frozen object, recursively.
+
+    Parameters
+    ----------
+    options : SolverOptions
+        The effective options.
+
+    Returns
+    -------
+    dict
+        JSON-ready: each dataclass as its class name and fields, tuples as lists.
+    """
+    return _plain(options)
 
 
 def _digest(obj) -> str:
@@ -285,17 +310,15 @@ class Spec:
     def settings(self) -> dict:
         """Everything but the grid that changes a sample's result (JSON-ready).
 
-        The solver options are listed field by field from the effective
-        :class:`SolverOptions`, defaults included, so a changed default is a changed setting;
-        so are the parameters of the verdict search those options name (each stage in order,
-        the polisher and the balancer), whose defaults change the verdicts of near-threshold
-        probes.
+        The effective :class:`SolverOptions` are listed as a whole, recursively (the
+        strategies in order with their knobs, the refiner, every tolerance), defaults
+        included, so a changed default anywhere in the search is a changed setting.
 
         Returns
         -------
         dict
             ``mode``, ``threshold_path``, ``lattice``, ``gamma``, ``angles``, ``verdict``,
-            ``solver``, ``search``.
+            ``solver``.
         """
         opts = self.solver_options()
         return {
@@ -305,17 +328,8 @@ class Spec:
             "gamma": self.gamma,
             "angles": self.angles,
             "verdict": self.verdict,
-            "solver": asdict(opts),
-            # as JSON reads them back (lists, not tuples), so that a recorded spec compares equal
-            "search": json.loads(
-                json.dumps(
-                    {
-                        "stages": {name: _fields(STAGES[name]) for name in opts.stages},
-                        "polish": asdict(POLISH),
-                        "balance": asdict(BALANCE),
-                    }
-                )
-            ),
+            # the options as a whole: any field, however deep, is part of the digest
+            "solver": solver_settings(opts),
         }
 
     def settings_digest(self) -> str:

@@ -1,62 +1,22 @@
 """The two certificates of a verdict and the resolution model that makes them exclude each other.
 
-Units. The affine extensions are measured in units of their largest magnitude over all bond
-sites of the instance, ``s0 = max_b |e0_b|`` (a property of the geometry and the strain, the
-same for every element configuration of a sample), and displacements in the same units
-(``u_n = u / s0``). The verdict does not depend on the strain magnitude, and nothing here can
-underflow or overflow with it.
+Units: the affine extensions and the displacements are measured in units of the largest affine
+extension over all bond sites, ``s0 = max_b |e0_b|``, so nothing here depends on the strain
+magnitude.
 
-Certificates (docs/model.md, Farkas' lemma):
+* **Floppy**: a displacement ``u`` whose extensions ``v = e0 + R u`` are admissible (rods
+  unstretched, cables not stretched, struts not compressed). Its *violation* is the largest
+  ``|v|`` on rods, ``max(v, 0)`` on cables, ``max(-v, 0)`` on struts; its *size* ``max |u| / s0``.
+* **Rigid**: an admissible self-stress ``t`` (``t >= 0`` on cables, ``<= 0`` on struts). Its
+  *work* is ``w = t . e0 / (|t|_1 s0)``, its *force residual* ``r = |R^T t|_1 / |t|_1``.
 
-* **Floppy**: a displacement ``u`` whose extensions ``v = e0 + R u`` lie in the admissible set
-  ``Z`` (rods unstretched, cables not stretched, struts not compressed). Its *violation* is
-  ``max_b viol_b(v)`` with ``viol = |v|`` on rods, ``max(v, 0)`` on cables, ``max(-v, 0)`` on
-  struts, and its *size* is ``max |u_n|``.
-* **Rigid**: an admissible self-stress ``t`` (``t >= 0`` on cables, ``<= 0`` on struts, any sign
-  on rods, zero on empty sites). Its *work* is ``w = t . e0 / (|t|_1 s0)`` and its *force
-  residual* ``r = |R^T t|_1 / |t|_1``.
-
-Resolution model. With a violation tolerance ``tau`` and a displacement bound ``U``
-(:class:`Resolution`):
-
-* a floppy certificate is accepted when its violation is at most ``tau`` and its size at most
-  ``U``;
-* a rigid certificate is accepted when ``w > tau + U r``.
-
-Both can never be accepted for one instance. For any admissible ``t`` and any ``u``,
-``t . e0 = t . v - (R^T t) . u_n s0``. An accepted floppy ``u`` has ``t_b v_b <= |t_b| tau s0``
-for every ``b`` (the sign of ``t_b`` matches the side on which ``v_b`` may be violated), so
-``t . v <= |t|_1 tau s0``, and ``|(R^T t) . u_n| <= |R^T t|_1 U``. Hence ``w <= tau + U r``,
-and ``t`` is not accepted. A rigid certificate therefore rules out every zero-energy
-displacement smaller than ``(w - tau) / r`` (in units of ``s0``), and a floppy one every
-self-stress whose work exceeds what its residual could explain.
-
-Every quantity is evaluated in extended precision (``numpy.longdouble``: a 64-bit mantissa on
-x86-64, unit round-off ``eps = 2^-64``), with the unit bond vectors recomputed from the
-positions in that precision. The round-off of each evaluation is bounded in units of that
-``eps`` (``EPS``; on a platform whose ``longdouble`` is a plain double the bounds grow with it
-and stay valid), and the bound is added to each test:
-
-* a violation ``v_b = e0_b + dhat_b . (u_j - u_i)``: about ten roundings of quantities up to
-  ``1 + 4 size``, bounded with a factor 2 to spare by :func:`violation_roundoff`,
-  ``20 eps (1 + 4 size)`` (4.3e-10 at ``U = 1e8``);
-* the work and the residual (:meth:`ExactGeometry.rigid`): a bond vector is correctly rounded
-  (:func:`bond_vectors`), so its unit vector carries a relative error below ``6 eps``, its
-  product with ``t_b`` one more; a node's force sums at most ``D`` contributions in turn
-  (``D`` the largest node degree; ``(D - 1) eps`` of the sum of their magnitudes), so with
-  ``|dhat_bx| + |dhat_by| <= sqrt(2)`` and two ends per bond ``|R^T t|_1`` is off by less than
-  ``2 sqrt(2) (D + 6) eps |t|_1``; the work is a pairwise sum over ``m`` sites divided by
-  ``|t|_1`` (itself a pairwise sum), off by less than ``(2 ceil(log2 m) + 3) eps``. Both are
-  below ``roundoff = (3 (D + 6) + 2 ceil(log2 max(m, 2N)) + 3) eps``
-  (:attr:`ExactGeometry.roundoff`, which also covers sums over the ``2N`` displacements;
-  3.6e-18 on the triangular lattice at n = 64). In 3D a unit vector takes one more rounding
-  (``7 eps``) and ``|dhat|_1 <= sqrt(3)``: ``roundoff = (4 (D + 7) + 2 ceil(log2 max(m, 3N))
-  + 3) eps``.
-  ``tests/solver/test_certificates.py`` checks both bounds against 40-digit decimal arithmetic.
-
-An instance with neither certificate is *within resolution of the boundary* (or was not
-resolved by the stages tried): it is reported undecided, with both best candidates, never
-guessed.
+With a violation tolerance ``tau`` and a displacement bound ``U`` (:class:`Resolution`) a
+floppy certificate is accepted when its violation is at most ``tau`` and its size at most
+``U``, a rigid one when ``w > tau + U r``; the two can never both be accepted for one instance
+(docs/model.md, "The resolution model"). Every quantity is evaluated in extended precision
+with the bond vectors recomputed in it, and a bound on its round-off (:func:`violation_roundoff`,
+:attr:`ExactGeometry.roundoff`, derived in docs/model.md) is added to each test. An instance
+with neither certificate is reported undecided, with both best candidates, never guessed.
 """
 
 from __future__ import annotations

@@ -1,28 +1,13 @@
-"""Exact relaxation of the linear tensegrity energy and a certified rigid/floppy verdict.
+"""The certified rigid/floppy verdict of an instance and its exact relaxed state.
 
-:func:`decide` returns the verdict and the certificate behind it; :func:`solve` adds the
-relaxed state: the minimum energy ``E*``, the unique tensions ``t*`` and the minimum-norm
-minimising displacements.
-
-Verdict. By Farkas' lemma an instance is rigid iff an admissible self-stress does positive work
-on the strain, floppy iff a displacement puts every element in its admissible set. The search
-(:mod:`.stages`) runs fast specialised stages that propose displacements and tensions;
-:mod:`.certificates` accepts a candidate only under one resolution model that makes the two
-certificates exclude each other (a floppy displacement within a stated bound, a self-stress
-whose work exceeds what its force residual could explain). The verdict does not depend on the
-stiffnesses or on the strain magnitude, so the search runs on unit stiffnesses and unit strain
-scale. An instance with no accepted certificate is reported undecided, with both best
-candidates, never guessed.
-
-Relaxed state. On a floppy verdict ``E* = 0`` and ``t* = 0``. On a rigid one (or an undecided
-one) the energy with the given stiffnesses is minimised from the search's lowest-energy point
-by semismooth Newton, the interior point and a crossover (:mod:`.newton`, :mod:`.ipm`), and the
-report includes a lower bound on ``E*`` from the purified tensions (weak duality), so the
-accuracy of ``E*`` is stated, not assumed.
-
-Displacements. Minimisers are not unique on floppy networks; :func:`solve` returns the
-minimum-norm minimiser (the limit of a vanishing background stiffness), with the mean
-translation removed (see :mod:`.displacements`).
+:func:`decide` runs the verdict search (:mod:`.stages`) on unit stiffnesses and unit strain
+scale (the verdict depends on neither) and returns a :class:`Verdict`: by Farkas' lemma an
+instance is rigid iff an admissible self-stress does positive work on the strain, floppy iff a
+displacement puts every element in its admissible set, and only a certificate accepted by the
+resolution model of :mod:`.certificates` decides; otherwise the instance is undecided, with both
+best candidates, never guessed. :func:`solve` composes the verdict with the relaxation
+(:mod:`.relaxation`: ``E*``, ``t*`` and a certified lower bound) and the minimum-norm projection
+(:mod:`.displacements`) into a :class:`SolveResult` in the instance's units.
 """
 
 from __future__ import annotations
@@ -30,7 +15,7 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -38,125 +23,15 @@ from ..errors import InputError, UndecidedWarning
 from ..model.limits import check_energy_scale
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
-from .certificates import FloppyCertificate, Resolution, RigidCertificate, violation_roundoff
-from .displacements import project
-from .ipm import IpmState, interior_point
+from .certificates import FloppyCertificate, RigidCertificate
+from .displacements import MinimumNorm, minimum_norm
 from .linalg import one_blas_thread
-from .newton import CROSSOVER_TAUS, crossover, newton
+from .options import SolverOptions
 from .problem import Problem
-from .selfstress import SUPPORT_TOL, kept, optimal_on_support, purify
-from .stages import BALANCE, DEFAULT_STAGES, POLISH, STAGES, search
+from .relaxation import Relaxation, energy_certified, relax
+from .stages import search
 
-
-@dataclass(frozen=True)
-class SolverOptions:
-    """Tolerances, limits and switches of :func:`solve` and :func:`decide` (dimensionless).
-
-    Attributes
-    ----------
-    violation_tol : float
-        ``tau`` of the resolution model: the largest violation of a floppy certificate, and
-        the smallest normalised work of a rigid one, in units of ``max |e0|``.
-    displacement_bound : float
-        ``U`` of the resolution model: the largest displacement of a floppy certificate, in
-        units of ``max |e0|``; a rigid certificate's force residual is weighed against it.
-    stages : tuple of str
-        Stages of the verdict search, in order (see :mod:`tensegrity_rigidity.solver.stages`).
-    polish : bool
-        Polish floppy candidates that narrowly fail onto their tight set in extended precision
-        before rejecting them (:class:`~tensegrity_rigidity.solver.stages.Polish`).
-    balance : bool
-        Balance rigid candidates that narrowly fail to extended round-off after purification
-        (:class:`~tensegrity_rigidity.solver.stages.Balance`).
-    regularization : float
-        ``mu`` of the Newton matrix, relative to the mean stiffness (the relaxation's long
-        run, where the short one leaves the energy uncertified, uses
-        :data:`RELAX_LONG_SHIFT` instead).
-    max_iter : int
-        Newton iterations when the energy is minimised for the relaxed state.
-    min_norm : bool
-        Compute the minimum-norm minimiser (needed for the nonaffinity).
-    factorization : str
-        Sparse factorisation backend: "auto" (CHOLMOD, QDLDL where Cholesky fails), "cholmod"
-        or "qdldl"; see :mod:`tensegrity_rigidity.solver.linalg`.
-    """
-
-    violation_tol: float = Resolution.violation
-    displacement_bound: float = Resolution.displacement
-    stages: tuple[str, ...] = DEFAULT_STAGES
-    polish: bool = True
-    balance: bool = True
-    regularization: float = 1e-12
-    max_iter: int = 40
-    min_norm: bool = True
-    factorization: str = "auto"
-
-    def __post_init__(self):
-        if self.factorization not in ("auto", "cholmod", "qdldl"):
-            raise InputError(
-                "SolverOptions.factorization must be 'auto', 'cholmod' or 'qdldl', "
-                f"got {self.factorization!r}"
-            )
-        stages = self.stages
-        if isinstance(stages, str) or not all(isinstance(x, str) for x in stages):
-            raise InputError(f"SolverOptions.stages must be a list of names, got {stages!r}")
-        if not stages:
-            raise InputError(
-                "SolverOptions.stages is empty: no stage would look for a certificate, so every "
-                f"sample would end undecided; choose from {', '.join(STAGES)}"
-            )
-        unknown = [x for x in stages if x not in STAGES]
-        if unknown:
-            raise InputError(
-                f"unknown solver stage {unknown[0]!r}; choose from {', '.join(STAGES)}"
-            )
-        object.__setattr__(self, "stages", tuple(stages))
-        for f in fields(self):
-            value = getattr(self, f.name)
-            kind = {"int": int, "float": float, "bool": bool}.get(str(f.type))
-            if kind is None:
-                continue
-            if kind is bool:
-                ok = isinstance(value, bool)
-            elif kind is float:
-                ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-            else:
-                ok = isinstance(value, int) and not isinstance(value, bool)
-            if not ok:
-                raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {value!r}")
-            if kind is not bool and not (np.isfinite(value) and value >= 0):
-                raise InputError(
-                    f"SolverOptions.{f.name} must be finite and non-negative, got {value!r}"
-                )
-        self._check_resolution()
-
-    def _check_resolution(self) -> None:
-        """Refuse tolerances under which one kind of certificate could never or always pass."""
-        tau, U = self.violation_tol, self.displacement_bound
-        if not (isinstance(tau, (int, float)) and isinstance(U, (int, float))):
-            return  # the type checks below name the field
-        if not 0 < tau < 1:
-            raise InputError(
-                f"SolverOptions.violation_tol must lie in (0, 1), got {tau!r}: at 1 or more "
-                "u = 0 passes as a floppy certificate of every sample"
-            )
-        if not U > 0 or violation_roundoff(U) >= tau:
-            raise InputError(
-                f"SolverOptions.displacement_bound = {U!r} leaves no floppy certificate "
-                f"possible at violation_tol = {tau!r} (the round-off of a violation at that "
-                "size reaches tau, or the bound is not positive)"
-            )
-
-    @property
-    def resolution(self) -> Resolution:
-        """The resolution model of the certificates.
-
-        Returns
-        -------
-        Resolution
-            ``Resolution(violation_tol, displacement_bound)``.
-        """
-        return Resolution(self.violation_tol, self.displacement_bound)
+__all__ = ["SolveResult", "SolverOptions", "Verdict", "decide", "energy_certified", "solve"]
 
 
 @dataclass(frozen=True)
@@ -213,7 +88,7 @@ class SolveResult:
     energy : float
         Minimum energy E* = min_u 1/2 sum_b k_b h_b(e_b) e_b^2 (docs/model.md) in the instance's
         units (stiffness x length^2); exactly 0 on a floppy verdict. On a rigid or undecided
-        verdict it is the relaxation's lowest energy, E* to within :data:`ENERGY_GAP` where
+        verdict it is the relaxation's lowest energy, E* to within ``Tolerances.energy_gap`` where
         :func:`energy_certified` holds for it and ``energy_lower``.
     energy_lower : float
         A certified lower bound on E* (weak duality from the relaxed tensions purified onto a
@@ -253,7 +128,7 @@ class SolveResult:
     min_norm_ok : bool
         Whether the displacements are the minimum-norm minimiser, certified by its KKT
         residuals (:mod:`.displacements`) on the polyhedron of minimisers, itself certified by
-        the energy's lower bound on a rigid or undecided verdict (:data:`ENERGY_GAP`).
+        the energy's lower bound on a rigid or undecided verdict (``Tolerances.energy_gap``).
     min_norm_residuals : tuple of 3 float
         Those residuals: feasibility (the largest violation of the polyhedron of minimisers,
         units of ``max |e0|``); stationarity (the larger of ``|u + R^T lam|_inf / |u|_inf``
@@ -366,23 +241,14 @@ def _search(
         hint = " (load a file with load_instance(path) first)"
         hint = hint if isinstance(instance, (str, os.PathLike)) else ""
         raise InputError(f"expected an Instance, got {type(instance).__name__}{hint}")
-    p = Problem(instance, opts.regularization, opts.factorization, unit_stiffness=True)
+    p = Problem(instance, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
     _check_scale(p)
     u0 = t0 = None
     if start is not None and p.scale > 0:
         u0 = np.asarray(start, dtype=float).ravel() / p.scale
     if start_tensions is not None:
         t0 = np.asarray(start_tensions, dtype=float)[p.sites]
-    stages = [STAGES[name] for name in opts.stages]
-    s = search(
-        p,
-        opts.resolution,
-        stages,
-        u0,
-        t0,
-        POLISH if opts.polish else None,
-        BALANCE if opts.balance else None,
-    )
+    s = search(p, opts.resolution, opts.stages, u0, t0, opts.refiner, opts.polish, opts.balance)
     return p, s
 
 
@@ -436,297 +302,6 @@ def decide(
     return _verdict(p, s)
 
 
-#: Largest relative gap ``(E - E_lower) / E`` between the relaxed energy and its certified lower
-#: bound for which the minimum-norm displacements are computed and can be certified. The
-#: projection's polyhedron uses the relaxed tensions ``t`` as ``t*``; by the strong convexity of
-#: the energy in the tensions, ``sum (t_b - t*_b)^2 / k_b <= 2 (E - E*) <= 2 (E - E_lower)``,
-#: so a small gap bounds how far the polyhedron's targets ``t / k`` are from ``t* / k``. Where
-#: the relaxation has not converged (near a sample's own threshold at n >= 32, force residual
-#: 1e-3 to 1; only the verdict's self-stress bounds E*, at 0 to 0.26 of E) the gap is large
-#: and the displacements are not claimed minimum-norm; certified relaxations have gaps below
-#: 4e-12 (phase-diagram and at-threshold samples, n = 16 and 32).
-ENERGY_GAP = 1e-8
-
-
-def energy_certified(energy, energy_lower):
-    """Whether the relaxed energy is within :data:`ENERGY_GAP` of its certified lower bound.
-
-    Parameters
-    ----------
-    energy, energy_lower : float or (k,) float array
-        Relaxed energies and their lower bounds (``SolveResult.energy``, ``energy_lower``;
-        the sweep rows' columns of the same names).
-
-    Returns
-    -------
-    bool or (k,) bool array
-        True where the relaxed tensions are certified to be t* (False where either is NaN).
-    """
-    return energy_lower >= (1.0 - ENERGY_GAP) * energy
-
-
-#: (iterations, tolerance) of the relaxation's interior point (run when Newton stops with a
-#: force residual above :data:`STATIONARY`): first the short run; then, only where that leaves the
-#: energy uncertified (:data:`ENERGY_GAP`), the relaxation again from its result with the long
-#: run, on a Newton matrix shifted by :data:`RELAX_LONG_SHIFT` only. Near a sample's own
-#: threshold the energy keeps falling long after the scaled residuals stall (one n = 32 sample:
-#: 1.97e-4, 1.77e-4, 1.71e-4 after 60, 100, 200 iterations). The long run's result is kept
-#: where its energy is lower (the lower bound kept is the larger of the two runs'); the long run
-#: alone is not a replacement for the short one: its last iterate can be worse (an at-threshold
-#: n = 32 sample whose energy 60 iterations certify ends 1e-4 higher, uncertified, after 200).
-#: The long run's interior point starts cold: started from where the short run's ended (its
-#: iterate, slacks and multipliers, on the shifted matrix), it took 20 to 121 fewer
-#: factorisations on the 6 rigid at-threshold configurations that reach it (of 8; n = 32 and
-#: 64), but ended at a higher energy on 4 of them (up to 1.8 times; lower on one), certified
-#: none more, and left an n = 32 energy uncertified that the cold start certifies (scratch,
-#: 2026-11-29).
-RELAX_IPM = ((60, 1e-10), (200, 1e-14))
-
-#: Diagonal shift of the Newton matrix ``R^T D R + mu I`` (relative to the mean stiffness) in
-#: the relaxation's long run, in place of ``SolverOptions.regularization`` (1e-12). Near a
-#: sample's own threshold the energy falls along near-mechanisms whose curvature is below
-#: 1e-12: a shift of 1e-12 cuts every step along them to that curvature over the shift, and the
-#: interior point crawls. Measured on the 24 rigid at-threshold samples (n = 24, 32, 64; the
-#: near-threshold set) whose energy the short run leaves uncertified, the long run certifies
-#: 4 with a shift of 1e-12, 5 with 1e-13, 11 with 1e-14, 14 with 1e-15 and 7 with 1e-16 (where
-#: 10 factorisations fail: the shift is then below the round-off of exact mechanisms' pivots).
-#: Its energy at 1e-15 is lower than the short run's on all 24 (by up to 870 times) and than
-#: the long run's at 1e-12 on 23 (scratch, 2026-11-27). Where the factorisation fails all the
-#: same, the long run is skipped.
-RELAX_LONG_SHIFT = 1e-15
-
-#: Relative force residual ``|R^T t| / |t|`` of the tensions ``t = k (e0 + R u)`` below which
-#: Newton's end point is taken as the energy's minimiser and the relaxation's interior point
-#: is not run (about 1e5 times double-precision round-off).
-STATIONARY = 1e-10
-
-#: Engagement tolerance of the final crossover from the relaxed minimiser (an exact solve on
-#: the elements within ``1e-9`` of engaging), kept when it lowers the force residual without
-#: raising the energy by more than 1e-12 relative.
-FINAL_CROSSOVER_TAU = 1e-9
-
-
-def _relax(
-    p: Problem,
-    u: np.ndarray,
-    opts: SolverOptions,
-    ipm: tuple[int, float] = RELAX_IPM[0],
-    ipm_start: IpmState | None = None,
-) -> tuple[np.ndarray, float, int]:
-    """Minimise the energy from u: Newton, then (if not stationary) the interior point with
-    ``ipm`` = (iterations, tolerance) + crossover, and a final exact solve on the active set (a
-    crossover) when it lowers the force residual. The interior point goes on from
-    ``ipm_start`` where it passes through it (the verdict search's own run, which the cold
-    start would retrace step for step: :class:`~.ipm.IpmState`)."""
-
-    def residual(x):
-        _, _, t = p.state(x)
-        return float(np.linalg.norm(p.RT @ t)) / max(float(np.linalg.norm(t)), 1e-300)
-
-    u, E, it = newton(p, u, opts.max_iter)
-    if E > 0 and residual(u) > STATIONARY:
-        x, _, _, _ = interior_point(p, max_iter=ipm[0], tol=ipm[1], start=ipm_start)
-        for tau in CROSSOVER_TAUS:  # the first that does not raise the energy
-            y = crossover(p, x, tau=tau)
-            if y is not None and p.energy(y) <= p.energy(x):
-                x = y
-                break
-        x, E_x, more = newton(p, x, opts.max_iter)
-        it += more
-        if E_x < E:
-            u, E = x, E_x
-    if E > 0:
-        y = crossover(p, u, tau=FINAL_CROSSOVER_TAU)
-        if y is not None:
-            E_y = p.energy(y)
-            if E_y <= E * (1 + 1e-12) and residual(y) < residual(u):
-                u, E = y, E_y
-    return u, E, it
-
-
-def _relaxed(
-    p: Problem,
-    u: np.ndarray,
-    opts: SolverOptions,
-    certificate: RigidCertificate | None,
-    ipm: tuple[int, float] = RELAX_IPM[0],
-    ipm_start: IpmState | None = None,
-) -> tuple[np.ndarray, float, int, np.ndarray, np.ndarray, float]:
-    """The relaxation from ``u`` (2N,) and what certifies it (``ipm_start``: see
-    :func:`_relax`).
-
-    Returns
-    -------
-    u : (2N,) float
-        Lowest-energy displacements found.
-    E : float
-        Their energy.
-    iterations : int
-        Newton iterations spent.
-    t_relaxed : (m,) float
-        Their tensions ``k (e0 + R u)`` (zero on slack one-sided elements).
-    t_balanced : (m,) float
-        The same moved onto an exact self-stress where they are close to one.
-    E_lower : float
-        Certified lower bound on E*, at most ``E``.
-    """
-    u, E, more = _relax(p, u, opts, ipm, ipm_start)
-    _, _, t_relaxed = p.state(u)
-    t_n, tensions_bound = _balanced_tensions(p, t_relaxed)
-    E_lower = min(_energy_lower(p, tensions_bound, certificate), E)
-    if E > 0 and not energy_certified(E, E_lower):
-        t_opt, bound = _support_optimal_tensions(p, t_relaxed)
-        if bound > E_lower:
-            E_lower = min(bound, E)
-            if energy_certified(E, E_lower):
-                t_n = t_opt
-    return u, E, more, t_relaxed, t_n, E_lower
-
-
-def _long_relaxation(
-    instance: Instance,
-    opts: SolverOptions,
-    unit_stiffness: bool,
-    u: np.ndarray,
-    certificate: RigidCertificate | None,
-) -> tuple[tuple | None, int]:
-    """The relaxation's long run (``RELAX_IPM[1]``) from ``u`` (2N,), on a Newton matrix
-    shifted by :data:`RELAX_LONG_SHIFT`.
-
-    Returns
-    -------
-    result : tuple or None
-        What :func:`_relaxed` returns, or None where a factorisation failed (the shift is
-        below the round-off of a pivot).
-    factorizations : int
-        Numeric factorisations spent.
-    """
-    pl = Problem(instance, RELAX_LONG_SHIFT, opts.factorization, unit_stiffness=unit_stiffness)
-    try:
-        return _relaxed(pl, u, opts, certificate, RELAX_IPM[1]), pl.factorizations
-    except ArithmeticError:
-        return None, pl.factorizations
-
-
-def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
-    """The minimiser's tensions, moved onto an exact self-stress when they are close to one,
-    and the lower bound on E* that self-stress gives.
-
-    Tensions read off displacements as ``k (e0 + R u)`` lose digits to cancellation when they
-    are small; purification (:func:`~.selfstress.purify`) balances them to round-off with a
-    relative change of the order of their force residual. Kept only if it balances them
-    better than 1e-13 relative, else the tensions are returned as they were. Tensions that
-    already balance the nodes to 1e-13 (their round-off entries dropped, as purification
-    drops them: :data:`~.selfstress.SUPPORT_TOL`), as a converged Newton minimiser's do
-    (``3e-16`` to ``8e-16`` on the rigid phase-diagram instances at n = 64), are kept without
-    purifying: one factorisation fewer per rigid ``solve()`` (paired on those 9 instances,
-    scratch, 2026-11-28: 5.6 ms of 125 ms on average, the same energies, bounds and
-    displacements, tensions within 1e-14).
-
-    Returns
-    -------
-    t_n : (m,) float or longdouble
-        The purified tensions where kept, else ``t``.
-    bound : float
-        :func:`_self_stress_bound` of the purified tensions with their exact force residual
-        (0 where purification fails). One purification serves both: the bound used to come
-        from purifying ``t_n`` again, about 9 ms of a rigid sample's 127 ms ``solve()`` at
-        n = 64 (median of the 9 rigid phase-diagram instances of ``bench_solver.py``,
-        scratch, 2026-11-27).
-    """
-    if not np.any(t):
-        return t, 0.0
-    # purification's own support: the round-off tensions of elements only touched dropped
-    t_kept = np.where(kept(t, SUPPORT_TOL), t, 0.0)
-    exact = _exact_residual(p, t_kept)
-    if exact <= 1e-13:  # already balanced: purification could only refine round-off
-        return t_kept, _self_stress_bound(p, t_kept, exact)
-    try:
-        tp = purify(p, t)
-    except ArithmeticError:
-        return t, 0.0
-    bound = _self_stress_bound(p, tp, _exact_residual(p, tp))
-    if float(np.abs(p.RT @ tp).sum()) <= 1e-13 * float(np.abs(tp).sum()):
-        return tp, bound
-    return t, bound
-
-
-def _support_optimal_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
-    """The minimiser's tensions ``t`` ((m,), zero on slack elements) moved onto the best
-    self-stress of their support for the energy's dual
-    (:func:`~.selfstress.optimal_on_support`), and the lower bound on E* it gives.
-
-    Where the relaxation has converged, :func:`_balanced_tensions` certifies the energy; near
-    a sample's own threshold its purification (weighted by ``t^2``) can land on a self-stress
-    far from the dual optimum although the engaged set is right. On the 12 at-threshold
-    configurations of issue 13's set at n = 32 (``benchmarks/bench_solver.py``), one rigid
-    energy was uncertified with a bound of 0.34 of it; this one certifies it to ``4e-12``.
-    Where the engaged set is wrong (four at-threshold n = 64 configurations, energies ``1e-12``
-    to ``1e-6`` of the affine one) dropping the flipped elements empties the self-stress of
-    work and the bound is 0.
-
-    Returns
-    -------
-    t_opt : (m,) float
-        The self-stress (``t`` itself when there is none).
-    bound : float
-        :func:`_self_stress_bound` of it (0 when there is none).
-    """
-    x = optimal_on_support(p, t)
-    if x is None:
-        return t, 0.0
-    t_opt = np.asarray(x, dtype=float)
-    return t_opt, _self_stress_bound(p, t_opt, _exact_residual(p, x))
-
-
-def _exact_residual(p: Problem, t: np.ndarray) -> float:
-    """Relative force residual ``|R^T t|_1 / |t|_1`` of tensions ``t`` ((m,) float or
-    longdouble), the forces in extended precision (0 for ``t = 0``). No floor on ``|t|_1``:
-    tensions that underflow to subnormal sizes get the large residual they have, so that
-    :func:`_self_stress_bound` rejects them instead of dividing by their underflowed norm."""
-    size = float(np.abs(t).sum())
-    return float(np.abs(p.exact.forces(t)).sum()) / size if size > 0 else 0.0
-
-
-def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
-    """Weak-duality lower bound on E* from an admissible self-stress ``t`` (m,) whose relative
-    force residual ``|R^T t|_1 / |t|_1`` is ``residual``.
-
-    Any self-stress gives ``E* >= max_a (a t.e0 - a^2/2 t.K^-1 t) = (t.e0)^2 / (2 t.K^-1 t)``.
-    The residual adds at most ``|R^T t|_1 |u*|_inf`` to the work, which we do not know, so the
-    bound is 0 unless the residual is at round-off (``<= 1e-12``).
-    """
-    work = float(np.dot(t, p.e0))
-    if residual > 1e-12 or work <= 0 or not np.all(np.isfinite(t)):
-        return 0.0
-    return work**2 / (2.0 * float(np.dot(t, t / p.k)))
-
-
-def _energy_lower(
-    p: Problem, tensions_bound: float, certificate: RigidCertificate | None = None
-) -> float:
-    """Lower bound on E*: the larger of ``tensions_bound`` (the bound from the minimiser's
-    tensions purified onto a self-stress, :func:`_balanced_tensions`) and the bound from the
-    rigid certificate's self-stress.
-
-    Where the relaxation has converged the first equals E to round-off; where it has not
-    (near a sample's own threshold) it is 0 and the certificate's bound is what is left: 0.20
-    and 0.26 of the relaxed energy on the two such n = 32 at-threshold configurations, 0.001
-    to 0.015 on four at n = 64, 0 on two more whose certificates' force residuals (3e-9, 2e-8)
-    are above round-off.
-    """
-    bound = 0.0
-    if certificate is not None:
-        tc = np.asarray(certificate.t, dtype=float)
-        bound = _self_stress_bound(p, tc, certificate.residual)
-    return max(bound, tensions_bound)
-
-
-def _joined(message: str, more: str) -> str:
-    """``message`` and ``more`` joined by "; " (``more`` alone when ``message`` is empty)."""
-    return f"{message}; {more}" if message else more
-
-
 def solve(
     instance: Instance,
     options: SolverOptions | None = None,
@@ -739,7 +314,7 @@ def solve(
     instance : Instance
         Network, elements and strain.
     options : SolverOptions, optional
-        Resolution model, stages and limits; the defaults suit any geometry and strain
+        Resolution model, strategies and limits; the defaults suit any geometry and strain
         magnitude.
     initial_displacements : (N, d) float, optional
         Warm start (for example the solution of a neighbouring sample).
@@ -751,120 +326,67 @@ def solve(
 
     Notes
     -----
-    See the module docstring. The verdict never rests on an energy threshold: rigid needs an
-    admissible self-stress doing positive work beyond its residual, floppy a displacement of
-    bounded size whose extensions are admissible to ``violation_tol``.
+    ``solve`` = the verdict (:func:`decide`) -> the relaxation
+    (:func:`~.relaxation.relax`) -> the minimum-norm projection
+    (:func:`~.displacements.minimum_norm`). The verdict never rests on an energy threshold:
+    rigid needs an admissible self-stress doing positive work beyond its residual, floppy a
+    displacement of bounded size whose extensions are admissible to ``violation_tol``.
     """
     opts = options or SolverOptions()
     start = time.perf_counter()
     with one_blas_thread():  # the same last bits whatever the thread settings
         p, s = _search(instance, opts, initial_displacements)
         verdict = _verdict(p, s)
-        net = instance.network
-        k_sites = net.stiffness_or_ones()[p.sites]
-        uniform = k_sites.size == 0 or bool(np.all(k_sites == k_sites[0]))
-        # with one stiffness the verdict's unit-stiffness problem is the energy's too
-        pe = p if uniform else Problem(instance, opts.regularization, opts.factorization)
-        k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
-        extra_factorizations = 0
-        if verdict.status == "floppy":
-            u_n = np.asarray(s.floppy.u, dtype=float)
-            t_relaxed = np.zeros(p.sites.size)
-            E_n = 0.0
-            t_n = np.zeros(p.sites.size)
-            E_lower = 0.0
-            iterations = s.iterations
-        else:
-            u_n, E_n, more, t_relaxed, t_n, E_lower = _relaxed(
-                pe, s.u, opts, verdict.rigid, ipm_start=s.ipm_end
-            )
-            if not energy_certified(E_n, E_lower):  # near the threshold: see RELAX_IPM
-                long, extra_factorizations = _long_relaxation(
-                    instance, opts, uniform, u_n, verdict.rigid
-                )
-                if long is not None:
-                    u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = long
-                    more += more_2
-                    E_lower = max(E_lower, E_lower_2)  # both bound E* from below
-                    if E_2 < E_n:
-                        u_n, E_n, t_relaxed, t_n = u_2, E_2, t_relaxed_2, t_n_2
-                    E_lower = min(E_lower, E_n)  # and E_n bounds it from above
-            iterations = s.iterations + more
-        min_norm_ok, message, kkt = False, verdict.message, (np.nan, np.nan, np.nan)
-        norm_lower = np.nan  # of |u*|^2, units of scale^2
-        # the polyhedron of minimisers is built from the relaxed tensions: it is U* only when
-        # they are t*, which the energy's lower bound certifies (see ENERGY_GAP)
-        certified = verdict.status == "floppy" or energy_certified(E_n, E_lower)
-        if opts.min_norm and p.sites.size and np.any(p.e0):
-            if not certified:
-                message = _joined(
-                    message,
-                    "minimum-norm displacements not computed: the relaxed energy is not "
-                    f"certified (its lower bound is {E_lower / E_n:.1e} of it), so its tensions "
-                    "need not be t*; the displacements are the relaxation's lowest point",
-                )
-            else:
-                # the targets t*/k as the minimiser u_n realises them on every equality (rods,
-                # and one-sided elements where the balanced tensions t_n are not zero:
-                # purification drops the round-off tensions of elements that are only touched),
-                # so that the equalities of U* are consistent: a rod's target is its extension
-                # at u_n even where t_n is 0 (zero targets there left the system inconsistent
-                # by that extension, and the projection could not reach feasibility)
-                mn = project(pe, np.where(pe.rod | (t_n != 0), t_relaxed, 0.0), u_n)
-                kkt = (mn.feasibility, mn.stationarity, mn.dual)
-                if mn.ok:
-                    u_n, min_norm_ok = mn.u, True
-                else:
-                    norm_lower = mn.norm_lower
-                    message = _joined(
-                        message,
-                        "minimum-norm displacements not certified (KKT residuals: feasibility "
-                        f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual "
-                        f"{mn.dual:.1e}); the displacements are a minimiser; the minimum "
-                        f"norm is at least {np.sqrt(norm_lower):.3g} times the largest affine "
-                        "extension",
-                    )
-        elif opts.min_norm:  # nothing strained or no element: u = 0 is the minimum-norm minimiser
-            u_n, min_norm_ok, kkt = np.zeros(p.n2), True, (0.0, 0.0, 0.0)
-        else:
-            message = _joined(
-                message, "minimum-norm displacements not asked for (SolverOptions.min_norm)"
-            )
+        relaxed = relax(instance, p, s, verdict.status, opts)
+        projected = minimum_norm(relaxed, opts.min_norm)
     if not verdict.decided:
         warnings.warn(f"undecided sample: {verdict.message}", UndecidedWarning, stacklevel=2)
-    # back to physical units
+    return _result(instance, p, verdict, relaxed, projected, time.perf_counter() - start)
+
+
+def _result(
+    instance: Instance,
+    p: Problem,
+    verdict: Verdict,
+    relaxed: Relaxation,
+    projected: MinimumNorm,
+    seconds: float,
+) -> SolveResult:
+    """The three levels' results in the instance's physical units."""
+    net, pe, k_unit = instance.network, relaxed.problem, relaxed.k_unit
     e_unit = k_unit * p.scale**2
-    disp = (u_n * p.scale).reshape(-1, p.dim)
+    disp = (projected.u * p.scale).reshape(-1, p.dim)
     disp = disp - disp.mean(axis=0)
     # the certified sum itself, else the projection's bound (physical units)
-    min_norm_lower = float(np.sum(disp**2)) if min_norm_ok else float(norm_lower * p.scale**2)
+    norm_lower = projected.norm_lower * p.scale**2
+    min_norm_lower = float(np.sum(disp**2)) if projected.ok else float(norm_lower)
     t_full = np.zeros(net.n_sites)
-    t_full[p.sites] = t_n * k_unit * p.scale
+    t_full[p.sites] = relaxed.tensions * k_unit * p.scale
     affine = affine_extensions(net, instance.strain)
-    e_full = affine + rigidity_matrix(net) @ disp.ravel()
-    k = net.stiffness_or_ones()
     rc, fc = verdict.rigid, verdict.floppy
+    message = verdict.message
+    if projected.message:
+        message = f"{message}; {projected.message}" if message else projected.message
+    factorizations = p.factorizations + (pe.factorizations if pe is not p else 0)
     return SolveResult(
-        energy=float(E_n * e_unit),
-        energy_lower=float(E_lower * e_unit),
-        affine_energy=energy_from_extensions(net.kinds, k, affine),
+        energy=float(relaxed.energy * e_unit),
+        energy_lower=float(relaxed.energy_lower * e_unit),
+        affine_energy=energy_from_extensions(net.kinds, net.stiffness_or_ones(), affine),
         rigid=verdict.status == "rigid",
         decided=verdict.decided,
         tensions=t_full,
         displacements=disp,
-        extensions=e_full,
+        extensions=affine + rigidity_matrix(net) @ disp.ravel(),
         work=rc.work if rc is not None else 0.0,
         force_residual=rc.residual if rc is not None else np.inf,
         violation=fc.violation if fc is not None else np.inf,
         displacement_size=fc.size if fc is not None else np.inf,
-        iterations=iterations,
-        factorizations=p.factorizations
-        + (pe.factorizations if pe is not p else 0)
-        + extra_factorizations,
+        iterations=relaxed.iterations,
+        factorizations=factorizations + relaxed.extra_factorizations,
         method=verdict.stage or "undecided",
-        min_norm_ok=min_norm_ok,
-        min_norm_residuals=kkt,
+        min_norm_ok=projected.ok,
+        min_norm_residuals=projected.residuals,
         min_norm_lower=min_norm_lower,
         message=message,
-        seconds=time.perf_counter() - start,
+        seconds=seconds,
     )

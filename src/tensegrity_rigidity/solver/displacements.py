@@ -1,68 +1,21 @@
 """Minimum-norm minimising displacements, with their optimality certificate.
 
-Minimisers are not unique on floppy networks. Given the unique tensions ``t*``, the minimisers
-form the polyhedron
-
-    U* = {u : v_b = t*_b / k_b  on rods and stressed one-sided elements (equalities),
-              sigma_b v_b <= 0   on unstressed one-sided elements (inequalities)},
-
-``v = e0 + R u`` (on a floppy verdict ``t* = 0``: rods unstretched, the zero-energy set). The
-reported displacements are the projection of the origin onto ``U*``, the limit of the
-minimiser of ``E(u) + mu/2 |u|^2`` as ``mu -> 0`` (a vanishing background stiffness).
-
-Method: a primal-dual interior-point method (Mehrotra's predictor-corrector) on the
-projection, a strongly convex QP (:func:`min_norm_minimizer`). With ``G = diag(sigma) R`` and
-``h = -sigma e0`` on the inequalities, multipliers ``y`` (equalities) and ``z >= 0`` with
-slacks ``s >= 0`` (inequalities), each step solves the system
-
-    [ I    R_E^T   G^T    ] [du]
-    [ R_E  0       0      ] [dy] = rhs
-    [ G    0       -S/Z   ] [dz]
-
-regularised by ``d`` in its last two diagonal blocks and reduced to ``2N x 2N``: ``(d I +
-R_E^T R_E + G^T diag(d / (S/Z + d)) G) du = ...``, a matrix in the pattern of the verdict's own
-Newton matrix, factorised by its sparse Cholesky (:class:`_ReducedKKT`), the corrector's solve
-with a few steps of iterative refinement against the unregularised, unreduced system (the
-predictor's, which only sets the centring, without). The identity block (the
-objective's Hessian) keeps the system regular however near-floppy ``R`` is, which is where the
-minimum-norm displacements are large (near a sample's own threshold, ``|u|`` reaches ``1e5`` to
-``1e7`` times the strain). The iteration starts from the minimiser the verdict found (a point
-of ``U*`` up to its tolerance), stops at the first iterate its certificate accepts with a
-margin (:data:`CERTIFY_BELOW`), and otherwise returns the iterate with the smallest KKT
-residual; the multipliers start on the scale of ``|u|``.
-
-Where the tensions are not zero (a rigid verdict) the projection is first tried by a primal-dual
-active set (:func:`active_set`): each iteration solves the projection onto the equalities and
-the held inequalities as one equality-constrained system, with the same ``2N x 2N`` reduction
-(one factorisation and four solves, half an interior-point step), and a rigid sample's
-equalities (rods and stressed one-sided elements outnumber the ``2N`` displacements) leave
-few inequalities to guess. On the phase-diagram instances of ``benchmarks/bench_solver.py``
-it certifies every rigid projection at n = 64 and 128 in 1 to 4 iterations (scratch,
-2026-11-27): with the interior point as fallback the rigid projections took 163 ms against
-391 ms at n = 64 and 1.75 s against 8.38 s at n = 128 for the augmented Lagrangian with
-semismooth Newton steps it replaced (which certified 4 of the 9 at n = 128 within its 12
-steps; the same at n = 16 and 32 within the noise). Floppy verdicts go straight to the
-interior point: there every one-sided element is an inequality, many are held, and the
-active set's stationarity stalls at ``4e-8`` to ``9e-7`` (none of 9 certified at n = 64).
-
-Certificate (KKT of the projection): primal feasibility (largest violation of ``U*``, units of
-``max |e0|``), stationarity ``|u + R^T lam| / |u|`` and complementarity as the relative
-duality gap ``sum |lam_b v_b| / |u|^2`` (the larger of the two is reported), dual
-feasibility (largest wrong-signed multiplier of an inequality, relative to ``|lam|_inf``).
-The displacements are reported as minimum-norm (``min_norm_ok``) only when all three are
-below their tolerances; then ``|u|^2`` is within twice that fraction of its minimum. Where
-the interior point ends at a feasible point it has not certified, its multipliers are refined
-in extended precision and the certificate checked again (:func:`_refined_certificate`): near a
-sample's own threshold they can reach ``1e8`` times ``|u|``, and the stationarity of the
-double-precision ``R^T lam`` stalls at its round-off. The certificate is relative to the
-polyhedron built from the tensions it is given: :func:`~tensegrity_rigidity.solver.core.solve`
-calls it only when those are certified to be ``t*`` (the relaxed energy within
-``ENERGY_GAP`` of its lower bound).
+Minimisers are not unique on floppy networks. Given the unique tensions ``t*`` they form a
+polyhedron ``U*`` (equalities on rods and stressed one-sided elements, inequalities on the
+others), and the reported displacements are the projection of the origin onto it: the limit of
+a vanishing background stiffness. :func:`active_set` tries the projection first where ``t*`` is
+not zero (a rigid sample's equalities leave few inequalities to guess); the primal-dual
+interior point :func:`min_norm_minimizer` does the rest. Both solve reduced ``2N x 2N`` systems
+in the pattern of the verdict's Newton matrix (:class:`_ReducedKKT`), whose identity block
+keeps them regular however near-floppy the network is. The result is reported as minimum-norm
+only when its KKT residuals (feasibility, stationarity with the duality gap, dual) are below
+their tolerances. docs/model.md ("The minimum-norm projection") gives the derivation.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -71,6 +24,9 @@ from .certificates import EPS
 from .ipm import step_to_boundary
 from .linalg import PatternFactor
 from .problem import Problem
+
+if TYPE_CHECKING:
+    from .relaxation import Relaxation
 
 
 @dataclass(frozen=True)
@@ -114,6 +70,91 @@ class MinNormResult:
     norm_lower: float = float("nan")
 
 
+@dataclass(frozen=True)
+class MinimumNorm:
+    """The displacements :func:`~tensegrity_rigidity.solver.core.solve` reports.
+
+    Attributes
+    ----------
+    status : str
+        "certified" (the minimum-norm minimiser, by its KKT residuals), "uncertified" (a
+        minimiser), "not computed" (the relaxed energy is not certified) or "not asked".
+    message : str
+        Why the displacements are not certified minimum-norm ("" when they are).
+    u : (2N,) float
+        The displacements (units of ``max |e0|``).
+    residuals : tuple of 3 float
+        Feasibility, stationarity and dual KKT residuals (NaN where no projection ran).
+    norm_lower : float
+        Where the projection ran uncertified, a lower bound on ``|u*|^2``; NaN elsewhere.
+    """
+
+    status: str
+    message: str
+    u: np.ndarray
+    residuals: tuple[float, float, float] = (np.nan, np.nan, np.nan)
+    norm_lower: float = np.nan
+
+    @property
+    def ok(self) -> bool:
+        """Whether ``u`` is the certified minimum-norm minimiser."""
+        return self.status == "certified"
+
+
+def minimum_norm(relaxed: Relaxation, asked: bool = True) -> MinimumNorm:
+    """The minimum-norm minimiser of a relaxed state, projected from its displacements.
+
+    Parameters
+    ----------
+    relaxed : Relaxation
+        The relaxed state (its problem, displacements and tensions).
+    asked : bool
+        Whether to compute it (``SolverOptions.min_norm``).
+
+    Returns
+    -------
+    MinimumNorm
+        The displacements, their status and KKT residuals.
+
+    Notes
+    -----
+    The polyhedron of minimisers is built from the relaxed tensions: it is ``U*`` only when they
+    are ``t*``, which the energy's lower bound certifies, so it is not projected onto
+    otherwise. The targets are ``t*/k`` as the relaxed minimiser realises them on every
+    equality (rods, and one-sided elements where the balanced tensions are not zero), so that
+    the equalities are consistent: a rod's target is its extension at ``u`` even where its
+    balanced tension is 0.
+    """
+    p, u = relaxed.problem, relaxed.u
+    if not (p.sites.size and np.any(p.e0)):  # nothing strained or no element: u = 0 is exact
+        if asked:
+            return MinimumNorm("certified", "", np.zeros(p.n2), (0.0, 0.0, 0.0))
+        return MinimumNorm("not asked", _NOT_ASKED, u)
+    if not asked:
+        return MinimumNorm("not asked", _NOT_ASKED, u)
+    if not relaxed.certified:
+        message = (
+            f"minimum-norm displacements not computed: {relaxed.message}, so its tensions "
+            "need not be t*; the displacements are the relaxation's lowest point"
+        )
+        return MinimumNorm("not computed", message, u)
+    targets = np.where(p.rod | (relaxed.tensions != 0), relaxed.tensions_relaxed, 0.0)
+    mn = project(p, targets, u)
+    kkt = (mn.feasibility, mn.stationarity, mn.dual)
+    if mn.ok:
+        return MinimumNorm("certified", "", mn.u, kkt)
+    message = (
+        "minimum-norm displacements not certified (KKT residuals: feasibility "
+        f"{mn.feasibility:.1e}, stationarity {mn.stationarity:.1e}, dual {mn.dual:.1e}); the "
+        "displacements are a minimiser; the minimum norm is at least "
+        f"{np.sqrt(mn.norm_lower):.3g} times the largest affine extension"
+    )
+    return MinimumNorm("uncertified", message, u, kkt, mn.norm_lower)
+
+
+_NOT_ASKED = "minimum-norm displacements not asked for (SolverOptions.min_norm)"
+
+
 def project(p: Problem, t: np.ndarray, u_start: np.ndarray | None = None) -> MinNormResult:
     """The minimum-norm minimiser: :func:`active_set` where ``t`` is not zero and a start is
     given, then, unless that is certified, :func:`min_norm_minimizer` (see the module
@@ -153,35 +194,14 @@ def active_set(
     """Projection of the origin onto ``U*`` by a primal-dual active set: each iteration solves
     the projection onto the equalities and the held inequalities, all as equalities.
 
-    The held set starts as the inequalities the start touches (``sigma_b v_b >= -1e-9
-    max(1, |u_start|_inf)``). Each iteration solves
-
-        [ I    B_H^T ] [u + du]   [0  ]
-        [ B_H  0     ] [lam_H ] = [b_H],   B_H = [R_E; G_H],
-
-    from ``u_start`` by one step of :class:`_ReducedKKT` (its third block's diagonal zero: a
-    ``2N x 2N`` sparse Cholesky factorisation in the verdict's pattern and four solves), and
-    checks the KKT residuals of :func:`min_norm_minimizer` with the multipliers ``lam_H``.
-    Where they are not certified, the next held set is the held inequalities whose multiplier
-    has the right sign and the others that the new point violates (``sigma_b v_b > 1e-12
-    max(1, |u|_inf)``). Where that leaves the held set as it was, up to ``corrections``
-    further steps from the point reached (the same system, so the same factorisation) run
-    while each halves the feasibility and stationarity residuals; then it stops, as on a
-    singular system or after ``max_iterations``.
-
-    Rigid verdicts are where it applies (:func:`project`): the equalities (rods and stressed
-    one-sided elements) outnumber the ``2N`` displacements and fix all but a few mechanisms,
-    and few inequalities are held. On the rigid projections of ``benchmarks/bench_solver.py``'s
-    phase-diagram instances it certifies every one the augmented Lagrangian it replaced did
-    (n = 16 and 32: 9 of 13 each; n = 64: 9 of 9) and all 9 at n = 128 (the augmented
-    Lagrangian 4), in 1 to 4 iterations; with the interior point as fallback these
-    projections took 163 ms against 391 ms at n = 64 and 1.75 s against 8.38 s at n = 128,
-    the same within the noise at n = 16 and 32 (scratch, 2026-11-27; BENCHMARKS.md). Near a
-    sample's own threshold it rarely certifies (3 of 12 rigid projections at n = 16, none of
-    11 at n = 32 and of 2 at n = 64) and the interior point does the work. On floppy verdicts
-    (every one-sided element an inequality, many held, the equalities short of ``2N``) three
-    refinement steps leave stationarity at ``4e-8`` to ``9e-7`` and it certifies none of the 9
-    easy floppy ones at n = 64, so those go to the interior point.
+    The held set starts as the inequalities the start touches; each iteration takes one step of
+    :class:`_ReducedKKT` from ``u_start`` (its third block's diagonal zero) and checks the KKT
+    residuals of :func:`min_norm_minimizer` with the multipliers of the held rows. Where they are
+    not certified, the next held set is the held inequalities whose multiplier has the right sign
+    and the others the new point violates; where that leaves it as it was, up to ``corrections``
+    further steps on the same factorisation run while each halves the feasibility and
+    stationarity residuals. It suits rigid verdicts (:func:`project`), whose equalities fix all
+    but a few mechanisms; on floppy ones its stationarity stalls.
 
     Parameters
     ----------
@@ -200,12 +220,9 @@ def active_set(
     refinement : int
         Steps of iterative refinement per solve, against the unregularised system.
     corrections : int
-        Most further solves with the same factorisation, from the point reached, where the
-        held set did not change but the residuals are not certified (they stop once they no
-        longer halve the residuals). On the rigid verdicts of 150 random small instances (the
-        test's), one solve left stationarity at ``1e-8`` to ``1e-2`` on 17 of 84, where the
-        start lay far from ``U*``'s lowest point along the held rows' mechanisms (``|u|`` up to
-        1000 times the minimum); with the corrections all 84 are certified.
+        Most further solves with the same factorisation where the held set did not change but
+        the residuals are not certified (the start can lie far from ``U*``'s lowest point along
+        the held rows' mechanisms).
 
     Returns
     -------
@@ -220,7 +237,7 @@ def active_set(
         return max(1.0, float(np.abs(u).max(initial=0.0)))
 
     v = p.e0 + p.R @ u0
-    held = sig * v[In] >= -1e-9 * scale(u0)  # touched by the start
+    held = sig * v[In] >= -p.tol.min_norm_held * scale(u0)  # touched by the start
     bE = (c - p.e0)[E]
     u = u0
     residuals: tuple[float, float, float] = (np.inf, np.inf, np.inf)
@@ -236,12 +253,14 @@ def active_set(
         polyhedron = (E, H, eq, ineq, c)
         start = (u0, np.zeros(E.size), np.zeros(H.size))
         u, y, z, residuals = _equality_step(p, kkt_system, bE, h, start, polyhedron)
-        if _certified(*residuals, tol):
+        if _certified(*residuals, tol, p.tol.min_norm_dual):
             return MinNormResult(u, *residuals, it, True)
         v = p.e0 + p.R @ u
         z_all = np.zeros(In.size)
         z_all[held] = z
-        new = (sig * v[In] > 1e-12 * scale(u)) | (held & (z_all >= 0))  # violated, or right sign
+        new = (sig * v[In] > p.tol.min_norm_violated * scale(u)) | (
+            held & (z_all >= 0)
+        )  # violated, or right sign
         if not np.array_equal(new, held):
             held = new
             continue
@@ -250,7 +269,7 @@ def active_set(
         for _ in range(corrections):
             previous = max(residuals[:2])
             u, y, z, residuals = _equality_step(p, kkt_system, bE, h, (u, y, z), polyhedron)
-            if _certified(*residuals, tol):
+            if _certified(*residuals, tol, p.tol.min_norm_dual):
                 return MinNormResult(u, *residuals, it, True)
             if max(residuals[:2]) >= 0.5 * previous:
                 break
@@ -273,21 +292,6 @@ def _equality_step(
     return u, y, z, _certificate(p, u, y, z, E, H, eq, ineq, c)
 
 
-#: The interior point checks its certificate once its own KKT measure (inf-norms, the
-#: complementarity as ``m mu / |u|_inf^2``) is below this, and stops where the certificate
-#: holds with a margin (:func:`_certified_with_margin`): feasibility 100 times below its
-#: tolerance, as the old stop on the KKT measure below ``1e-10`` required, so that the
-#: ``project`` stage's floppy candidates keep their margin against the floppy certificate's
-#: ``1e-9``; stationarity, duality gap and dual residual 10 times below (``|u|^2`` within
-#: ``2e-9`` of its minimum). On the complementarity the KKT measure is the more pessimistic
-#: (by about ``|u|_2^2 / |u|_inf^2``): the stop on it took 2 to 3 more iterations on the easy
-#: floppy projections at n = 64 (11 to 15 in all), 1 or 2 on most at n = 16 and 32, and up
-#: to 16 and 23 more near the transition (n = 16 and 64; captured inputs of
-#: ``bench_solver.py``'s floppy projections, scratch, 2026-11-27). The certificate costs two
-#: sparse products.
-CERTIFY_BELOW = 1e-4
-
-
 def min_norm_minimizer(
     p: Problem,
     t: np.ndarray,
@@ -296,7 +300,6 @@ def min_norm_minimizer(
     max_iterations: int = 150,
     regularization: float = 1e-14,
     refinement: int = 3,
-    stall: int | None = None,
     predictor_refinement: int = 0,
     refine_multipliers: bool = True,
 ) -> MinNormResult:
@@ -319,38 +322,21 @@ def min_norm_minimizer(
     refinement : int
         Steps of iterative refinement of the corrector's solve (the step taken), against the
         unregularised system.
-    stall : int, optional
-        Stop after this many consecutive steps shorter than ``1e-2`` of the Newton step: the
-        iterate no longer moves, as when ``U*`` is empty (the zero-energy set of a rigid
-        sample, asked for by the ``project`` stage of the verdict search). Converging
-        projections near the threshold take at most 7 such steps in a row (n = 64); without
-        this the iteration runs to ``max_iterations``.
     predictor_refinement : int
         Steps of iterative refinement of the predictor's solve. The predictor only sets the
         centring and the corrector's second-order term, and the corrector's own solve is
-        refined: unrefined, an iteration costs one factorisation and 5 triangular solves
-        instead of 8. On the projections of ``solve()`` on ``benchmarks/bench_solver.py``'s
-        phase diagrams (n = 32 and 64) and on the 14 it runs on the probes of one n = 64
-        threshold search (scratch, 2026-11-28, best of 3): the same iterations on every
-        phase-diagram projection and 17 to 26 % less time (n = 64 floppy: 66 to 97 ms against
-        52 to 76 ms); at the threshold every certificate kept and one rigid projection more
-        certified (65 iterations where 3 refinement steps ran to the limit of 150), one 11
-        iterations longer. One refinement step lost a certificate there.
+        refined: unrefined, an iteration costs 5 triangular solves instead of 8.
     refine_multipliers : bool
         Where the iteration ends at a feasible point it has not certified, refine its
         multipliers in extended precision and check again (:func:`_refined_certificate`):
         near a sample's own threshold their size can stall the stationarity residual at the
-        round-off of ``R^T lam``. The same test at the checkpoints (wherever only the
-        stationarity failed, within 100 times its tolerance) shortened one of the 39
-        projections of ``bench_solver.py``'s n = 64 instances (phase diagram and threshold),
-        from 55 to 36 iterations, and certified none more (scratch, 2026-11-28): it runs at the
-        end only.
+        round-off of ``R^T lam``.
 
     Returns
     -------
     MinNormResult
         The displacements and their KKT residuals: the first iterate certified with a
-        margin (:data:`CERTIFY_BELOW`), else the iterate with the smallest KKT residual.
+        margin (``min_norm_certify_below``), else the iterate with the smallest KKT residual.
     """
     eq, ineq, c, E, In = _polyhedron(p, t)
     kkt_system = _ReducedKKT(p, E, In, p.sigma[In], regularization, refinement)
@@ -364,7 +350,7 @@ def min_norm_minimizer(
     y, z = np.zeros(E.size), np.full(mI, max(1.0, float(np.abs(u).max(initial=0.0))))
     s = np.maximum(h - G @ u, 1.0)
     best: tuple | None = None
-    it = short = 0
+    it = 0
     for it in range(1, max_iterations + 1):
         rd = u + REt @ y + Gt @ z
         re = RE @ u - bE
@@ -379,11 +365,11 @@ def min_norm_minimizer(
         )
         if best is None or kkt < best[0]:
             best = (kkt, u.copy(), y.copy(), z.copy(), it)
-        if kkt <= 1e-12 or (kkt < 1e-6 and it - best[4] > 8):
+        if kkt <= p.tol.min_norm_kkt_exact or (kkt < p.tol.min_norm_kkt_stall and it - best[4] > 8):
             break
-        if kkt <= CERTIFY_BELOW:
+        if kkt <= p.tol.min_norm_certify_below:
             residuals = _certificate(p, u, y, z, E, In, eq, ineq, c)
-            if _certified_with_margin(*residuals, tol):
+            if _certified_with_margin(*residuals, tol, p.tol.min_norm_dual):
                 return MinNormResult(u, *residuals, it, True, _multipliers(p, y, z, E, In))
         try:
             kkt_system.factor(s / z)
@@ -404,17 +390,14 @@ def min_norm_minimizer(
         y += a * dy
         z += a * dz
         s += a * ds
-        short = short + 1 if a < 1e-2 else 0
-        if stall is not None and short >= stall:
-            break
     assert best is not None
     _, u, y, z, _ = best
     lam = _multipliers(p, y, z, E, In)
     feas, stat, dual = _residuals(p, u, p.e0 + p.R @ u, lam, eq, ineq, c)
-    ok = _certified(feas, stat, dual, tol)
+    ok = _certified(feas, stat, dual, tol, p.tol.min_norm_dual)
     if refine_multipliers and not ok and feas <= tol:  # see refine_multipliers
         refined = _refined_certificate(p, u, lam, eq, ineq, c)
-        if refined is not None and _certified(*refined[0], tol):
+        if refined is not None and _certified(*refined[0], tol, p.tol.min_norm_dual):
             (feas, stat, dual), lam = refined
             ok = True
     lower = np.nan if ok else norm_lower_bound(p, lam, eq, ineq, c)
@@ -424,23 +407,11 @@ def min_norm_minimizer(
 def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
     """A certified lower bound on ``|u*|^2`` from any multipliers, by weak duality.
 
-    For multipliers ``lam`` with ``sigma lam >= 0`` on the inequalities (any sign on the
-    equalities) the dual function of the projection,
-
-        g(lam) = -1/2 |R^T lam|^2 + lam . (e0 - c),
-
-    bounds ``1/2 |u*|^2`` from below (``c``: the targets, 0 on the inequalities), whether or not
-    ``lam`` is optimal. Wrong-signed multipliers are set to 0 first, so the bound holds for
-    any input. It is evaluated on the certificates' geometry (``p.exact``): the forces in
-    extended precision, less their round-off bound (:attr:`ExactGeometry.roundoff` per
-    contribution), the product with ``e0 - c`` less a bound on its summation error.
-
-    Where the interior point stalls near a sample's own threshold this is what is known of
-    the minimum norm. On the 11 n = 64 floppy projections that end uncertified (the sweep rows
-    of ``benchmarks/bench_sweep.py`` and the at-threshold instances of ``bench_solver.py``,
-    2026-11-28) it lies above the interior point's own ``|u|^2`` on every one, by 1.00002 to
-    22.5 times (that point is infeasible, so its norm is no bound either way), and below the
-    verdict's floppy certificate's ``|u|^2`` (an upper bound) by 2.5 to 9.0e5 times.
+    For multipliers ``lam`` with ``sigma lam >= 0`` on the inequalities the dual function of the
+    projection, ``g(lam) = -1/2 |R^T lam|^2 + lam . (e0 - c)``, bounds ``1/2 |u*|^2`` from below
+    whether or not ``lam`` is optimal (wrong-signed multipliers are set to 0 first). It is evaluated
+    on the certificates' geometry, less bounds on its round-off: where the interior point stalls
+    near a threshold, this is what is known of the minimum norm.
 
     Parameters
     ----------
@@ -487,16 +458,20 @@ def _polyhedron(p: Problem, t: np.ndarray):
     return eq, ineq, c, np.flatnonzero(eq), np.flatnonzero(ineq)
 
 
-def _certified(feasibility: float, stationarity: float, dual: float, tol: float) -> bool:
-    """The KKT residuals within their tolerances (``dual``: ``1e-9``)."""
-    return feasibility <= tol and stationarity <= tol and dual <= 1e-9
+def _certified(
+    feasibility: float, stationarity: float, dual: float, tol: float, dual_tol: float
+) -> bool:
+    """The KKT residuals within their tolerances (``tol``; ``dual_tol`` for ``dual``)."""
+    return feasibility <= tol and stationarity <= tol and dual <= dual_tol
 
 
-def _certified_with_margin(feasibility: float, stationarity: float, dual: float, tol: float):
+def _certified_with_margin(
+    feasibility: float, stationarity: float, dual: float, tol: float, dual_tol: float
+):
     """Certified (:func:`_certified`) with feasibility ``100`` times and the other residuals
-    ``10`` times below ``tol``: where :func:`min_norm_minimizer` stops (:data:`CERTIFY_BELOW`)."""
+    ``10`` times below ``tol``: where :func:`min_norm_minimizer` stops."""
     return (
-        _certified(feasibility, stationarity, dual, tol)
+        _certified(feasibility, stationarity, dual, tol, dual_tol)
         and feasibility <= 1e-2 * tol
         and max(stationarity, dual) <= 0.1 * tol
     )
@@ -516,31 +491,20 @@ def _certificate(p, u, y, z, E, In, eq, ineq, c) -> tuple[float, float, float]:
     return _residuals(p, u, p.e0 + p.R @ u, _multipliers(p, y, z, E, In), eq, ineq, c)
 
 
-#: Diagonal shifts of ``R^T R`` tried in turn by :func:`_refined_certificate`.
-MULTIPLIER_SHIFTS = (1e-12, 1e-10, 1e-8)
-
-
 def _refined_certificate(
     p: Problem, u: np.ndarray, lam: np.ndarray, eq, ineq, c, steps: int = 2
 ) -> tuple[tuple[float, float, float], np.ndarray] | None:
     """The KKT residuals of ``u`` (2N,) with its multipliers ``lam`` (m,) refined in extended
     precision, and those multipliers ((m,) longdouble); None when the factorisation fails.
 
-    Near a sample's own threshold the interior point's multipliers can grow to ``1e8`` times
-    ``|u|`` along near-self-stresses of the constraints (``1e10`` to ``1e11`` against ``|u|``
-    of ``1e2`` to ``1e3`` on the floppy rows of the n = 64 sweep of ``bench_sweep.py``), where
-    their stationarity residual ``u + R^T lam`` is the round-off of ``R^T lam`` in double
-    precision (``|lam| eps``, ``1e-8`` of ``|u|``: just above the tolerance) and the last bit
-    of the bond directions. Each step here corrects ``lam`` by the least-squares solution of
-    ``R^T dlam = -(u + R^T lam)``, the residual evaluated in extended precision on the
-    certificates' geometry (``p.exact``) and ``lam`` accumulated in it (one factorisation of
-    ``R^T R + shift I`` and one solve per step). On those rows one step takes the residual from
-    ``4e-8`` to ``8e-8`` to ``1e-11`` of ``|u|`` and leaves the multipliers' signs as they
-    were (wrong-signed ones ``4e-17`` of ``|lam|``). The stationarity reported includes a bound
-    on the round-off of the extended-precision forces; feasibility and complementarity are
-    :func:`_residuals`'.
+    Near a sample's own threshold the multipliers can grow to ``1e8`` times ``|u|`` along
+    near-self-stresses of the constraints, where the stationarity residual ``u + R^T lam`` is the
+    round-off of ``R^T lam`` in double precision. Each step corrects ``lam`` by the least-squares
+    solution of ``R^T dlam = -(u + R^T lam)``, the residual evaluated in extended precision and
+    ``lam`` accumulated in it (one factorisation of ``R^T R + shift I``, one solve per step). The
+    stationarity reported includes a bound on the round-off of the extended-precision forces.
     """
-    f = p.factor_shifted(np.ones(p.sites.size), MULTIPLIER_SHIFTS)
+    f = p.factor_shifted(np.ones(p.sites.size), p.tol.min_norm_multiplier_shifts)
     if f is None:
         return None
     U = np.asarray(u, dtype=np.longdouble)
@@ -564,33 +528,19 @@ def _force_roundoff(p: Problem, lam: np.ndarray) -> np.ndarray:
 
 
 class _ReducedKKT:
-    """The interior-point system of the projection, reduced to ``2N x 2N`` on the problem's
-    own factorisation pattern.
+    """The interior-point system of the projection, reduced to ``2N x 2N``.
 
     The step of :func:`min_norm_minimizer` (and, with ``D = 0``, of :func:`active_set`) solves
 
-        [ I    R_E^T   G^T        ] [du]   [r1]
-        [ R_E  0       0          ] [dy] = [r2]
-        [ G    0       -D         ] [dz]   [r3]
+        [ I    R_E^T   G^T  ] [du]   [r1]
+        [ R_E  0       0    ] [dy] = [r2],    G = diag(sigma) R_I,  D = S / Z.
+        [ G    0       -D   ] [dz]   [r3]
 
-    with ``G = diag(sigma) R_I`` and the diagonal ``D = S / Z``. Regularised by ``d`` (``-d I``
-    in the second block, ``-(D + d)`` in the third), ``dy`` and ``dz`` are eliminated:
-
-        (d I + R_E^T R_E + G^T diag(d / (D + d)) G) du = d r1 + R_E^T r2 + G^T (d r3 / (D + d)),
-        dy = (R_E du - r2) / d,   dz = (G du - r3) / (D + d),
-
-    a matrix ``R^T W R + d I`` in the pattern of the verdict's Newton matrix, factorised by the
-    problem's sparse Cholesky (CHOLMOD; :meth:`Problem.factor_shifted`). A solve can be
-    refined against the unregularised system (the interior point refines its corrector's).
-    The elimination loses accuracy along the mechanisms of ``R_E`` (relative errors of order
-    ``eps / d`` per solve), which the refinement removes at a factor of about 100 a step.
-    Against a QDLDL factorisation of the full ``(2N + m)``-sized system, with the same three
-    refinement steps, on the interior-point projections of
-    ``benchmarks/bench_solver.py``'s instances (scratch, 2026-11-27; BENCHMARKS.md): the same
-    certificates on the phase diagrams (n = 16 to 64) and at the threshold at n = 16 and 32,
-    one more at n = 64 (3 of 8 against 2), in 0.6 to 0.9 times the time (0.5 at the n = 64
-    threshold). One refinement step, or one until the KKT residual falls below ``1e-4`` or
-    ``1e-6``, lost a certificate at the n = 32 threshold; four steps lost the n = 64 one.
+    Regularised by ``d`` in its last two blocks, ``dy`` and ``dz`` are eliminated, leaving
+    ``(d I + R_E^T R_E + G^T diag(d / (D + d)) G) du = d r1 + R_E^T r2 + G^T (d r3 / (D + d))``:
+    a matrix in the pattern of the verdict's Newton matrix, factorised by the problem's sparse
+    Cholesky. A solve can be refined against the unregularised system, which removes the errors
+    the elimination leaves along the mechanisms of ``R_E`` (order ``eps / d``).
     """
 
     def __init__(self, p: Problem, E, In, sigma_in, d: float, refinement: int):

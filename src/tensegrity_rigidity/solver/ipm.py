@@ -1,30 +1,15 @@
 """A primal-dual interior-point method specialised to the tensegrity energy.
 
-Write the energy with one slack per one-sided element: a cable's ``1/2 k max(e, 0)^2`` is
-``min 1/2 k (e + w)^2`` over ``w >= 0`` (a strut's with ``e - w``), so
-
-    E* = min over u, w >= 0 of  1/2 sum_b k_b (e0_b + r_b . u + sigma_b w_b)^2
-
-(``sigma`` = +1 cable, -1 strut, 0 rod), a convex QP with bound constraints only. With
-``anchored=True`` the objective also gets the term ``mu/2 |u|^2``, with ``mu`` the problem's
-background stiffness (``SolverOptions.regularization`` times the mean stiffness, the shift that
-already keeps the Newton matrix definite). The QP is then strictly convex. On a floppy sample
-whose zero-energy set is unbounded, the plain central path drifts along the unbounded optimal
-face: on the hard samples near the transition it reaches ``|u| ~ 1e6`` times the affine
-displacements, where round-off stalls the energy at ~1e-14 of the affine one. The anchored path
-stays near the minimum-norm minimiser instead (``|u| ~ 1e2-1e4``).
-
-The QP's multipliers are ``lambda_b = sigma_b t_b >= 0`` (cables pull, struts push).
-Eliminating the diagonal blocks of the Newton system leaves the Schur complement
-
-    R^T diag(k~) R,    k~_b = k_b (lambda_b / w_b) / (k_b + lambda_b / w_b)   (k~ = k for rods),
-
-which has exactly the sparsity pattern of the semismooth Newton matrix: each iteration is one
-numeric refactorisation into the pattern whose ordering was computed once. Mehrotra's
-predictor-corrector uses that factorisation twice. The iteration count hardly depends on the
-combinatorics that slow active-set methods down near the transition; the result is handed to the
-stages of :mod:`.stages`, which purify its multipliers into a self-stress and cross its
-displacements over to an exact point, and offer both to the certificates.
+With one slack per one-sided element (a cable's ``1/2 k max(e, 0)^2`` is ``min 1/2 k (e + w)^2``
+over ``w >= 0``, a strut's with ``e - w``) the energy is a convex QP with bound constraints only.
+Its Newton system's Schur complement ``R^T diag(k~) R`` has exactly the pattern of the
+semismooth Newton matrix, so each iteration is one numeric refactorisation, used twice by
+Mehrotra's predictor-corrector, and the iteration count hardly depends on the combinatorics
+that slow active-set methods near the transition. With ``anchored=True`` the objective also
+gets ``mu/2 |u|^2``: on a floppy sample the plain central path drifts along the unbounded
+optimal face (``|u| ~ 1e6`` times the affine displacements near the transition), the anchored
+one stays near the minimum-norm minimiser. Its multipliers ``lambda_b = sigma_b t_b >= 0`` and
+displacements are offered to the certificates by the search (:mod:`.stages`).
 """
 
 from __future__ import annotations
@@ -41,15 +26,10 @@ class IpmState:
     """Where a run of :func:`interior_point` ended: its iterate after ``steps`` Newton steps
     from the cold start, in the run's own units (``e0`` divided by its largest magnitude).
 
-    The iteration is a function of its iterate alone, so a later run on the same problem
-    (``problem``, ``anchored``) that would have taken those same steps may start there and
-    end exactly where it would have ended from the cold start: a run with at most this one's
-    tolerance (it would not have stopped earlier) and at least ``steps`` iterations allowed.
-    Checkpoint callbacks do not move the iterate; one that stopped the run leaves a state like
-    any other. A later run that offers checkpoints to a callback does not resume (the
-    callback would miss the offers of the steps skipped).
-    :func:`~tensegrity_rigidity.solver.core.solve` starts its relaxation's interior point
-    where the verdict search's (the ``ipm`` stage) ended, instead of retracing it.
+    The iteration is a function of its iterate alone, so a later run on the same problem that
+    would have taken those same steps (at most this tolerance, at least ``steps`` iterations, no
+    checkpoint callback) may start there and end exactly where it would have ended from the cold
+    start: the relaxation goes on from the verdict search's run instead of retracing it.
 
     Attributes
     ----------

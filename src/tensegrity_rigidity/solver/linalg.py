@@ -4,11 +4,10 @@ Every Newton, crossover and interior-point step factorises ``R^T D R + mu I`` fo
 ``D`` but the same pattern. :class:`PatternFactor` computes the fill-reducing ordering and the
 symbolic analysis once and redoes only the numeric factorisation.
 
-Backends, fastest first (measured in ``BENCHMARKS.md``):
+Backends, fastest first (docs/benchmarks.md):
 
 * **CHOLMOD, supernodal** (SuiteSparse, through CVXOPT's bundled build): LL^T with dense BLAS
-  kernels on supernodes, 3 to 7 times faster than a simplicial LDL^T on these lattices
-  (n = 64: 3.5 ms against 10 ms; n = 128: 20 to 36 ms against 90 to 240 ms).
+  kernels on supernodes, 3 to 7 times faster than a simplicial LDL^T on these lattices.
 * **QDLDL** (simplicial LDL^T, no pivoting): used for a matrix on which Cholesky reports a
   non-positive pivot (possible because ``mu`` is tiny on floppy networks). LDL^T accepts such
   pivots, as before.
@@ -17,6 +16,7 @@ Backends, fastest first (measured in ``BENCHMARKS.md``):
 from __future__ import annotations
 
 import contextlib
+import functools
 from collections.abc import Iterator
 
 import numpy as np
@@ -33,7 +33,10 @@ except ImportError:  # pragma: no cover - cvxopt is a declared dependency
     _cholmod = None
 
 
-_threadpools: ThreadpoolController | None = None
+@functools.cache
+def _controller() -> ThreadpoolController:
+    """The loaded thread pools, found once (inspecting them costs a few milliseconds)."""
+    return ThreadpoolController()
 
 
 @contextlib.contextmanager
@@ -45,17 +48,11 @@ def one_blas_thread() -> Iterator[None]:
     NumPy vectors longer than about 10,000 entries, n >= 128 here) between its threads and
     adds the parts in another order, so the last bits of every iterate depend on the thread
     count; near a threshold, that decides which probes within resolution of the boundary are
-    certified. Measured on the first n = 128 near-threshold sample (BENCHMARKS.md): NumPy's
-    OpenBLAS on 2 threads gave the threshold [0.498093, 0.515024] (8 undecided probes), on 1
-    thread [0.502426, 0.515024] (10), the paths parting at the ninth probe. The solver's
-    dense algebra is vectors, so one thread costs nothing measurable (the same probes took
-    the same time either way). The thread pools are found once, when first needed (NumPy's,
+    certified. The solver's dense algebra is vectors, so one thread costs nothing measurable.
+    The thread pools are found once, when first needed (NumPy's,
     SciPy's and CVXOPT's BLAS are loaded by then).
     """
-    global _threadpools
-    if _threadpools is None:
-        _threadpools = ThreadpoolController()
-    with _threadpools.limit(limits=1, user_api="blas"):
+    with _controller().limit(limits=1, user_api="blas"):
         yield
 
 

@@ -102,7 +102,7 @@ def prox_minimize(p: Problem, w: np.ndarray, x: np.ndarray, max_iter: int = 100)
         since = 0 if gn < 0.5 * best_g else since + 1
         if gn < best_g:
             best_x, best_g = x, gn
-        if gn <= 1e-14 * max(g0, 1e-300) or gn == 0.0 or since >= 3:
+        if gn <= p.tol.prox_gradient_stop * max(g0, 1e-300) or gn == 0.0 or since >= 3:
             break
         x = x - solver.solve(g)
     return best_x, best_g
@@ -132,10 +132,10 @@ def newton(
             break
         g = p.RT @ t
         gn = float(np.linalg.norm(g))
-        if gn <= 1e-14 * float(np.linalg.norm(t)):
+        if gn <= p.tol.newton_gradient_stop * float(np.linalg.norm(t)):
             break
         # Progress is a lower energy or, once energies stop resolving it, a smaller gradient.
-        progress = E < E_prev * (1.0 - 1e-13) or gn < best_g
+        progress = E < E_prev * (1.0 - p.tol.newton_progress) or gn < best_g
         stalled = 0 if progress else stalled + 1
         best_g, E_prev = min(best_g, gn), min(E_prev, E)
         if stalled >= 3:
@@ -149,16 +149,10 @@ def newton(
         u = u + alpha * d
         e, act, t = p.state(u)
         E = 0.5 * float(np.dot(t, e))
-        truncated = truncated + 1 if abs(alpha - 1.0) > 1e-6 else 0
+        truncated = truncated + 1 if abs(alpha - 1.0) > p.tol.newton_full_step else 0
         if truncated >= max_truncated:
             break  # steps keep stopping at breakpoints: the active set crawls
     return u, E, it
-
-
-#: Engagement tolerances (units of ``max |e0|``) tried in turn when crossing an approximate
-#: minimiser over to an exact one (:func:`crossover`): the verdict search's crossovers and the
-#: relaxation's after its interior point.
-CROSSOVER_TAUS = (1e-7, 1e-5, 1e-3)
 
 
 def crossover(p: Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 12):
@@ -178,7 +172,7 @@ def crossover(p: Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 12):
     scale = float(np.abs(p.e0).max())
     e = p.e0 + p.R @ u
     A = p.rod | (p.sigma * e > -tau * scale)
-    tol = 1e-12 * scale
+    tol = p.tol.crossover_sign_tol * scale
     changes = np.inf
     for _ in range(rounds):
         best_x, _ = prox_minimize(p, p.k * A, u.copy())

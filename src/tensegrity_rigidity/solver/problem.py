@@ -16,6 +16,7 @@ from ..model.mechanics import affine_extensions, rigidity_matrix
 from ..model.network import Element, Instance, vector_norms
 from .certificates import ExactGeometry, bond_vectors
 from .linalg import PatternFactor, nested_dissection
+from .tolerances import Tolerances
 
 _AT_I, _AT_J, _OFF_DIAGONAL = 0, 1, 2
 
@@ -69,6 +70,9 @@ class Problem:
         Factorisation backend (:class:`~.linalg.PatternFactor`).
     unit_stiffness : bool
         Use unit stiffness on every element (the verdict does not depend on stiffness).
+    tolerances : Tolerances, optional
+        The numeric constants the routines working on the problem read (default
+        ``Tolerances()``).
 
     Attributes
     ----------
@@ -86,6 +90,8 @@ class Problem:
         ``max |e0|`` over all bond sites and the mean stiffness (physical units).
     factorizations : int
         Numeric factorisations so far.
+    tol : Tolerances
+        The numeric constants of the search and the relaxation.
     """
 
     def __init__(
@@ -94,8 +100,10 @@ class Problem:
         regularization: float = 1e-12,
         backend: str = "auto",
         unit_stiffness: bool = False,
+        tolerances: Tolerances | None = None,
     ):
         net = instance.network
+        self.tol = Tolerances() if tolerances is None else tolerances
         self.instance = instance
         self.sites = np.flatnonzero(net.kinds != Element.EMPTY)
         kinds = net.kinds[self.sites]
@@ -148,19 +156,10 @@ class Problem:
         """Fixed upper-triangular CSC pattern of R^T D R + mu I and the map into it.
 
         Built per node pair: node ``J``'s two columns hold rows ``2I, 2I + 1`` for every
-        node ``I < J`` bonded to it (in increasing ``I``), then its own diagonal block. Each
-        bond ``b`` from node ``i`` to ``j`` adds the products ``vals_p vals_q`` of its row of
-        ``R`` (``vals = (-dhat, dhat)`` at columns ``(2i, 2i + 1, 2j, 2j + 1)``) to the entries
-        on or above the diagonal (:data:`_BOND_TERMS`). ``_assemble`` is the sparse matrix
-        (entries x sites) whose row ``e`` holds entry ``e``'s terms ordered by bond, then by
-        ``k = 4p + q``, so that ``_assemble @ w`` adds them in that order, as the ``np.bincount``
-        of eeb682e did (the same sums to the last bit on x86-64, where SciPy's product fuses no
-        multiply-add), and as the per-entry construction of 4228468 did (a sort of every term,
-        10 per bond and 12 for a bond to its own image, and of the ``2N`` diagonal entries,
-        into the entries): the same matrices to the last bit (tests/solver/test_problem.py
-        keeps that construction as the reference). Paired on the 27 n = 64 phase-diagram
-        instances of ``benchmarks/bench_solver.py`` (scratch, 2026-11-29), the whole
-        ``Problem`` build takes 6.9 ms against 10.6 ms (medians, best of 7).
+        node ``I < J`` bonded to it, then its own diagonal block. ``_assemble`` (entries x
+        sites) holds each entry's terms (:data:`_BOND_TERMS`) ordered by bond, so that
+        ``_assemble @ w`` adds them in a fixed order: the same sums to the last bit as a
+        per-entry construction (tests/solver/test_problem.py keeps it as the reference).
         """
         net = self.instance.network
         n_nodes = net.n_nodes

@@ -20,16 +20,11 @@ import numpy as np
 
 from .problem import Problem
 
-#: :func:`purify`'s default relative size below which a tension is dropped before balancing:
-#: elements only touched by a minimiser carry round-off tensions (``1e-18`` to ``1e-17`` of the
-#: largest on the rigid phase-diagram instances at n = 64), which belong to no self-stress.
-SUPPORT_TOL = 1e-9
-
 
 def purify(
     p: Problem,
     t: np.ndarray,
-    support_tol: float = SUPPORT_TOL,
+    support_tol: float | None = None,
     rounds: int = 8,
     refine: int = 6,
     hopeless: float = 1e-3,
@@ -70,14 +65,8 @@ def purify(
         Stop after this many consecutive rounds whose tensions, balanced but with one-sided
         elements of the wrong sign left, do no positive work on the strain (see
         ``work_floor``); the result then keeps those signs and is no certificate. 0 never
-        stops early. Such rounds almost never end in a certificate: on the purifications of
-        issue 13's threshold searches (n = 16: 6 samples per configuration, 1,539 calls;
-        n = 32: 3, 1,330 calls; scratch, 2026-11-28) no accepted result came after two of them,
-        one after a single one (its work went from -8.6e-5 to 7.9e-4), and the rounds after
-        the second took an estimated 29 % of the purifications' time at n = 32, whose
-        searches spend a quarter of their time purifying. Measured on whole searches
-        (BENCHMARKS.md): the same thresholds, n = 32 median 1.95 -> 1.77 s, n = 64 unchanged
-        (76 s). Once a round is hopeless, the extended-precision steps are skipped too: they
+        stops early. Such rounds almost never end in a certificate. Once a round is
+        hopeless, the extended-precision steps are skipped too: they
         cannot bring a residual above ``hopeless`` near the certificates' margin.
     work_floor : float
         A round counts toward ``stall`` when its tensions' work is at most ``work_floor`` of
@@ -85,14 +74,7 @@ def purify(
         needs ``t . e0 / |t|_1`` above the resolution's ``violation``, whose default this
         is). Rounds that balance a self-stress of the rods alone do work at round-off,
         ``1e-18`` to ``1e-16`` of their size, of either sign; counting only ``t . e0 <= 0``
-        let those of positive sign go on for up to 8 rounds. On the purifications of issue
-        13's threshold searches at n = 32 (4 samples per configuration, 1,814 calls,
-        scratch, 2026-11-28) ``1e-9`` stops 355 calls earlier than ``0`` does and saves 704
-        of their 5,722 factorisations; none of those calls ended in an accepted
-        certificate. Paired on whole searches (scratch, 2026-11-28): the same 72 n = 32
-        thresholds (12 samples per configuration), 161.0 s against 163.6 s in all; on
-        ``benchmarks/bench_solver.py``'s n = 64 phase diagram the same verdicts and stages,
-        1 to 7 factorisations fewer on 12 of the 27 ``solve()`` calls, times within the noise.
+        let those of positive sign go on for up to 8 rounds.
 
     Returns
     -------
@@ -104,7 +86,7 @@ def purify(
     t_max = float(np.abs(t).max(initial=0.0))
     if t_max == 0.0 or not np.isfinite(t_max):
         return np.zeros_like(t)
-    t[~kept(t, support_tol)] = 0.0
+    t[~kept(t, p.tol.support_tol if support_tol is None else support_tol)] = 0.0
     t[p.sigma * t < 0] = 0.0
     w = t * t
     w[p.rod] += rod_weight * t_max**2
@@ -115,7 +97,7 @@ def purify(
         for _ in range(refine):
             r = p.RT @ t
             r_norm = float(np.abs(r).sum())
-            if r_norm >= 0.5 * r_prev or r_norm <= 1e-16 * float(np.abs(t).sum()):
+            if r_norm >= 0.5 * r_prev or r_norm <= p.tol.purify_roundoff * float(np.abs(t).sum()):
                 break  # converged, or stagnating at round-off
             r_prev = r_norm
             t = t - w * (p.R @ solver.solve(r))
@@ -146,24 +128,12 @@ def optimal_on_support(
 ) -> np.ndarray | None:
     """The best self-stress for the energy's dual on the support of a minimiser's tensions.
 
-    The energy's dual is ``D(t) = t . e0 - 1/2 t . K^-1 t`` over admissible self-stresses
-    (docs/model.md); every admissible self-stress bounds ``E* >= D(t)``, with equality at
-    ``t*``. Given tensions ``t = K (e0 + R u)`` of the elements engaged at ``u`` (zero on the
-    others), the stiffness-weighted correction
-
-        t <- t - K_S R y,    (R^T K_S R + shift I) y = R^T t,
-
-    on their support ``S`` keeps ``K^-1 t - e0`` in the range of ``R`` and converges to the
-    maximiser of ``D`` over the self-stresses supported on ``S`` (the tensions of the energy's
-    minimiser with exactly ``S`` engaged), which is ``t*`` when ``S`` is the optimal engaged
-    set. :func:`purify` weighs by ``t^2`` instead, which keeps signs but not that optimality,
-    and its self-stress bounds ``E*`` loosely where the minimiser is not converged: on an
-    at-threshold n = 32 sample (configuration 4 of issue 13's set) its bound is 0.34 of the
-    relaxed energy, this one's equals it to ``4e-12``.
-
-    The residuals are evaluated in extended precision (as in :func:`_refine_extended`) and the
-    corrections stop once one does not cut the residual by ``0.7``. One-sided elements whose
-    sign flips leave ``S`` and the projection is repeated, so the result is admissible.
+    Every admissible self-stress bounds ``E* >= D(t) = t . e0 - 1/2 t . K^-1 t``, with equality
+    at ``t*``. The stiffness-weighted correction ``t <- t - K_S R y``, ``(R^T K_S R) y = R^T t``
+    on the support ``S`` of ``t`` (residuals in extended precision) converges to the maximiser of
+    ``D`` over the self-stresses on ``S``, which is ``t*`` when ``S`` is the optimal engaged set;
+    :func:`purify` weighs by ``t^2`` instead, which keeps signs but not that optimality. One-sided
+    elements whose sign flips leave ``S`` and the projection is repeated (docs/model.md).
 
     Parameters
     ----------
@@ -175,10 +145,9 @@ def optimal_on_support(
         Most projections (each one numeric factorisation), each after dropping the flipped
         one-sided elements.
     steps : int
-        Most corrections per projection.
+        Most corrections per projection (they stop once one does not cut the residual by 0.7).
     shift : float
-        Regularisation of ``R^T K_S R`` relative to the mean stiffness (the support has
-        mechanisms; the residual ``R^T t`` is orthogonal to them).
+        Regularisation of ``R^T K_S R`` relative to the mean stiffness.
 
     Returns
     -------
@@ -319,7 +288,7 @@ def rebalance(
             ratios = np.asarray(-x[flips] / step[flips], dtype=float)
             alpha = float(ratios.min())
             trial = x + alpha * step
-            hit = np.flatnonzero(flips)[ratios <= alpha * (1 + 1e-9)]
+            hit = np.flatnonzero(flips)[ratios <= alpha * (1 + p.tol.rebalance_ratio_slack)]
             trial[hit] = 0.0
             w[hit] = 0.0
             solver = None  # the weights changed

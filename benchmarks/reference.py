@@ -1,4 +1,4 @@
-"""Independent, general-purpose formulations: the robust fallback and the test oracle.
+"""Independent, general-purpose formulations: the oracle of the tests and the benchmarks.
 
 * :func:`lp_verdict` decides rigidity by the linear program of docs/model.md (Farkas): maximise the
   work ``t . e0`` over admissible self-stresses ``R^T t = 0``, ``t_cable >= 0``, ``t_strut <= 0``,
@@ -21,8 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..model.mechanics import affine_extensions, rigidity_matrix, tensions_from_extensions
-from ..model.network import Element, Instance
+from tensegrity_rigidity.model.mechanics import (
+    affine_extensions,
+    rigidity_matrix,
+    tensions_from_extensions,
+)
+from tensegrity_rigidity.model.network import Element, Instance
 
 
 @dataclass(frozen=True)

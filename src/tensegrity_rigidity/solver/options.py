@@ -1,0 +1,171 @@
+"""The options of a verdict and a solve: the resolution model, the strategies, every tolerance.
+
+:class:`SolverOptions` is the one object a verdict depends on besides the instance: the
+resolution model (``tau``, ``U``), the ordered strategies of the search (:mod:`.stages`), the
+refiner that cleans candidates, and the :class:`~.tolerances.Tolerances` of the numerical
+routines. It is frozen and plain data throughout, so the sweep settings digest is derived from
+it as a whole (:meth:`~tensegrity_rigidity.ensemble.spec.Spec.settings`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+from ..errors import InputError
+from .certificates import Resolution, violation_roundoff
+from .stages import (
+    DEFAULT_STRATEGIES,
+    Affine,
+    Crossover,
+    InteriorPoint,
+    LinearProgram,
+    Newton,
+    Refine,
+    Refiner,
+)
+from .tolerances import Tolerances
+
+
+def strategy_named(name: str):
+    """The default strategy of a given name (``SolverOptions.stages`` also accepts names).
+
+    Parameters
+    ----------
+    name : str
+        "affine", "newton", "refine", "crossover", "ipm" or "lp".
+
+    Returns
+    -------
+    object
+        That strategy with its default knobs.
+    """
+    table = {
+        "affine": Affine,
+        "newton": Newton,
+        "refine": Refine,
+        "crossover": Crossover,
+        "ipm": InteriorPoint,
+        "lp": LinearProgram,
+    }
+    if name not in table:
+        raise InputError(f"unknown solver stage {name!r}; choose from {', '.join(table)}")
+    return table[name]()
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Tolerances, strategies, limits and switches of :func:`solve` and :func:`decide`.
+
+    Attributes
+    ----------
+    violation_tol : float
+        ``tau`` of the resolution model: the largest violation of a floppy certificate, and
+        the smallest normalised work of a rigid one, in units of ``max |e0|``.
+    displacement_bound : float
+        ``U`` of the resolution model: the largest displacement of a floppy certificate, in
+        units of ``max |e0|``; a rigid certificate's force residual is weighed against it.
+    stages : tuple of strategies
+        The strategies of the verdict search, in order (:mod:`tensegrity_rigidity.solver.stages`;
+        default :data:`~tensegrity_rigidity.solver.stages.DEFAULT_STRATEGIES`): objects with a
+        ``name`` and a ``run(search)`` method. Names ("newton", "lp", ...) stand for the
+        default strategy of that name (:func:`strategy_named`).
+    polish : bool
+        Polish floppy candidates that narrowly fail onto their tight set in extended precision
+        before rejecting them (:class:`~tensegrity_rigidity.solver.stages.Refiner`).
+    balance : bool
+        Balance rigid candidates that narrowly fail to extended round-off after purification.
+    regularization : float
+        ``mu`` of the Newton matrix, relative to the mean stiffness (the relaxation's long run
+        uses ``Tolerances.relax_long_shift`` instead).
+    max_iter : int
+        Newton iterations when the energy is minimised for the relaxed state.
+    min_norm : bool
+        Compute the minimum-norm minimiser (needed for the nonaffinity).
+    factorization : str
+        Sparse factorisation backend: "auto" (CHOLMOD, QDLDL where Cholesky fails), "cholmod"
+        or "qdldl"; see :mod:`tensegrity_rigidity.solver.linalg`.
+    refiner : Refiner
+        How candidates are cleaned before the certificates judge them.
+    tolerances : Tolerances
+        The numeric constants of the search and the relaxation.
+    """
+
+    violation_tol: float = Resolution.violation
+    displacement_bound: float = Resolution.displacement
+    stages: tuple = DEFAULT_STRATEGIES
+    polish: bool = True
+    balance: bool = True
+    regularization: float = 1e-12
+    max_iter: int = 40
+    min_norm: bool = True
+    factorization: str = "auto"
+    refiner: Refiner = field(default_factory=Refiner)
+    tolerances: Tolerances = field(default_factory=Tolerances)
+
+    def __post_init__(self):
+        if self.factorization not in ("auto", "cholmod", "qdldl"):
+            raise InputError(
+                "SolverOptions.factorization must be 'auto', 'cholmod' or 'qdldl', "
+                f"got {self.factorization!r}"
+            )
+        stages = self.stages
+        if isinstance(stages, str) or not all(
+            isinstance(x, str) or (hasattr(x, "run") and hasattr(x, "name")) for x in stages
+        ):
+            raise InputError(
+                f"SolverOptions.stages must be a list of strategies or names, got {stages!r}"
+            )
+        if not stages:
+            raise InputError(
+                "SolverOptions.stages is empty: no stage would look for a certificate, so every "
+                "sample would end undecided; choose from affine, newton, refine, crossover, "
+                "ipm, lp"
+            )
+        strategies = tuple(strategy_named(x) if isinstance(x, str) else x for x in stages)
+        object.__setattr__(self, "stages", strategies)
+        for f in fields(self):
+            value = getattr(self, f.name)
+            kind = {"int": int, "float": float, "bool": bool}.get(str(f.type))
+            if kind is None:
+                continue
+            if kind is bool:
+                ok = isinstance(value, bool)
+            elif kind is float:
+                ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+            else:
+                ok = isinstance(value, int) and not isinstance(value, bool)
+            if not ok:
+                raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {value!r}")
+            if kind is not bool and not (np.isfinite(value) and value >= 0):
+                raise InputError(
+                    f"SolverOptions.{f.name} must be finite and non-negative, got {value!r}"
+                )
+        self._check_resolution()
+
+    def _check_resolution(self) -> None:
+        """Refuse tolerances under which one kind of certificate could never or always pass."""
+        tau, U = self.violation_tol, self.displacement_bound
+        if not 0 < tau < 1:
+            raise InputError(
+                f"SolverOptions.violation_tol must lie in (0, 1), got {tau!r}: at 1 or more "
+                "u = 0 passes as a floppy certificate of every sample"
+            )
+        if not U > 0 or violation_roundoff(U) >= tau:
+            raise InputError(
+                f"SolverOptions.displacement_bound = {U!r} leaves no floppy certificate "
+                f"possible at violation_tol = {tau!r} (the round-off of a violation at that "
+                "size reaches tau, or the bound is not positive)"
+            )
+
+    @property
+    def resolution(self) -> Resolution:
+        """The resolution model of the certificates.
+
+        Returns
+        -------
+        Resolution
+            ``Resolution(violation_tol, displacement_bound)``.
+        """
+        return Resolution(self.violation_tol, self.displacement_bound)

@@ -1,0 +1,369 @@
+"""The relaxed state after a verdict: the minimum energy, its tensions and a certified bound.
+
+On a floppy verdict ``E* = 0`` and ``t* = 0``. On a rigid (or undecided) one the energy with the
+instance's stiffnesses is minimised from the search's lowest-energy point by semismooth Newton,
+the interior point and a crossover (:mod:`.newton`, :mod:`.ipm`); a weak-duality lower bound on
+``E*`` from the relaxed tensions moved onto an exact self-stress (or from the rigid
+certificate's) states the accuracy of ``E*`` instead of assuming it. Where the short run leaves
+the energy uncertified (near a sample's own threshold), a long run on a Newton matrix shifted
+far less goes on from it; the better of the two is kept.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.network import Instance
+from .certificates import RigidCertificate
+from .ipm import IpmState, interior_point
+from .newton import crossover, newton
+from .options import SolverOptions
+from .problem import Problem
+from .selfstress import kept, optimal_on_support, purify
+from .stages import Search
+from .tolerances import Tolerances
+
+
+@dataclass(frozen=True)
+class Relaxation:
+    """The relaxed state of an instance in the normalised units of its problem.
+
+    Attributes
+    ----------
+    status : str
+        "floppy" (``E* = 0`` exactly), "certified" (the energy within
+        ``Tolerances.energy_gap`` of its lower bound) or "uncertified".
+    message : str
+        Why the energy is not certified ("" otherwise).
+    problem : Problem
+        The problem with the instance's stiffnesses (the verdict's where they are uniform).
+    k_unit : float
+        The stiffness unit of the energies and tensions (physical units).
+    u : (2N,) float
+        Lowest-energy displacements found (units of ``max |e0|``).
+    energy, energy_lower : float
+        Their energy and a certified lower bound on E* (units of ``k_unit max |e0|^2``).
+    tensions_relaxed : (m,) float
+        The tensions ``k (e0 + R u)`` at ``u`` (zero on slack one-sided elements).
+    tensions : (m,) float or longdouble
+        The same moved onto an exact self-stress where that certifies them.
+    iterations : int
+        Newton iterations, the verdict's included.
+    extra_factorizations : int
+        Factorisations of the long run's own problem.
+    """
+
+    status: str
+    message: str
+    problem: Problem
+    k_unit: float
+    u: np.ndarray
+    energy: float
+    energy_lower: float
+    tensions_relaxed: np.ndarray
+    tensions: np.ndarray
+    iterations: int
+    extra_factorizations: int = 0
+
+    @property
+    def certified(self) -> bool:
+        """Whether the relaxed tensions are certified to be ``t*``."""
+        return self.status != "uncertified"
+
+
+def relax(
+    instance: Instance, p: Problem, s: Search, status: str, opts: SolverOptions
+) -> Relaxation:
+    """The relaxed state after the verdict search ``s`` on ``p`` (unit stiffness) ended with
+    verdict ``status``.
+
+    Parameters
+    ----------
+    instance : Instance
+        The instance.
+    p : Problem
+        The verdict's problem (unit stiffness).
+    s : Search
+        The verdict search's final state (its lowest-energy point, its rigid certificate).
+    status : str
+        "rigid", "floppy" or "undecided".
+    opts : SolverOptions
+        The options.
+
+    Returns
+    -------
+    Relaxation
+        The relaxed state and whether its energy is certified.
+    """
+    tol = opts.tolerances
+    net = instance.network
+    k_sites = net.stiffness_or_ones()[p.sites]
+    uniform = k_sites.size == 0 or bool(np.all(k_sites == k_sites[0]))
+    # with one stiffness the verdict's unit-stiffness problem is the energy's too
+    pe = (
+        p if uniform else Problem(instance, opts.regularization, opts.factorization, tolerances=tol)
+    )
+    k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
+    if status == "floppy":
+        zeros = np.zeros(p.sites.size)
+        u = np.asarray(s.floppy.u, dtype=float)  # type: ignore[union-attr]
+        return Relaxation("floppy", "", pe, k_unit, u, 0.0, 0.0, zeros, zeros, s.iterations)
+    u, E, more, t_relaxed, t_n, E_lower = _relaxed(pe, s.u, opts, s.rigid, ipm_start=s.ipm_end)
+    extra = 0
+    if not energy_certified(E, E_lower, tol.energy_gap):
+        long, extra = _long_relaxation(instance, opts, uniform, u, s.rigid)
+        if long is not None:
+            u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = long
+            more += more_2
+            E_lower = max(E_lower, E_lower_2)  # both bound E* from below
+            if E_2 < E:
+                u, E, t_relaxed, t_n = u_2, E_2, t_relaxed_2, t_n_2
+            E_lower = min(E_lower, E)  # and E bounds it from above
+    certified = energy_certified(E, E_lower, tol.energy_gap)
+    message = (
+        ""
+        if certified
+        else f"the relaxed energy is not certified (its lower bound is {E_lower / E:.1e} of it)"
+    )
+    return Relaxation(
+        "certified" if certified else "uncertified",
+        message,
+        pe,
+        k_unit,
+        u,
+        E,
+        E_lower,
+        t_relaxed,
+        t_n,
+        s.iterations + more,
+        extra,
+    )
+
+
+def energy_certified(energy, energy_lower, gap: float = Tolerances.energy_gap):
+    """Whether the relaxed energy is within ``gap`` of its certified lower bound.
+
+    Parameters
+    ----------
+    energy, energy_lower : float or (k,) float array
+        Relaxed energies and their lower bounds (``SolveResult.energy``, ``energy_lower``;
+        the sweep rows' columns of the same names).
+    gap : float
+        The largest relative gap (``Tolerances.energy_gap``).
+
+    Returns
+    -------
+    bool or (k,) bool array
+        True where the relaxed tensions are certified to be t* (False where either is NaN).
+
+    Notes
+    -----
+    By the strong convexity of the energy in the tensions, ``sum (t_b - t*_b)^2 / k_b <=
+    2 (E - E_lower)``: a small gap bounds how far the relaxed tensions are from ``t*``.
+    """
+    return energy_lower >= (1.0 - gap) * energy
+
+
+def _relax(
+    p: Problem,
+    u: np.ndarray,
+    opts: SolverOptions,
+    ipm: tuple[int, float] | None = None,
+    ipm_start: IpmState | None = None,
+) -> tuple[np.ndarray, float, int]:
+    """Minimise the energy from u: Newton, then (if not stationary) the interior point with
+    ``ipm`` = (iterations, tolerance) + crossover, and a final exact solve on the active set (a
+    crossover) when it lowers the force residual. The interior point goes on from
+    ``ipm_start`` where it passes through it (the verdict search's own run, which the cold
+    start would retrace step for step: :class:`~.ipm.IpmState`)."""
+
+    def residual(x):
+        _, _, t = p.state(x)
+        return float(np.linalg.norm(p.RT @ t)) / max(float(np.linalg.norm(t)), 1e-300)
+
+    tol = p.tol
+    ipm = tol.relax_short_ipm if ipm is None else ipm
+    u, E, it = newton(p, u, opts.max_iter)
+    if E > 0 and residual(u) > tol.stationary:
+        x, _, _, _ = interior_point(p, max_iter=ipm[0], tol=ipm[1], start=ipm_start)
+        for tau in tol.crossover_taus:  # the first that does not raise the energy
+            y = crossover(p, x, tau=tau)
+            if y is not None and p.energy(y) <= p.energy(x):
+                x = y
+                break
+        x, E_x, more = newton(p, x, opts.max_iter)
+        it += more
+        if E_x < E:
+            u, E = x, E_x
+    if E > 0:
+        y = crossover(p, u, tau=tol.final_crossover_tau)
+        if y is not None:
+            E_y = p.energy(y)
+            if E_y <= E * (1 + tol.final_crossover_raise) and residual(y) < residual(u):
+                u, E = y, E_y
+    return u, E, it
+
+
+def _relaxed(
+    p: Problem,
+    u: np.ndarray,
+    opts: SolverOptions,
+    certificate: RigidCertificate | None,
+    ipm: tuple[int, float] | None = None,
+    ipm_start: IpmState | None = None,
+) -> tuple[np.ndarray, float, int, np.ndarray, np.ndarray, float]:
+    """The relaxation from ``u`` (2N,) and what certifies it (``ipm_start``: see
+    :func:`_relax`).
+
+    Returns
+    -------
+    u : (2N,) float
+        Lowest-energy displacements found.
+    E : float
+        Their energy.
+    iterations : int
+        Newton iterations spent.
+    t_relaxed : (m,) float
+        Their tensions ``k (e0 + R u)`` (zero on slack one-sided elements).
+    t_balanced : (m,) float
+        The same moved onto an exact self-stress where they are close to one.
+    E_lower : float
+        Certified lower bound on E*, at most ``E``.
+    """
+    gap = opts.tolerances.energy_gap
+    u, E, more = _relax(p, u, opts, ipm, ipm_start)
+    _, _, t_relaxed = p.state(u)
+    t_n, tensions_bound = _balanced_tensions(p, t_relaxed)
+    E_lower = min(_energy_lower(p, tensions_bound, certificate), E)
+    if E > 0 and not energy_certified(E, E_lower, gap):
+        t_opt, bound = _support_optimal_tensions(p, t_relaxed)
+        if bound > E_lower:
+            E_lower = min(bound, E)
+            if energy_certified(E, E_lower, gap):
+                t_n = t_opt
+    return u, E, more, t_relaxed, t_n, E_lower
+
+
+def _long_relaxation(
+    instance: Instance,
+    opts: SolverOptions,
+    unit_stiffness: bool,
+    u: np.ndarray,
+    certificate: RigidCertificate | None,
+) -> tuple[tuple | None, int]:
+    """The relaxation's long run (``Tolerances.relax_long_ipm``) from ``u`` (2N,), on a Newton
+    matrix shifted by ``Tolerances.relax_long_shift``, its interior point started cold.
+
+    Returns
+    -------
+    result : tuple or None
+        What :func:`_relaxed` returns, or None where a factorisation failed (the shift is
+        below the round-off of a pivot).
+    factorizations : int
+        Numeric factorisations spent.
+    """
+    tol = opts.tolerances
+    pl = Problem(instance, tol.relax_long_shift, opts.factorization, unit_stiffness, tol)
+    try:
+        return _relaxed(pl, u, opts, certificate, tol.relax_long_ipm), pl.factorizations
+    except ArithmeticError:
+        return None, pl.factorizations
+
+
+def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
+    """The minimiser's tensions, moved onto an exact self-stress when they are close to one,
+    and the lower bound on E* that self-stress gives.
+
+    Tensions read off displacements as ``k (e0 + R u)`` lose digits to cancellation when they
+    are small; purification (:func:`~.selfstress.purify`) balances them to round-off. Kept
+    only if it balances them to ``Tolerances.balanced_residual``, else the tensions are
+    returned as they were. Tensions that already balance the nodes that well (their round-off
+    entries dropped, as purification drops them), as a converged Newton minimiser's do, are
+    kept without purifying: one factorisation fewer per rigid ``solve()``.
+
+    Returns
+    -------
+    t_n : (m,) float or longdouble
+        The purified tensions where kept, else ``t``.
+    bound : float
+        :func:`_self_stress_bound` of the purified tensions with their exact force residual
+        (0 where purification fails); one purification serves both.
+    """
+    if not np.any(t):
+        return t, 0.0
+    # purification's own support: the round-off tensions of elements only touched dropped
+    t_kept = np.where(kept(t, p.tol.support_tol), t, 0.0)
+    exact = _exact_residual(p, t_kept)
+    if exact <= p.tol.balanced_residual:  # already balanced: purify could only refine round-off
+        return t_kept, _self_stress_bound(p, t_kept, exact)
+    try:
+        tp = purify(p, t)
+    except ArithmeticError:
+        return t, 0.0
+    bound = _self_stress_bound(p, tp, _exact_residual(p, tp))
+    if float(np.abs(p.RT @ tp).sum()) <= p.tol.balanced_residual * float(np.abs(tp).sum()):
+        return tp, bound
+    return t, bound
+
+
+def _support_optimal_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
+    """The minimiser's tensions ``t`` ((m,), zero on slack elements) moved onto the best
+    self-stress of their support for the energy's dual
+    (:func:`~.selfstress.optimal_on_support`), and the lower bound on E* it gives.
+
+    Near a sample's own threshold purification (weighted by ``t^2``) can land on a
+    self-stress far from the dual optimum although the engaged set is right; this one is the
+    optimum on that set. Where the engaged set is wrong, dropping the flipped elements empties
+    the self-stress of work and the bound is 0.
+
+    Returns
+    -------
+    t_opt : (m,) float
+        The self-stress (``t`` itself when there is none).
+    bound : float
+        :func:`_self_stress_bound` of it (0 when there is none).
+    """
+    x = optimal_on_support(p, t)
+    if x is None:
+        return t, 0.0
+    t_opt = np.asarray(x, dtype=float)
+    return t_opt, _self_stress_bound(p, t_opt, _exact_residual(p, x))
+
+
+def _exact_residual(p: Problem, t: np.ndarray) -> float:
+    """Relative force residual ``|R^T t|_1 / |t|_1`` of tensions ``t`` ((m,) float or
+    longdouble), the forces in extended precision (0 for ``t = 0``). No floor on ``|t|_1``:
+    tensions that underflow to subnormal sizes get the large residual they have, so that
+    :func:`_self_stress_bound` rejects them instead of dividing by their underflowed norm."""
+    size = float(np.abs(t).sum())
+    return float(np.abs(p.exact.forces(t)).sum()) / size if size > 0 else 0.0
+
+
+def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
+    """Weak-duality lower bound on E* from an admissible self-stress ``t`` (m,) whose relative
+    force residual ``|R^T t|_1 / |t|_1`` is ``residual``.
+
+    Any self-stress gives ``E* >= max_a (a t.e0 - a^2/2 t.K^-1 t) = (t.e0)^2 / (2 t.K^-1 t)``.
+    The residual adds at most ``|R^T t|_1 |u*|_inf`` to the work, which we do not know, so the
+    bound is 0 unless the residual is at round-off (``Tolerances.bound_residual``).
+    """
+    work = float(np.dot(t, p.e0))
+    if residual > p.tol.bound_residual or work <= 0 or not np.all(np.isfinite(t)):
+        return 0.0
+    return work**2 / (2.0 * float(np.dot(t, t / p.k)))
+
+
+def _energy_lower(
+    p: Problem, tensions_bound: float, certificate: RigidCertificate | None = None
+) -> float:
+    """Lower bound on E*: the larger of ``tensions_bound`` (the bound from the minimiser's
+    tensions purified onto a self-stress, :func:`_balanced_tensions`) and the bound from the
+    rigid certificate's self-stress, which is what is left where the relaxation has not
+    converged."""
+    bound = 0.0
+    if certificate is not None:
+        tc = np.asarray(certificate.t, dtype=float)
+        bound = _self_stress_bound(p, tc, certificate.residual)
+    return max(bound, tensions_bound)
