@@ -9,6 +9,9 @@ The top level holds what a user needs (listed in ``__all__``):
 * its verdict: :func:`solve` (the relaxed state and its certificate, a :class:`SolveResult`),
   :func:`decide` (the certified :class:`Verdict` only), :class:`SolverOptions`, and the
   nonaffinity of a solved sample (:func:`nonaffinity`);
+* rods-only networks combinatorially: :func:`rigid_clusters` (a pebble game on the fixed box:
+  rigid clusters, overconstrained bonds, floppy modes, strain rigidity; a
+  :class:`RigidClusters`);
 * ensembles: sweep specs (:func:`parse_spec`, :func:`load_spec`, :class:`Spec`),
   :func:`run_sweep` and :func:`load_results`, exact per-sample thresholds
   (:func:`find_threshold`, :class:`Threshold`);
@@ -17,7 +20,8 @@ The top level holds what a user needs (listed in ``__all__``):
 
 Everything else lives in the subpackages, by pipeline stage (ARCHITECTURE.md):
 :mod:`~tensegrity_rigidity.model` (networks, lattices, random elements, strain, linear
-mechanics, files) -> :mod:`~tensegrity_rigidity.solver` (exact relaxation and certified
+mechanics, files) -> :mod:`~tensegrity_rigidity.combinatorics` (the pebble game of rods-only
+networks) -> :mod:`~tensegrity_rigidity.solver` (exact relaxation and certified
 verdict) -> :mod:`~tensegrity_rigidity.analysis` (observables, estimators, single-node theory)
 -> :mod:`~tensegrity_rigidity.ensemble` (sweeps, storage, executors, thresholds) ->
 :mod:`~tensegrity_rigidity.paper` (studies, figures, report) -> :mod:`~tensegrity_rigidity.cli`.
@@ -33,6 +37,7 @@ import warnings
 from typing import TYPE_CHECKING, Any
 
 from .analysis.observables import nonaffinity
+from .combinatorics.clusters import RigidClusters, rigid_clusters
 from .ensemble.spec import Spec, load_spec, parse_spec
 from .ensemble.thresholds import Threshold, find_threshold
 from .errors import InputError, SpecError, TensegrityError, UndecidedWarning
@@ -63,6 +68,7 @@ __all__ = [
     "InputError",
     "Instance",
     "PeriodicNetwork",
+    "RigidClusters",
     "SolveResult",
     "SolverOptions",
     "Spec",
@@ -83,6 +89,7 @@ __all__ = [
     "nonaffinity",
     "parse_spec",
     "random_periodic_network",
+    "rigid_clusters",
     "run_sweep",
     "save_instance",
     "solve",

@@ -1,0 +1,635 @@
+"""Compiled kernel of the fixed-torus pebble game (integer arithmetic only).
+
+State of a game on ``N`` nodes and ``m`` bond sites:
+
+* ``out : (N, 2) int64``: the two pebble slots of each node; a slot holds ``-1`` (a free pebble)
+  or the index of an accepted bond oriented *out of* that node;
+* ``eu, ev : (m,) int64`` and ``gx, gy : (m,) int64``: the two ends of each bond and its gain
+  (the image shift of ``ev`` seen from ``eu``; seen from ``ev`` the gain is ``-(gx, gy)``).
+
+A *lifted* node is a pair (node, potential): the image of the node shifted by the potential, an
+integer vector. The balancedness of a bond set is read off the potentials met when walking its
+bonds in the lift (docs/guide/rigid-clusters.md states the rules and why they are right).
+
+Bond status codes (:data:`INDEPENDENT` ...) are what :func:`play` returns per site.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+from numba import types
+from numba.typed import Dict
+
+#: status of a site not (yet) inserted: empty, or after the pass stopped
+UNTESTED = 0
+#: accepted into the independent set of the fixed-torus matroid
+INDEPENDENT = 1
+#: dependent, and its fundamental circuit is balanced (no cycle of it wraps): zero virial
+BALANCED = 2
+#: dependent, and its fundamental circuit is unbalanced: it resists a generic strain
+UNBALANCED = 3
+
+#: potentials are packed into dictionary keys with this offset per coordinate
+POTENTIAL_OFFSET = 1 << 20
+#: packing base per coordinate
+_SPAN = 2 * POTENTIAL_OFFSET + 1
+#: node indices must stay below this for the packed keys to fit in an int64
+MAX_NODES = 1 << 20
+
+
+@nb.njit(cache=True)
+def _free(out, v):
+    return int(out[v, 0] < 0) + int(out[v, 1] < 0)
+
+
+@nb.njit(cache=True)
+def _step(b, v, eu, ev, gx, gy):
+    """Other end of bond b seen from v, and the gain from v to it."""
+    if eu[b] == v:
+        return ev[b], gx[b], gy[b]
+    return eu[b], -gx[b], -gy[b]
+
+
+@nb.njit(cache=True)
+def _key(v, px, py):
+    return (v * _SPAN + (px + POTENTIAL_OFFSET)) * _SPAN + (py + POTENTIAL_OFFSET)
+
+
+@nb.njit(cache=True)
+def _move(out, b, src, dst):
+    """Re-orient bond b from node src to node dst (dst must have a free slot)."""
+    if out[src, 0] == b:
+        out[src, 0] = -1
+    else:
+        out[src, 1] = -1
+    if out[dst, 0] < 0:
+        out[dst, 0] = b
+    else:
+        out[dst, 1] = b
+
+
+@nb.njit(cache=True)
+def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack):
+    """Bring one free pebble to ``root`` (not taken from ``root`` or ``other``)."""
+    stamp[0] += 1
+    st = stamp[0]
+    seen[root] = st
+    top = 0
+    stack[top] = root
+    top += 1
+    while top > 0:
+        top -= 1
+        v = stack[top]
+        for s in range(2):
+            b = out[v, s]
+            if b < 0:
+                continue
+            w = ev[b] if eu[b] == v else eu[b]
+            if seen[w] == st:
+                continue
+            seen[w] = st
+            pred[w] = b
+            if w != other and _free(out, w) > 0:
+                x = w
+                while x != root:
+                    c = pred[x]
+                    y = ev[c] if eu[c] == x else eu[c]
+                    _move(out, c, y, x)
+                    x = y
+                return True
+            stack[top] = w
+            top += 1
+    return False
+
+
+@nb.njit(cache=True)
+def _gather(i, j, want, out, eu, ev, seen, stamp, pred, stack):
+    """Gather up to ``want`` pebbles on {i, j} (as many as possible on i first)."""
+    while _free(out, i) < 2 and _free(out, i) < want:
+        if not _find_pebble(i, j, out, eu, ev, seen, stamp, pred, stack):
+            break
+    while _free(out, j) < 2 and _free(out, i) + _free(out, j) < want:
+        if not _find_pebble(j, i, out, eu, ev, seen, stamp, pred, stack):
+            break
+    return _free(out, i) + _free(out, j)
+
+
+@nb.njit(cache=True)
+def _reach(i, j, g0, g1, out, eu, ev, gx, gy, seen, stamp, px, py, lst):
+    """Nodes reachable from i (potential 0) and j (potential g) along the orientation.
+
+    Returns the number of nodes written to ``lst`` and whether every node was reached at one
+    potential only (the lifted reach is injective).
+    """
+    stamp[0] += 1
+    st = stamp[0]
+    n = 0
+    ok = True
+    seen[i] = st
+    px[i] = 0
+    py[i] = 0
+    lst[n] = i
+    n += 1
+    if seen[j] == st:
+        ok = ok and (g0 == 0 and g1 == 0)
+    else:
+        seen[j] = st
+        px[j] = g0
+        py[j] = g1
+        lst[n] = j
+        n += 1
+    k = 0
+    while k < n:
+        v = lst[k]
+        k += 1
+        for s in range(2):
+            b = out[v, s]
+            if b < 0:
+                continue
+            w, dx, dy = _step(b, v, eu, ev, gx, gy)
+            qx = px[v] + dx
+            qy = py[v] + dy
+            if seen[w] == st:
+                if px[w] != qx or py[w] != qy:
+                    ok = False
+            else:
+                seen[w] = st
+                px[w] = qx
+                py[w] = qy
+                lst[n] = w
+                n += 1
+    return n, ok
+
+
+@nb.njit(cache=True)
+def _mark_out(lst, n, out, over):
+    for k in range(n):
+        v = lst[k]
+        for s in range(2):
+            if out[v, s] >= 0:
+                over[out[v, s]] = True
+
+
+@nb.njit(cache=True)
+def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, seen, stamp, px, py, lst, over, mark, track):
+    """Balancedness of the circuit of bond (i, j, g) when only 2 pebbles reach {i, j}.
+
+    Step 1: in the lift, a breadth-first search from i(0) and j(g) finds a path to another
+    image of i or j holding a pebble (one always exists); its reversal (recorded in an overlay,
+    the game itself is not changed) puts a third pebble on the pair. Step 2: the reach of the
+    pair in the modified lift is finite and injective iff the circuit is balanced. Returns True
+    for a balanced circuit; with ``mark``, flags the circuit's bonds in ``over``.
+    """
+    # step 1: lifted breadth-first search
+    index = Dict.empty(key_type=types.int64, value_type=types.int64)
+    cap = 64
+    qv = np.empty(cap, np.int64)
+    qx = np.empty(cap, np.int64)
+    qy = np.empty(cap, np.int64)
+    qpar = np.empty(cap, np.int64)
+    qedge = np.empty(cap, np.int64)
+    qv[0], qx[0], qy[0], qpar[0], qedge[0] = i, 0, 0, -1, -1
+    qv[1], qx[1], qy[1], qpar[1], qedge[1] = j, g0, g1, -1, -1
+    index[_key(i, 0, 0)] = 0
+    index[_key(j, g0, g1)] = 1
+    n = 2
+    k = 0
+    found = -1
+    while k < n and found < 0:
+        v = qv[k]
+        for s in range(2):
+            b = out[v, s]
+            if b < 0:
+                continue
+            w, dx, dy = _step(b, v, eu, ev, gx, gy)
+            wx = qx[k] + dx
+            wy = qy[k] + dy
+            if abs(wx) >= POTENTIAL_OFFSET or abs(wy) >= POTENTIAL_OFFSET:
+                raise ValueError("potential out of range")
+            key = _key(w, wx, wy)
+            if key in index:
+                continue
+            if n == cap:
+                cap *= 2
+                qv = _grow(qv, cap)
+                qx = _grow(qx, cap)
+                qy = _grow(qy, cap)
+                qpar = _grow(qpar, cap)
+                qedge = _grow(qedge, cap)
+            qv[n], qx[n], qy[n], qpar[n], qedge[n] = w, wx, wy, k, b
+            index[key] = n
+            n += 1
+            if (w == i or w == j) and _free(out, w) > 0:
+                found = n - 1
+                break
+        k += 1
+    if found < 0:  # cannot happen for an independent set; be conservative
+        return False
+    # the overlay: lifted bonds reversed along the path (original tail -> head)
+    npath = 0
+    x = found
+    while qpar[x] >= 0:
+        npath += 1
+        x = qpar[x]
+    oe = np.empty(npath, np.int64)
+    otv = np.empty(npath, np.int64)
+    otx = np.empty(npath, np.int64)
+    oty = np.empty(npath, np.int64)
+    ohv = np.empty(npath, np.int64)
+    ohx = np.empty(npath, np.int64)
+    ohy = np.empty(npath, np.int64)
+    stamp[0] += 1
+    ost = stamp[0]
+    x = found
+    t = 0
+    while qpar[x] >= 0:
+        p = qpar[x]
+        oe[t] = qedge[x]
+        otv[t], otx[t], oty[t] = qv[p], qx[p], qy[p]
+        ohv[t], ohx[t], ohy[t] = qv[x], qx[x], qy[x]
+        mark[qv[p]] = ost
+        mark[qv[x]] = ost
+        t += 1
+        x = p
+    # step 2: reach of {i(0), j(g)} in the modified lift, one potential per node
+    stamp[0] += 1
+    st = stamp[0]
+    m = 0
+    seen[i] = st
+    px[i] = 0
+    py[i] = 0
+    lst[m] = i
+    m += 1
+    seen[j] = st
+    px[j] = g0
+    py[j] = g1
+    lst[m] = j
+    m += 1
+    k = 0
+    while k < m:
+        v = lst[k]
+        k += 1
+        vx = px[v]
+        vy = py[v]
+        for s in range(2):
+            b = out[v, s]
+            if b < 0:
+                continue
+            skip = False
+            if mark[v] == ost:
+                for t in range(npath):
+                    if oe[t] == b and otv[t] == v and otx[t] == vx and oty[t] == vy:
+                        skip = True
+            if skip:
+                continue
+            w, dx, dy = _step(b, v, eu, ev, gx, gy)
+            if seen[w] == st:
+                if px[w] != vx + dx or py[w] != vy + dy:
+                    return False
+            else:
+                seen[w] = st
+                px[w] = vx + dx
+                py[w] = vy + dy
+                lst[m] = w
+                m += 1
+        if mark[v] == ost:
+            for t in range(npath):
+                if ohv[t] == v and ohx[t] == vx and ohy[t] == vy:
+                    w = otv[t]
+                    if seen[w] == st:
+                        if px[w] != otx[t] or py[w] != oty[t]:
+                            return False
+                    else:
+                        seen[w] = st
+                        px[w] = otx[t]
+                        py[w] = oty[t]
+                        lst[m] = w
+                        m += 1
+    if track:
+        _mark_circuit(mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv, ohx, ohy, over)
+    return True
+
+
+@nb.njit(cache=True)
+def _mark_circuit(mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv, ohx, ohy, over):
+    """Flag the bonds of a balanced circuit: out-bonds of its nodes in the modified lift."""
+    for k in range(m):
+        v = lst[k]
+        for s in range(2):
+            b = out[v, s]
+            if b < 0:
+                continue
+            skip = False
+            if mark[v] == ost:
+                for t in range(npath):
+                    if oe[t] == b and otv[t] == v and otx[t] == px[v] and oty[t] == py[v]:
+                        skip = True
+            if not skip:
+                over[b] = True
+        if mark[v] == ost:
+            for t in range(npath):
+                if ohv[t] == v and ohx[t] == px[v] and ohy[t] == py[v]:
+                    over[oe[t]] = True
+
+
+@nb.njit(cache=True)
+def _grow(a, cap):
+    b = np.empty(cap, a.dtype)
+    b[: a.size] = a
+    return b
+
+
+@nb.njit(cache=True)
+def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
+    """Insert the bonds ``order`` one by one into a fixed-torus pebble game.
+
+    Parameters
+    ----------
+    n_nodes : int
+        Number of nodes N.
+    eu, ev, gx, gy : (m,) int64
+        Ends and gains of every bond site.
+    order : (k,) int64
+        Sites to insert, in order.
+    stop_at_wrap : bool
+        Stop after the first bond whose circuit is unbalanced.
+    track_circuits : bool
+        Flag the bonds of every fundamental circuit (the overconstrained bonds).
+
+    Returns
+    -------
+    status : (m,) int64
+        Per site: :data:`UNTESTED`, :data:`INDEPENDENT`, :data:`BALANCED` or :data:`UNBALANCED`.
+    first_wrap : int
+        Position in ``order`` of the first unbalanced circuit's bond, -1 if none.
+    out : (N, 2) int64
+        Final pebble slots.
+    over : (m,) bool
+        Bonds in some fundamental circuit (``track_circuits`` only).
+    """
+    m = eu.size
+    out = -np.ones((n_nodes, 2), np.int64)
+    status = np.zeros(m, np.int64)
+    over = np.zeros(m, np.bool_)
+    seen = np.zeros(n_nodes, np.int64)
+    mark = np.zeros(n_nodes, np.int64)
+    stamp = np.zeros(1, np.int64)
+    pred = np.zeros(n_nodes, np.int64)
+    stack = np.zeros(n_nodes, np.int64)
+    lst = np.zeros(n_nodes, np.int64)
+    px = np.zeros(n_nodes, np.int64)
+    py = np.zeros(n_nodes, np.int64)
+    first_wrap = -1
+    for pos in range(order.size):
+        b = order[pos]
+        i = eu[b]
+        j = ev[b]
+        if i == j:  # a bond to the node's own image: a zero row, a one-bond circuit
+            status[b] = UNBALANCED
+            over[b] = True
+        else:
+            got = _gather(i, j, 4, out, eu, ev, seen, stamp, pred, stack)
+            if got == 4:
+                status[b] = INDEPENDENT
+            elif got == 3:
+                n, ok = _reach(i, j, gx[b], gy[b], out, eu, ev, gx, gy, seen, stamp, px, py, lst)
+                if ok:  # the minimal tight set plus b is balanced: dependent, balanced circuit
+                    status[b] = BALANCED
+                    if track_circuits:
+                        _mark_out(lst, n, out, over)
+                        over[b] = True
+                else:
+                    status[b] = INDEPENDENT
+            else:
+                bal = _lifted_test(
+                    i,
+                    j,
+                    gx[b],
+                    gy[b],
+                    out,
+                    eu,
+                    ev,
+                    gx,
+                    gy,
+                    seen,
+                    stamp,
+                    px,
+                    py,
+                    lst,
+                    over,
+                    mark,
+                    track_circuits,
+                )
+                if bal:
+                    status[b] = BALANCED
+                else:
+                    status[b] = UNBALANCED
+                    if track_circuits:
+                        n, _ = _reach(
+                            i, j, gx[b], gy[b], out, eu, ev, gx, gy, seen, stamp, px, py, lst
+                        )
+                        _mark_out(lst, n, out, over)
+                if track_circuits:
+                    over[b] = True
+            if status[b] == INDEPENDENT:
+                if out[i, 0] < 0:
+                    out[i, 0] = b
+                elif out[i, 1] < 0:
+                    out[i, 1] = b
+                elif out[j, 0] < 0:
+                    out[j, 0] = b
+                else:
+                    out[j, 1] = b
+        if status[b] == UNBALANCED and first_wrap < 0:
+            first_wrap = pos
+            if stop_at_wrap:
+                break
+    return status, first_wrap, out, over
+
+
+@nb.njit(cache=True)
+def _candidate(
+    w, wx, wy, balanced, cst, member, mpx, mpy, out, eu, ev, gx, gy, vst, stamp, tpx, tpy, tlst
+):
+    """Search from lifted node w(wx, wy) for a free pebble outside the pinned cluster.
+
+    Returns the number of nodes visited (in ``tlst``, potentials in ``tpx``, ``tpy``) if the
+    search fails (w is rigidly attached to the cluster), -1 if it finds a pebble (or, in a
+    balanced cluster, meets a node at two potentials, which implies one).
+    """
+    stamp[0] += 1
+    st = stamp[0]
+    n = 0
+    vst[w] = st
+    tpx[w] = wx
+    tpy[w] = wy
+    tlst[n] = w
+    n += 1
+    k = 0
+    while k < n:
+        v = tlst[k]
+        k += 1
+        if _free(out, v) > 0:
+            return -1
+        for s in range(2):
+            b = out[v, s]
+            if b < 0:
+                continue
+            u, dx, dy = _step(b, v, eu, ev, gx, gy)
+            ux = tpx[v] + dx
+            uy = tpy[v] + dy
+            if member[u] == cst:
+                if balanced and (mpx[u] != ux or mpy[u] != uy):
+                    return -1
+                continue
+            if vst[u] == st:
+                if balanced and (tpx[u] != ux or tpy[u] != uy):
+                    return -1
+                continue
+            vst[u] = st
+            tpx[u] = ux
+            tpy[u] = uy
+            tlst[n] = u
+            n += 1
+    return n
+
+
+@nb.njit(cache=True)
+def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
+    """Rigid-cluster label of every site in ``sites`` (-1 elsewhere), from a finished game.
+
+    Sites are taken in the given order; each one not yet labelled seeds a cluster: the pebbles
+    are gathered on its ends (at most 3). With 3 the cluster is a balanced (finite) rigid body,
+    grown in the lift with potentials; with 2 it is the maximal tight set of the torus holding
+    the bond (it wraps). A node joins when a search from it finds no free pebble.
+    """
+    m = eu.size
+    labels = -np.ones(m, np.int64)
+    start = np.zeros(n_nodes + 1, np.int64)
+    for b in sites:
+        if eu[b] != ev[b]:
+            start[eu[b] + 1] += 1
+            start[ev[b] + 1] += 1
+    for v in range(n_nodes):
+        start[v + 1] += start[v]
+    fill = start[:-1].copy()
+    adj = np.empty(start[n_nodes], np.int64)
+    for b in sites:
+        if eu[b] != ev[b]:
+            adj[fill[eu[b]]] = b
+            fill[eu[b]] += 1
+            adj[fill[ev[b]]] = b
+            fill[ev[b]] += 1
+    seen = np.zeros(n_nodes, np.int64)
+    vst = np.zeros(n_nodes, np.int64)
+    member = np.zeros(n_nodes, np.int64)
+    failed = np.zeros(n_nodes, np.int64)
+    fpx = np.zeros(n_nodes, np.int64)
+    fpy = np.zeros(n_nodes, np.int64)
+    stamp = np.zeros(1, np.int64)
+    pred = np.zeros(n_nodes, np.int64)
+    stack = np.zeros(n_nodes, np.int64)
+    lst = np.zeros(n_nodes, np.int64)
+    px = np.zeros(n_nodes, np.int64)
+    py = np.zeros(n_nodes, np.int64)
+    mpx = np.zeros(n_nodes, np.int64)
+    mpy = np.zeros(n_nodes, np.int64)
+    tpx = np.zeros(n_nodes, np.int64)
+    tpy = np.zeros(n_nodes, np.int64)
+    tlst = np.zeros(n_nodes, np.int64)
+    mem = np.zeros(n_nodes, np.int64)
+    wrap_of = -np.ones(n_nodes, np.int64)
+    cst = 0
+    nlab = 0
+    for b in sites:
+        if labels[b] >= 0 or eu[b] == ev[b]:
+            continue
+        i = eu[b]
+        j = ev[b]
+        got = _gather(i, j, 3, out, eu, ev, seen, stamp, pred, stack)
+        n, ok = _reach(i, j, gx[b], gy[b], out, eu, ev, gx, gy, seen, stamp, px, py, lst)
+        balanced = got >= 3
+        if balanced and not ok:  # not expected: the bond alone
+            labels[b] = nlab
+            nlab += 1
+            continue
+        cst += 1
+        nm = 0
+        for k in range(n):
+            v = lst[k]
+            member[v] = cst
+            mpx[v] = px[v]
+            mpy[v] = py[v]
+            mem[nm] = v
+            nm += 1
+        q = 0
+        while q < nm:
+            v = mem[q]
+            q += 1
+            for a in range(start[v], start[v + 1]):
+                c = adj[a]
+                w, dx, dy = _step(c, v, eu, ev, gx, gy)
+                if member[w] == cst:
+                    continue
+                wx = mpx[v] + dx
+                wy = mpy[v] + dy
+                if failed[w] == cst and (not balanced or (fpx[w] == wx and fpy[w] == wy)):
+                    continue
+                r = _candidate(
+                    w,
+                    wx,
+                    wy,
+                    balanced,
+                    cst,
+                    member,
+                    mpx,
+                    mpy,
+                    out,
+                    eu,
+                    ev,
+                    gx,
+                    gy,
+                    vst,
+                    stamp,
+                    tpx,
+                    tpy,
+                    tlst,
+                )
+                if r < 0:
+                    failed[w] = cst
+                    fpx[w] = wx
+                    fpy[w] = wy
+                    continue
+                for k in range(r):
+                    u = tlst[k]
+                    member[u] = cst
+                    mpx[u] = tpx[u]
+                    mpy[u] = tpy[u]
+                    mem[nm] = u
+                    nm += 1
+        for q in range(nm):
+            v = mem[q]
+            if not balanced:
+                wrap_of[v] = nlab
+            for a in range(start[v], start[v + 1]):
+                c = adj[a]
+                if labels[c] >= 0 or eu[c] != v:
+                    continue
+                w = ev[c]
+                if member[w] != cst:
+                    continue
+                if balanced and (mpx[w] != mpx[v] + gx[c] or mpy[w] != mpy[v] + gy[c]):
+                    continue
+                labels[c] = nlab
+        if labels[b] < 0:  # not expected: keep every site labelled
+            labels[b] = nlab
+        nlab += 1
+    for b in sites:
+        if eu[b] == ev[b]:
+            if wrap_of[eu[b]] >= 0:
+                labels[b] = wrap_of[eu[b]]
+            else:
+                labels[b] = nlab
+                nlab += 1
+    return labels
