@@ -9,7 +9,12 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: pages whose Python blocks are self-contained (the sweeps guide's need a spec file on disk)
-PAGES = ["README.md", "docs/getting-started.md", "docs/guide/thresholds.md"]
+PAGES = [
+    "README.md",
+    "docs/getting-started.md",
+    "docs/guide/thresholds.md",
+    "docs/guide/rigid-clusters.md",
+]
 
 
 def _blocks(page: str) -> list[str]:
