@@ -83,11 +83,12 @@ def game_arrays(network: PeriodicNetwork) -> tuple[np.ndarray, ...]:
         When the network is too large for the kernel's packed potentials.
     """
     shifts = network.shifts
-    reach = int(np.abs(shifts).max(initial=0)) * network.n_nodes
-    if network.n_nodes >= pebble.MAX_NODES or reach >= pebble.POTENTIAL_OFFSET:
+    largest = int(np.abs(shifts).max(initial=0))
+    if network.n_nodes >= pebble.MAX_NODES or largest >= pebble.MAX_SHIFT:
         raise InputError(
             f"network too large for the pebble game ({network.n_nodes} nodes, image shifts up "
-            f"to {int(np.abs(shifts).max(initial=0))}); it takes below {pebble.MAX_NODES} nodes"
+            f"to {largest}); it takes below {pebble.MAX_NODES} nodes and shifts below "
+            f"{pebble.MAX_SHIFT}"
         )
     bonds = np.ascontiguousarray(network.bonds, dtype=np.int64)
     return (

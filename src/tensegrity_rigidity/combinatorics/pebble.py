@@ -18,8 +18,6 @@ from __future__ import annotations
 
 import numba as nb
 import numpy as np
-from numba import types
-from numba.typed import Dict
 
 #: status of a site not (yet) inserted: empty, or after the pass stopped
 UNTESTED = 0
@@ -30,12 +28,14 @@ BALANCED = 2
 #: dependent, and its fundamental circuit is unbalanced: it resists a generic strain
 UNBALANCED = 3
 
-#: potentials are packed into dictionary keys with this offset per coordinate
-POTENTIAL_OFFSET = 1 << 20
-#: packing base per coordinate
-_SPAN = 2 * POTENTIAL_OFFSET + 1
-#: node indices must stay below this for the packed keys to fit in an int64
-MAX_NODES = 1 << 20
+#: node indices must stay below this (the kernel's arrays are int64 throughout)
+MAX_NODES = 1 << 30
+#: image shifts must stay below this, so that potentials (sums of at most N shifts) fit too
+MAX_SHIFT = 1 << 30
+
+#: rows of the kernel's (ROWS, N) int64 scratch array
+SEEN, PRED, LIST, PX, PY, SEEN2, PRED2, LIST2, ONPATH, MARK, STACK = range(11)
+ROWS = 11
 
 
 @nb.njit(cache=True)
@@ -49,11 +49,6 @@ def _step(b, v, eu, ev, gx, gy):
     if eu[b] == v:
         return ev[b], gx[b], gy[b]
     return eu[b], -gx[b], -gy[b]
-
-
-@nb.njit(cache=True)
-def _key(v, px, py):
-    return (v * _SPAN + (px + POTENTIAL_OFFSET)) * _SPAN + (py + POTENTIAL_OFFSET)
 
 
 @nb.njit(cache=True)
@@ -172,86 +167,184 @@ def _mark_out(lst, n, out, over):
 
 
 @nb.njit(cache=True)
-def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, seen, stamp, px, py, lst, over, mark, track):
-    """Balancedness of the circuit of bond (i, j, g) when only 2 pebbles reach {i, j}.
+def _lifted_path(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path):
+    """A directed path in the lift from i(0) or j(g) to another image of i or j with a pebble.
 
-    Step 1: in the lift, a breadth-first search from i(0) and j(g) finds a path to another
-    image of i or j holding a pebble (one always exists); its reversal (recorded in an overlay,
-    the game itself is not changed) puts a third pebble on the pair. Step 2: the reach of the
-    pair in the modified lift is finite and injective iff the circuit is balanced. Returns True
-    for a balanced circuit; with ``mark``, flags the circuit's bonds in ``over``.
+    Writes the path's bonds, forward, into ``path`` (rows: bond, tail node, tail potential x,
+    y, head node, head potential x, y) and returns their number (-1 if none was found, which
+    cannot happen when only 2 pebbles reach {i, j}). A breadth-first search gives every node
+    reached its first potential (a tree); a bond that reaches a node at another potential makes
+    two walks on to a pebble that end on two images of the same node, of which at most one is
+    the image we start from: that walk, with its loops in the lift cut out, is the path.
     """
-    # step 1: lifted breadth-first search
-    index = Dict.empty(key_type=types.int64, value_type=types.int64)
-    cap = 64
-    qv = np.empty(cap, np.int64)
-    qx = np.empty(cap, np.int64)
-    qy = np.empty(cap, np.int64)
-    qpar = np.empty(cap, np.int64)
-    qedge = np.empty(cap, np.int64)
-    qv[0], qx[0], qy[0], qpar[0], qedge[0] = i, 0, 0, -1, -1
-    qv[1], qx[1], qy[1], qpar[1], qedge[1] = j, g0, g1, -1, -1
-    index[_key(i, 0, 0)] = 0
-    index[_key(j, g0, g1)] = 1
+    seen, pred, lst, px, py = work[SEEN], work[PRED], work[LIST], work[PX], work[PY]
+    seen2, pred2, lst2, onpath = work[SEEN2], work[PRED2], work[LIST2], work[ONPATH]
+    stamp[0] += 1
+    st = stamp[0]
+    seen[i] = st
+    px[i], py[i], pred[i] = 0, 0, -1
+    seen[j] = st
+    px[j], py[j], pred[j] = g0, g1, -1
+    lst[0], lst[1] = i, j
     n = 2
     k = 0
-    found = -1
-    while k < n and found < 0:
-        v = qv[k]
+    cu, cb, direct = -1, -1, False
+    while k < n and not direct:
+        v = lst[k]
+        k += 1
         for s in range(2):
             b = out[v, s]
             if b < 0:
                 continue
             w, dx, dy = _step(b, v, eu, ev, gx, gy)
-            wx = qx[k] + dx
-            wy = qy[k] + dy
-            if abs(wx) >= POTENTIAL_OFFSET or abs(wy) >= POTENTIAL_OFFSET:
-                raise ValueError("potential out of range")
-            key = _key(w, wx, wy)
-            if key in index:
-                continue
-            if n == cap:
-                cap *= 2
-                qv = _grow(qv, cap)
-                qx = _grow(qx, cap)
-                qy = _grow(qy, cap)
-                qpar = _grow(qpar, cap)
-                qedge = _grow(qedge, cap)
-            qv[n], qx[n], qy[n], qpar[n], qedge[n] = w, wx, wy, k, b
-            index[key] = n
-            n += 1
-            if (w == i or w == j) and _free(out, w) > 0:
-                found = n - 1
-                break
-        k += 1
-    if found < 0:  # cannot happen for an independent set; be conservative
+            qx, qy = px[v] + dx, py[v] + dy
+            if seen[w] == st:
+                if px[w] != qx or py[w] != qy:
+                    if (w == i or w == j) and _free(out, w) > 0:
+                        cu, cb, direct = v, b, True
+                        break
+                    if cu < 0:
+                        cu, cb = v, b
+            else:
+                seen[w] = st
+                px[w], py[w], pred[w] = qx, qy, b
+                lst[n] = w
+                n += 1
+    if cu < 0:
+        return -1
+    w, dx, dy = _step(cb, cu, eu, ev, gx, gy)
+    qx, qy = px[cu] + dx, py[cu] + dy
+    # the walk on from w to a pebble of i or j (none needed when w is one)
+    nP = 0
+    x = w
+    if not direct:
+        stamp[0] += 1
+        st2 = stamp[0]
+        seen2[w] = st2
+        pred2[w] = -1
+        lst2[0] = w
+        n2 = 1
+        k = 0
+        x = -1
+        while k < n2 and x < 0:
+            v = lst2[k]
+            k += 1
+            for s in range(2):
+                b = out[v, s]
+                if b < 0:
+                    continue
+                y = ev[b] if eu[b] == v else eu[b]
+                if seen2[y] == st2:
+                    continue
+                seen2[y] = st2
+                pred2[y] = b
+                lst2[n2] = y
+                n2 += 1
+                if (y == i or y == j) and _free(out, y) > 0:
+                    x = y
+                    break
+        if x < 0:
+            return -1
+        y = x
+        while y != w:  # the walk's bonds, backward, into LIST2
+            lst2[nP] = pred2[y]
+            nP += 1
+            y = ev[pred2[y]] if eu[pred2[y]] == y else eu[pred2[y]]
+        # gain of the walk, and which of the two starts ends on another image
+        hx, hy = 0, 0
+        y = w
+        for t in range(nP - 1, -1, -1):
+            y, dx, dy = _step(lst2[t], y, eu, ev, gx, gy)
+            hx += dx
+            hy += dy
+        if qx + hx == px[x] and qy + hy == py[x]:  # via cb it ends on the start image
+            cu = -1  # start at w's tree image instead
+            qx, qy = px[w], py[w]
+    # the tree part: the tree path to cu (then bond cb), or to w
+    base = cu if cu >= 0 else w
+    stamp[0] += 1
+    st3 = stamp[0]
+    nt = 0
+    y = base
+    while True:
+        onpath[y] = st3
+        nt += 1
+        if pred[y] < 0:
+            break
+        y = ev[pred[y]] if eu[pred[y]] == y else eu[pred[y]]
+    # cut the loop: the last node of the walk on that is a tree-part node at its tree potential
+    cut_node, cut_at = -1, -1
+    y, yx, yy = w, qx, qy
+    if onpath[y] == st3 and px[y] == yx and py[y] == yy:
+        cut_node, cut_at = y, nP
+    for t in range(nP - 1, -1, -1):
+        y, dx, dy = _step(lst2[t], y, eu, ev, gx, gy)
+        yx += dx
+        yy += dy
+        if onpath[y] == st3 and px[y] == yx and py[y] == yy:
+            cut_node, cut_at = y, t
+    # assemble: tree path to the junction, then the rest of the walk
+    junction = cut_node if cut_node >= 0 else base
+    nt = 0
+    y = junction
+    while pred[y] >= 0:
+        nt += 1
+        y = ev[pred[y]] if eu[pred[y]] == y else eu[pred[y]]
+    total = nt
+    if cut_node < 0 and cu >= 0:
+        total += 1  # bond cb
+    rest = nP if cut_node < 0 else cut_at
+    total += rest
+    y = junction
+    for t in range(nt - 1, -1, -1):
+        b = pred[y]
+        z = ev[b] if eu[b] == y else eu[b]
+        path[t, 0], path[t, 1], path[t, 2], path[t, 3] = b, z, px[z], py[z]
+        path[t, 4], path[t, 5], path[t, 6] = y, px[y], py[y]
+        y = z
+    r = nt
+    if cut_node >= 0:
+        y, yx, yy = cut_node, px[cut_node], py[cut_node]
+    else:
+        if cu >= 0:
+            path[r, 0], path[r, 1], path[r, 2], path[r, 3] = cb, cu, px[cu], py[cu]
+            path[r, 4], path[r, 5], path[r, 6] = w, qx, qy
+            r += 1
+        y, yx, yy = w, qx, qy
+    for t in range(rest - 1, -1, -1):
+        b = lst2[t]
+        z, dx, dy = _step(b, y, eu, ev, gx, gy)
+        path[r, 0], path[r, 1], path[r, 2], path[r, 3] = b, y, yx, yy
+        yx += dx
+        yy += dy
+        path[r, 4], path[r, 5], path[r, 6] = z, yx, yy
+        r += 1
+        y = z
+    return total
+
+
+@nb.njit(cache=True)
+def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path, over, track):
+    """Balancedness of the circuit of bond (i, j, g) when only 2 pebbles reach {i, j}.
+
+    Step 1 (:func:`_lifted_path`): a directed path in the lift to another image of i or j
+    holding a pebble; its reversal (an overlay: the game itself is not changed) puts a third
+    pebble on the pair. Step 2: the reach of the pair in the modified lift meets every node at
+    one potential iff the circuit is balanced. Returns True for a balanced circuit; with
+    ``track``, flags the circuit's bonds in ``over``.
+    """
+    npath = _lifted_path(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path)
+    if npath < 0:  # cannot happen for an independent set; be conservative
         return False
-    # the overlay: lifted bonds reversed along the path (original tail -> head)
-    npath = 0
-    x = found
-    while qpar[x] >= 0:
-        npath += 1
-        x = qpar[x]
-    oe = np.empty(npath, np.int64)
-    otv = np.empty(npath, np.int64)
-    otx = np.empty(npath, np.int64)
-    oty = np.empty(npath, np.int64)
-    ohv = np.empty(npath, np.int64)
-    ohx = np.empty(npath, np.int64)
-    ohy = np.empty(npath, np.int64)
+    seen, lst, px, py, mark = work[SEEN], work[LIST], work[PX], work[PY], work[MARK]
+    oe = path[:npath, 0]
+    otv, otx, oty = path[:npath, 1], path[:npath, 2], path[:npath, 3]
+    ohv, ohx, ohy = path[:npath, 4], path[:npath, 5], path[:npath, 6]
     stamp[0] += 1
     ost = stamp[0]
-    x = found
-    t = 0
-    while qpar[x] >= 0:
-        p = qpar[x]
-        oe[t] = qedge[x]
-        otv[t], otx[t], oty[t] = qv[p], qx[p], qy[p]
-        ohv[t], ohx[t], ohy[t] = qv[x], qx[x], qy[x]
-        mark[qv[p]] = ost
-        mark[qv[x]] = ost
-        t += 1
-        x = p
+    for t in range(npath):
+        mark[otv[t]] = ost
+        mark[ohv[t]] = ost
     # step 2: reach of {i(0), j(g)} in the modified lift, one potential per node
     stamp[0] += 1
     st = stamp[0]
@@ -334,13 +427,6 @@ def _mark_circuit(mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv,
 
 
 @nb.njit(cache=True)
-def _grow(a, cap):
-    b = np.empty(cap, a.dtype)
-    b[: a.size] = a
-    return b
-
-
-@nb.njit(cache=True)
 def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
     """Insert the bonds ``order`` one by one into a fixed-torus pebble game.
 
@@ -372,14 +458,11 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
     out = -np.ones((n_nodes, 2), np.int64)
     status = np.zeros(m, np.int64)
     over = np.zeros(m, np.bool_)
-    seen = np.zeros(n_nodes, np.int64)
-    mark = np.zeros(n_nodes, np.int64)
+    work = np.zeros((ROWS, n_nodes), np.int64)
+    path = np.zeros((2 * n_nodes + 2, 7), np.int64)
+    seen, pred, stack, lst = work[SEEN], work[PRED], work[STACK], work[LIST]
+    px, py = work[PX], work[PY]
     stamp = np.zeros(1, np.int64)
-    pred = np.zeros(n_nodes, np.int64)
-    stack = np.zeros(n_nodes, np.int64)
-    lst = np.zeros(n_nodes, np.int64)
-    px = np.zeros(n_nodes, np.int64)
-    py = np.zeros(n_nodes, np.int64)
     first_wrap = -1
     for pos in range(order.size):
         b = order[pos]
@@ -412,13 +495,10 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
                     ev,
                     gx,
                     gy,
-                    seen,
                     stamp,
-                    px,
-                    py,
-                    lst,
+                    work,
+                    path,
                     over,
-                    mark,
                     track_circuits,
                 )
                 if bal:
