@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.linalg as sl
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -19,6 +20,7 @@ from tensegrity_rigidity import (
 )
 from tensegrity_rigidity.combinatorics import pebble
 from tensegrity_rigidity.combinatorics.clusters import first_wrapping, game_arrays
+from tensegrity_rigidity.model.mechanics import rigidity_matrix
 from tensegrity_rigidity.model.strain import strain_tensor
 
 from .helpers import (
@@ -162,3 +164,32 @@ def test_adding_rods_never_lowers_rank_or_unwraps(seed):
         if previous is not None:
             assert r.rank >= previous.rank and r.wraps >= previous.wraps
         previous = r
+
+
+@pytest.mark.parametrize("seed", range(16))
+def test_each_circuit_is_balanced_iff_its_stress_has_zero_virial(seed):
+    # every dependent bond of a pass in random order closes one circuit with the bonds
+    # accepted before it; its stress (the null space of R^T there) must have zero macroscopic
+    # stress exactly when the kernel calls the circuit balanced
+    rng = np.random.default_rng([78, seed])
+    inst = lattice_rods(rng, (3, 5), (0.5, 1.0)) if seed % 2 else random_rods(rng, 10)
+    net = inst.network
+    order = rng.permutation(np.flatnonzero(net.kinds != Element.EMPTY)).astype(np.int64)
+    eu, ev, gx, gy = game_arrays(net)
+    status, _, _, _ = pebble.play(net.n_nodes, eu, ev, gx, gy, order, False, False)
+    d = net.bond_vectors()
+    dhat = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+    lattice_part = net.shifts @ net.box
+    accepted: list[int] = []
+    for b in order:
+        if status[b] == pebble.INDEPENDENT:
+            accepted.append(int(b))
+            continue
+        rows = np.array(accepted + [int(b)])
+        R = rigidity_matrix(net, rows).toarray()
+        stress = sl.null_space(R.T, rcond=1e-9)
+        assert stress.shape[1] == 1
+        t = stress[:, 0]
+        virial = np.einsum("b,bi,bj->ij", t, lattice_part[rows], dhat[rows])
+        unbalanced = np.abs(virial + virial.T).max() > 1e-8
+        assert unbalanced == (status[b] == pebble.UNBALANCED)
