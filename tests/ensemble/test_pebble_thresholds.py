@@ -73,3 +73,53 @@ def test_bad_pebble_requests_are_refused(kwargs, match):
     args = {"p_t": 0.0, "path": "p_r", "method": "pebble"} | kwargs
     with pytest.raises(InputError, match=match):
         find_threshold(net, u, v, np.eye(2), args["p_t"], 0.5, args["path"], None, args["method"])
+
+
+SWEEP_SPEC = """
+n = 6
+p_t = 0.0
+phi = ["shear", "dilation"]
+samples = 8
+seed = 4
+[threshold]
+path = "p_r"
+"""
+
+
+def test_a_threshold_sweep_can_use_the_pebble_game(tmp_path):
+    import tomllib
+
+    from tensegrity_rigidity import load_results, parse_spec, run_sweep
+
+    lp = parse_spec(tomllib.loads(SWEEP_SPEC))
+    pb = parse_spec(tomllib.loads(SWEEP_SPEC + 'method = "pebble"\n'))
+    assert pb.threshold == {"path": "p_r", "method": "pebble"}
+    assert lp.threshold == {"path": "p_r"} and "threshold_method" not in lp.settings()
+    assert pb.settings()["threshold_method"] == "pebble"
+    run_sweep(lp, tmp_path / "lp", executor="serial", progress=False)
+    run_sweep(pb, tmp_path / "pb", executor="serial", progress=False)
+    a = load_results(tmp_path / "lp").sort_values(["phi", "sample"])
+    b = load_results(tmp_path / "pb").sort_values(["phi", "sample"])
+    assert (b.solves == 0).all() and b.decided.all()
+    ok = a.decided.values
+    np.testing.assert_array_equal(a.threshold_p_r.values[ok], b.threshold_p_r.values[ok])
+
+
+@pytest.mark.parametrize(
+    "extra, needle",
+    [
+        ('method = "simplex"\n', "method must be"),
+        ('method = "pebble"\np_t = 0.2\n', "rods-only"),
+    ],
+)
+def test_bad_pebble_specs_are_refused(extra, needle):
+    import tomllib
+
+    from tensegrity_rigidity import SpecError, parse_spec
+
+    text = SWEEP_SPEC.replace("p_t = 0.0\n", "") if "p_t" in extra else SWEEP_SPEC
+    if "p_t" in extra:
+        text = text.replace("n = 6\n", "n = 6\np_t = 0.2\n")
+        extra = extra.replace("p_t = 0.2\n", "")
+    with pytest.raises(SpecError, match=needle):
+        parse_spec(tomllib.loads(text + extra))
