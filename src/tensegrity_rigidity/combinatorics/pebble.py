@@ -65,17 +65,26 @@ def _move(out, b, src, dst):
 
 
 @nb.njit(cache=True)
-def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack):
-    """Bring one free pebble to ``root`` (not taken from ``root`` or ``other``)."""
+def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack, breadth):
+    """Bring one free pebble to ``root`` (not taken from ``root`` or ``other``).
+
+    Depth first, or breadth first with ``breadth`` (the nearest pebble: cheaper when pebbles
+    are gathered again and again in one region, as the cluster labelling does).
+    """
     stamp[0] += 1
     st = stamp[0]
     seen[root] = st
+    head = 0
     top = 0
     stack[top] = root
     top += 1
-    while top > 0:
-        top -= 1
-        v = stack[top]
+    while head < top:
+        if breadth:
+            v = stack[head]
+            head += 1
+        else:
+            top -= 1
+            v = stack[top]
         for s in range(2):
             b = out[v, s]
             if b < 0:
@@ -99,13 +108,13 @@ def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack):
 
 
 @nb.njit(cache=True)
-def _gather(i, j, want, out, eu, ev, seen, stamp, pred, stack):
+def _gather(i, j, want, out, eu, ev, seen, stamp, pred, stack, breadth=False):
     """Gather up to ``want`` pebbles on {i, j} (as many as possible on i first)."""
     while _free(out, i) < 2 and _free(out, i) < want:
-        if not _find_pebble(i, j, out, eu, ev, seen, stamp, pred, stack):
+        if not _find_pebble(i, j, out, eu, ev, seen, stamp, pred, stack, breadth):
             break
     while _free(out, j) < 2 and _free(out, i) + _free(out, j) < want:
-        if not _find_pebble(j, i, out, eu, ev, seen, stamp, pred, stack):
+        if not _find_pebble(j, i, out, eu, ev, seen, stamp, pred, stack, breadth):
             break
     return _free(out, i) + _free(out, j)
 
@@ -530,14 +539,38 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
 
 @nb.njit(cache=True)
 def _candidate(
-    w, wx, wy, balanced, cst, member, mpx, mpy, out, eu, ev, gx, gy, vst, stamp, tpx, tpy, tlst
+    w,
+    wx,
+    wy,
+    balanced,
+    cst,
+    member,
+    mpx,
+    mpy,
+    out,
+    eu,
+    ev,
+    gx,
+    gy,
+    vst,
+    stamp,
+    tpx,
+    tpy,
+    tlst,
+    wrap_of,
+    touched,
 ):
     """Search from lifted node w(wx, wy) for a free pebble outside the pinned cluster.
 
     Returns the number of nodes visited (in ``tlst``, potentials in ``tpx``, ``tpy``) if the
     search fails (w is rigidly attached to the cluster), -1 if it finds a pebble (or, in a
-    balanced cluster, meets a node at two potentials, which implies one).
+    balanced cluster, meets a node at two potentials, which implies one). Two rigid clusters
+    share at most one node (else they are one): the search also ends, with -1, on a node of a
+    wrapping cluster found before when the cluster cannot take it (it is wrapping itself, or
+    already holds a node of that one).
     """
+    if wrap_of[w] >= 0 and (not balanced or touched[wrap_of[w]] == cst):
+        return -1
     stamp[0] += 1
     st = stamp[0]
     n = 0
@@ -567,6 +600,8 @@ def _candidate(
                 if balanced and (tpx[u] != ux or tpy[u] != uy):
                     return -1
                 continue
+            if wrap_of[u] >= 0 and (not balanced or touched[wrap_of[u]] == cst):
+                return -1
             vst[u] = st
             tpx[u] = ux
             tpy[u] = uy
@@ -620,6 +655,7 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
     tlst = np.zeros(n_nodes, np.int64)
     mem = np.zeros(n_nodes, np.int64)
     wrap_of = -np.ones(n_nodes, np.int64)
+    touched = np.zeros(m + 1, np.int64)
     cst = 0
     nlab = 0
     for b in sites:
@@ -627,7 +663,7 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
             continue
         i = eu[b]
         j = ev[b]
-        got = _gather(i, j, 3, out, eu, ev, seen, stamp, pred, stack)
+        got = _gather(i, j, 3, out, eu, ev, seen, stamp, pred, stack, True)
         n, ok = _reach(i, j, gx[b], gy[b], out, eu, ev, gx, gy, seen, stamp, px, py, lst)
         balanced = got >= 3
         if balanced and not ok:  # not expected: the bond alone
@@ -643,6 +679,8 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
             mpy[v] = py[v]
             mem[nm] = v
             nm += 1
+            if wrap_of[v] >= 0:
+                touched[wrap_of[v]] = cst
         q = 0
         while q < nm:
             v = mem[q]
@@ -675,6 +713,8 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
                     tpx,
                     tpy,
                     tlst,
+                    wrap_of,
+                    touched,
                 )
                 if r < 0:
                     failed[w] = cst
@@ -688,6 +728,8 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
                     mpy[u] = tpy[u]
                     mem[nm] = u
                     nm += 1
+                    if wrap_of[u] >= 0:
+                        touched[wrap_of[u]] = cst
         for q in range(nm):
             v = mem[q]
             if not balanced:
