@@ -36,6 +36,11 @@ MAX_SHIFT = 1 << 30
 #: rows of the kernel's (ROWS, N) int64 scratch array
 SEEN, PRED, LIST, PX, PY, SEEN2, PRED2, LIST2, ONPATH, MARK, STACK = range(11)
 ROWS = 11
+#: rows of the cluster labelling's (LABEL_ROWS, N) int64 scratch array: per node the stamp of
+#: the search visiting it and its potential there, the cluster holding it and its potential in
+#: it, and the wrapping cluster holding it (-1: none)
+VISITED, TPX, TPY, TLIST, MEMBER, MPX, MPY, WRAP_OF = range(8)
+LABEL_ROWS = 8
 
 
 @nb.njit(cache=True)
@@ -538,37 +543,18 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
 
 
 @nb.njit(cache=True)
-def _candidate(
-    w,
-    wx,
-    wy,
-    balanced,
-    cst,
-    member,
-    mpx,
-    mpy,
-    out,
-    eu,
-    ev,
-    gx,
-    gy,
-    vst,
-    stamp,
-    tpx,
-    tpy,
-    tlst,
-    wrap_of,
-    touched,
-):
+def _candidate(w, wx, wy, balanced, cst, out, eu, ev, gx, gy, stamp, lab, touched):
     """Search from lifted node w(wx, wy) for a free pebble outside the pinned cluster.
 
-    Returns the number of nodes visited (in ``tlst``, potentials in ``tpx``, ``tpy``) if the
+    Returns the number of nodes visited (rows ``TLIST``, ``TPX``, ``TPY`` of ``lab``) if the
     search fails (w is rigidly attached to the cluster), -1 if it finds a pebble (or, in a
     balanced cluster, meets a node at two potentials, which implies one). Two rigid clusters
     share at most one node (else they are one): the search also ends, with -1, on a node of a
     wrapping cluster found before when the cluster cannot take it (it is wrapping itself, or
     already holds a node of that one).
     """
+    vst, tpx, tpy, tlst = lab[VISITED], lab[TPX], lab[TPY], lab[TLIST]
+    member, mpx, mpy, wrap_of = lab[MEMBER], lab[MPX], lab[MPY], lab[WRAP_OF]
     if wrap_of[w] >= 0 and (not balanced or touched[wrap_of[w]] == cst):
         return -1
     stamp[0] += 1
@@ -636,25 +622,21 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
             fill[eu[b]] += 1
             adj[fill[ev[b]]] = b
             fill[ev[b]] += 1
-    seen = np.zeros(n_nodes, np.int64)
-    vst = np.zeros(n_nodes, np.int64)
-    member = np.zeros(n_nodes, np.int64)
-    failed = np.zeros(n_nodes, np.int64)
-    fpx = np.zeros(n_nodes, np.int64)
-    fpy = np.zeros(n_nodes, np.int64)
+    lab = np.zeros((LABEL_ROWS, n_nodes), np.int64)
+    lab[WRAP_OF] = -1
+    tpx, tpy, tlst = lab[TPX], lab[TPY], lab[TLIST]
+    member, mpx, mpy, wrap_of = lab[MEMBER], lab[MPX], lab[MPY], lab[WRAP_OF]
+    work = np.zeros((ROWS, n_nodes), np.int64)
+    seen, pred, stack, lst, px, py = (
+        work[SEEN],
+        work[PRED],
+        work[STACK],
+        work[LIST],
+        work[PX],
+        work[PY],
+    )
+    failed, fpx, fpy, mem = work[SEEN2], work[PRED2], work[LIST2], work[ONPATH]
     stamp = np.zeros(1, np.int64)
-    pred = np.zeros(n_nodes, np.int64)
-    stack = np.zeros(n_nodes, np.int64)
-    lst = np.zeros(n_nodes, np.int64)
-    px = np.zeros(n_nodes, np.int64)
-    py = np.zeros(n_nodes, np.int64)
-    mpx = np.zeros(n_nodes, np.int64)
-    mpy = np.zeros(n_nodes, np.int64)
-    tpx = np.zeros(n_nodes, np.int64)
-    tpy = np.zeros(n_nodes, np.int64)
-    tlst = np.zeros(n_nodes, np.int64)
-    mem = np.zeros(n_nodes, np.int64)
-    wrap_of = -np.ones(n_nodes, np.int64)
     touched = np.zeros(m + 1, np.int64)
     cst = 0
     nlab = 0
@@ -694,28 +676,7 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
                 wy = mpy[v] + dy
                 if failed[w] == cst and (not balanced or (fpx[w] == wx and fpy[w] == wy)):
                     continue
-                r = _candidate(
-                    w,
-                    wx,
-                    wy,
-                    balanced,
-                    cst,
-                    member,
-                    mpx,
-                    mpy,
-                    out,
-                    eu,
-                    ev,
-                    gx,
-                    gy,
-                    vst,
-                    stamp,
-                    tpx,
-                    tpy,
-                    tlst,
-                    wrap_of,
-                    touched,
-                )
+                r = _candidate(w, wx, wy, balanced, cst, out, eu, ev, gx, gy, stamp, lab, touched)
                 if r < 0:
                     failed[w] = cst
                     fpx[w] = wx
