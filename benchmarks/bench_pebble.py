@@ -8,9 +8,11 @@ factorisation of the full lattice's Newton matrix (all sites rods,
 ``Problem(instance).factor(ones)``), measured in the same run on the same sample (median of
 ``--repeats``; the weights change by 1e-12 between repeats so that every call factorises).
 The kernel is compiled (and cached) before any timing. Also timed: ``rigid_clusters`` of the
-configuration at the threshold (rank, overconstrained bonds and labels of the sample at p_c).
+configuration at the threshold (rank, overconstrained bonds and labels of the sample at p_c), at
+n <= ``--clusters-max``.
 
 Run: python benchmarks/bench_pebble.py [--sizes 64 128 256 512] [--samples 5 5 3 2]
+     [--clusters-max 256]
 
 Writes the raw results to benchmarks/results/pebble.json and prints the table.
 """
@@ -55,18 +57,21 @@ def factor_seconds(net, repeats: int) -> float:
     return float(np.median(times))
 
 
-def one_sample(n: int, k: int, repeats: int) -> dict:
+def one_sample(n: int, k: int, repeats: int, clusters: bool) -> dict:
     rng = np.random.default_rng([n, k])
     net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
     eps = strain_tensor(float(rng.uniform(0, 2 * np.pi)), float(rng.uniform(0, 2 * np.pi)))
     t0 = time.perf_counter()
     th = find_threshold(net, u, v, eps, 0.0, 0.5, method="pebble")
     pass_s = time.perf_counter() - t0
-    ev = EventPath(u, v, "p_r", 0.0, 0.5)
-    at = int(np.searchsorted(ev.positions, th.s)) + 1  # the first rigid configuration
-    t0 = time.perf_counter()
-    r = rigid_clusters(net.with_kinds(ev.kinds(at)))
-    clusters_s = time.perf_counter() - t0
+    clusters_s, overconstrained, n_clusters = float("nan"), -1, -1
+    if clusters:
+        ev = EventPath(u, v, "p_r", 0.0, 0.5)
+        at = int(np.searchsorted(ev.positions, th.s)) + 1  # the first rigid configuration
+        t0 = time.perf_counter()
+        r = rigid_clusters(net.with_kinds(ev.kinds(at)))
+        clusters_s = time.perf_counter() - t0
+        overconstrained, n_clusters = int(np.count_nonzero(r.overconstrained)), r.n_clusters
     fact = factor_seconds(net, repeats)
     return {
         "n": n,
@@ -76,8 +81,8 @@ def one_sample(n: int, k: int, repeats: int) -> dict:
         "clusters_seconds": clusters_s,
         "factor_seconds": fact,
         "ratio": pass_s / fact,
-        "overconstrained_at_threshold": int(np.count_nonzero(r.overconstrained)),
-        "clusters_at_threshold": r.n_clusters,
+        "overconstrained_at_threshold": overconstrained,
+        "clusters_at_threshold": n_clusters,
     }
 
 
@@ -86,6 +91,7 @@ def main() -> None:
     ap.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512])
     ap.add_argument("--samples", type=int, nargs="+", default=[5, 5, 3, 2])
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--clusters-max", type=int, default=256)
     args = ap.parse_args()
     padded = args.samples + [args.samples[-1]] * len(args.sizes)
     counts = dict(zip(args.sizes, padded[: len(args.sizes)], strict=True))
@@ -96,7 +102,7 @@ def main() -> None:
     rows = []
     for n in args.sizes:
         for k in range(counts[n]):
-            row = one_sample(n, k, args.repeats)
+            row = one_sample(n, k, args.repeats, n <= args.clusters_max)
             rows.append(row)
             print(
                 f"n={n:4d} sample {k}: pass {row['pass_seconds']:.3f} s, factorisation "

@@ -33,6 +33,15 @@ MAX_NODES = 1 << 30
 #: image shifts must stay below this, so that potentials (sums of at most N shifts) fit too
 MAX_SHIFT = 1 << 30
 
+#: pebbles per node (its two coordinates); ``out`` has one slot per pebble
+PEBBLES = 2
+#: pebbles gathered on a new bond's two ends that make it independent whatever its gain
+ALL_FREE = 2 * PEBBLES
+#: pebbles gathered when the smallest node set holding both ends has ``2 |U| - 3`` bonds
+ONE_SHORT = ALL_FREE - 1
+#: columns of a lifted path row: bond, tail node and potential (x, y), head node and potential
+PATH_COLUMNS = 7
+
 #: rows of the kernel's (ROWS, N) int64 scratch array
 SEEN, PRED, LIST, PX, PY, SEEN2, PRED2, LIST2, ONPATH, MARK, STACK = range(11)
 ROWS = 11
@@ -115,10 +124,10 @@ def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack, breadth):
 @nb.njit(cache=True)
 def _gather(i, j, want, out, eu, ev, seen, stamp, pred, stack, breadth=False):
     """Gather up to ``want`` pebbles on {i, j} (as many as possible on i first)."""
-    while _free(out, i) < 2 and _free(out, i) < want:
+    while _free(out, i) < PEBBLES and _free(out, i) < want:
         if not _find_pebble(i, j, out, eu, ev, seen, stamp, pred, stack, breadth):
             break
-    while _free(out, j) < 2 and _free(out, i) + _free(out, j) < want:
+    while _free(out, j) < PEBBLES and _free(out, i) + _free(out, j) < want:
         if not _find_pebble(j, i, out, eu, ev, seen, stamp, pred, stack, breadth):
             break
     return _free(out, i) + _free(out, j)
@@ -473,7 +482,7 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
     status = np.zeros(m, np.int64)
     over = np.zeros(m, np.bool_)
     work = np.zeros((ROWS, n_nodes), np.int64)
-    path = np.zeros((2 * n_nodes + 2, 7), np.int64)
+    path = np.zeros((2 * n_nodes + 2, PATH_COLUMNS), np.int64)
     seen, pred, stack, lst = work[SEEN], work[PRED], work[STACK], work[LIST]
     px, py = work[PX], work[PY]
     stamp = np.zeros(1, np.int64)
@@ -486,10 +495,10 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
             status[b] = UNBALANCED
             over[b] = True
         else:
-            got = _gather(i, j, 4, out, eu, ev, seen, stamp, pred, stack)
-            if got == 4:
+            got = _gather(i, j, ALL_FREE, out, eu, ev, seen, stamp, pred, stack)
+            if got == ALL_FREE:
                 status[b] = INDEPENDENT
-            elif got == 3:
+            elif got == ONE_SHORT:
                 n, ok = _reach(i, j, gx[b], gy[b], out, eu, ev, gx, gy, seen, stamp, px, py, lst)
                 if ok:  # the minimal tight set plus b is balanced: dependent, balanced circuit
                     status[b] = BALANCED
@@ -645,9 +654,9 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
             continue
         i = eu[b]
         j = ev[b]
-        got = _gather(i, j, 3, out, eu, ev, seen, stamp, pred, stack, True)
+        got = _gather(i, j, ONE_SHORT, out, eu, ev, seen, stamp, pred, stack, True)
         n, ok = _reach(i, j, gx[b], gy[b], out, eu, ev, gx, gy, seen, stamp, px, py, lst)
-        balanced = got >= 3
+        balanced = got >= ONE_SHORT
         if balanced and not ok:  # not expected: the bond alone
             labels[b] = nlab
             nlab += 1
