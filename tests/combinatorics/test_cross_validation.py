@@ -58,3 +58,24 @@ def test_wraps_equals_the_certified_verdict_up_to_n_32():
     decided, wrapping, mismatches = _compare(count, n_lo, n_hi, seed=662)
     assert mismatches == []
     assert decided >= 0.95 * count
+
+
+def test_a_strip_wrapping_one_way_ignores_the_shear_along_it():
+    # rods on the two lowest rows of a full lattice: a stressed strip whose cycles wrap along
+    # b1 only; it resists every strain with L . eps . L != 0 (L = n b1), not the pure shear
+    # whose neutral axis lies along b1: that strain is not generic, and wraps speaks of generic
+    # strains
+    from tensegrity_rigidity import Element, Instance, lattice_instance, strain_tensor
+
+    n = 8
+    net = lattice_instance(n, p_r=1.0, seed=2).network
+    row = net.bonds % n  # node a n + b sits on row b
+    strip = (row[:, 0] <= 1) & (row[:, 1] <= 1)
+    assert np.all(net.shifts[strip, 1] == 0)
+    net = net.with_kinds(np.where(strip, Element.ROD, Element.EMPTY))
+    assert rigid_clusters(net).wraps
+    neutral_along_b1 = strain_tensor("shear", theta=np.pi / 4)
+    assert neutral_along_b1[0, 0] == pytest.approx(0, abs=1e-15)
+    assert decide(Instance(net, neutral_along_b1)).status == "floppy"
+    for phi, theta in (("shear", 0.3), ("dilation", 0.0), ("compression", 1.0)):
+        assert decide(Instance(net, strain_tensor(phi, theta=theta))).status == "rigid"
