@@ -113,7 +113,7 @@ def first_wrapping(network: PeriodicNetwork, order: np.ndarray) -> int:
     -------
     int
         The smallest ``q`` such that the rods ``order[: q + 1]`` resist a generic strain, -1 if
-        all of them do not. One incremental pass of the pebble game, stopped there.
+        even all of them do not. One incremental pass of the pebble game, stopped there.
     """
     eu, ev, gx, gy = game_arrays(network)
     order = np.ascontiguousarray(order, dtype=np.int64)
