@@ -79,26 +79,28 @@ def _move(out, b, src, dst):
 
 
 @nb.njit(cache=True)
-def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack, breadth):
-    """Bring one free pebble to ``root`` (not taken from ``root`` or ``other``).
+def _search(root, a, c, ends_only, out, eu, ev, seen, stamp, pred, queue, breadth):
+    """Search along the orientation from ``root`` for a node holding a free pebble.
 
-    Depth first, or breadth first with ``breadth`` (the nearest pebble: cheaper when pebbles
-    are gathered again and again in one region, as the cluster labelling does).
+    The node sought is any node but ``root`` and ``a`` (``ends_only`` False), or one of ``a``,
+    ``c`` (``ends_only`` True). Depth first, or breadth first with ``breadth`` (the nearest
+    pebble). Records in ``pred`` the bond that reached each node; returns the node found, -1 if
+    there is none.
     """
     stamp[0] += 1
     st = stamp[0]
     seen[root] = st
     head = 0
     top = 0
-    stack[top] = root
+    queue[top] = root
     top += 1
     while head < top:
         if breadth:
-            v = stack[head]
+            v = queue[head]
             head += 1
         else:
             top -= 1
-            v = stack[top]
+            v = queue[top]
         for s in range(2):
             b = out[v, s]
             if b < 0:
@@ -108,17 +110,31 @@ def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack, breadth):
                 continue
             seen[w] = st
             pred[w] = b
-            if w != other and _free(out, w) > 0:
-                x = w
-                while x != root:
-                    c = pred[x]
-                    y = ev[c] if eu[c] == x else eu[c]
-                    _move(out, c, y, x)
-                    x = y
-                return True
-            stack[top] = w
+            wanted = (w == a or w == c) if ends_only else w != a
+            if wanted and _free(out, w) > 0:
+                return w
+            queue[top] = w
             top += 1
-    return False
+    return -1
+
+
+@nb.njit(cache=True)
+def _find_pebble(root, other, out, eu, ev, seen, stamp, pred, stack, breadth):
+    """Bring one free pebble to ``root`` (not taken from ``root`` or ``other``).
+
+    Depth first, or breadth first with ``breadth`` (the nearest pebble: cheaper when pebbles
+    are gathered again and again in one region, as the cluster labelling does).
+    """
+    w = _search(root, other, -1, False, out, eu, ev, seen, stamp, pred, stack, breadth)
+    if w < 0:
+        return False
+    x = w
+    while x != root:
+        c = pred[x]
+        y = ev[c] if eu[c] == x else eu[c]
+        _move(out, c, y, x)
+        x = y
+    return True
 
 
 @nb.njit(cache=True)
@@ -241,31 +257,7 @@ def _lifted_path(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path):
     nP = 0
     x = w
     if not direct:
-        stamp[0] += 1
-        st2 = stamp[0]
-        seen2[w] = st2
-        pred2[w] = -1
-        lst2[0] = w
-        n2 = 1
-        k = 0
-        x = -1
-        while k < n2 and x < 0:
-            v = lst2[k]
-            k += 1
-            for s in range(2):
-                b = out[v, s]
-                if b < 0:
-                    continue
-                y = ev[b] if eu[b] == v else eu[b]
-                if seen2[y] == st2:
-                    continue
-                seen2[y] = st2
-                pred2[y] = b
-                lst2[n2] = y
-                n2 += 1
-                if (y == i or y == j) and _free(out, y) > 0:
-                    x = y
-                    break
+        x = _search(w, i, j, True, out, eu, ev, seen2, stamp, pred2, lst2, True)
         if x < 0:
             return -1
         y = x
