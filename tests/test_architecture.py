@@ -10,7 +10,7 @@ import pytest
 import tensegrity_rigidity
 
 ROOT = Path(tensegrity_rigidity.__file__).parent
-ORDER = ["model", "solver", "analysis", "ensemble", "paper", "cli"]
+ORDER = ["model", "combinatorics", "solver", "analysis", "ensemble", "paper", "cli"]
 
 
 def _imported_subpackages(path: Path) -> set[str]:

@@ -14,6 +14,7 @@ PAGES = [
     "docs/getting-started.md",
     "docs/guide/thresholds.md",
     "docs/guide/three-dimensions.md",
+    "docs/guide/rigid-clusters.md",
 ]
 
 

@@ -30,6 +30,8 @@ NEEDED = {
     "SweepReport",
     "find_threshold",
     "Threshold",
+    "rigid_clusters",
+    "RigidClusters",
     "nonaffinity",
     "TensegrityError",
     "InputError",

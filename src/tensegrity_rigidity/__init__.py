@@ -9,6 +9,9 @@ The top level holds what a user needs (listed in ``__all__``):
 * its verdict: :func:`solve` (the relaxed state and its certificate, a :class:`SolveResult`),
   :func:`decide` (the certified :class:`Verdict` only), :class:`SolverOptions`, and the
   nonaffinity of a solved sample (:func:`nonaffinity`);
+* rods-only networks combinatorially: :func:`rigid_clusters` (a pebble game on the fixed box:
+  rigid clusters, overconstrained bonds, floppy modes, strain rigidity; a
+  :class:`RigidClusters`);
 * ensembles: sweep specs (:func:`parse_spec`, :func:`load_spec`, :class:`Spec`),
   :func:`run_sweep` and :func:`load_results`, exact per-sample thresholds
   (:func:`find_threshold`, :class:`Threshold`);
@@ -17,7 +20,8 @@ The top level holds what a user needs (listed in ``__all__``):
 
 Everything else lives in the subpackages, by pipeline stage (ARCHITECTURE.md):
 :mod:`~tensegrity_rigidity.model` (networks, lattices, random elements, strain, linear
-mechanics, files) -> :mod:`~tensegrity_rigidity.solver` (exact relaxation and certified
+mechanics, files) -> :mod:`~tensegrity_rigidity.combinatorics` (the pebble game of rods-only
+networks) -> :mod:`~tensegrity_rigidity.solver` (exact relaxation and certified
 verdict) -> :mod:`~tensegrity_rigidity.analysis` (observables, estimators, single-node theory)
 -> :mod:`~tensegrity_rigidity.ensemble` (sweeps, storage, executors, thresholds) ->
 :mod:`~tensegrity_rigidity.paper` (studies, figures, report) -> :mod:`~tensegrity_rigidity.cli`.
@@ -38,6 +42,7 @@ from .errors import InputError, SpecError, TensegrityError, UndecidedWarning
 
 if TYPE_CHECKING:
     from .analysis.observables import nonaffinity
+    from .combinatorics.clusters import RigidClusters, rigid_clusters
     from .ensemble.spec import Spec, load_spec, parse_spec
     from .ensemble.sweep import (
         SweepFailed,
@@ -65,6 +70,7 @@ __all__ = [
     "InputError",
     "Instance",
     "PeriodicNetwork",
+    "RigidClusters",
     "SolveResult",
     "SolverOptions",
     "Spec",
@@ -85,6 +91,7 @@ __all__ = [
     "nonaffinity",
     "parse_spec",
     "random_periodic_network",
+    "rigid_clusters",
     "run_sweep",
     "save_instance",
     "solve",
@@ -98,6 +105,7 @@ __version__ = "0.1.0"
 #: names imported on first use: name -> module (relative to this package)
 _LAZY = {
     "nonaffinity": ".analysis.observables",
+    **dict.fromkeys(("RigidClusters", "rigid_clusters"), ".combinatorics.clusters"),
     **dict.fromkeys(("Spec", "load_spec", "parse_spec"), ".ensemble.spec"),
     **dict.fromkeys(
         ("run_sweep", "load_results", "SweepReport", "SweepFailed", "SweepInterrupted"),

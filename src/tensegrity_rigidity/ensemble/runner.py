@@ -202,12 +202,13 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
     assert spec.threshold is not None, "threshold_chunk needs a threshold spec"
     opts = spec.solver_options()
     path = spec.threshold["path"]
+    method = spec.threshold.get("method", "lp")
     rows = []
     for k in samples:
         net, u, v, theta = sample_geometry(spec, point, k)
         start = time.perf_counter()
         strain = sample_strain(spec, point, k, theta, net.dim)
-        th = find_threshold(net, u, v, strain, point.p_t, point.f_c, path, opts)
+        th = find_threshold(net, u, v, strain, point.p_t, point.f_c, path, opts, method)
         rows.append(
             key_columns(spec, point, k, theta)
             | {

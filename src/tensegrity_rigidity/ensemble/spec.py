@@ -31,6 +31,8 @@ Optional sections (defaults shown, but for ``[solver]``, whose line is an exampl
     [threshold]             # threshold mode: per-sample critical point along a monotone path
     path = "p_r"            # "p_r": raise p_r at fixed p_t;  "total": raise p_r at fixed
                             # p_r + p_t = p_t (p_t then means the total occupation)
+    method = "lp"           # "lp": certified bisection; "pebble": one pebble-game pass,
+                            # rods-only paths only (path "p_r", p_t = 0)
 
 In threshold mode the grid's ``p_r`` key is not used (omit it). ``verdict = "paper"`` applies to
 grid mode only (a bisection needs verdicts monotone in p_r, which the paper's are not); its rows
@@ -89,13 +91,15 @@ from ..solver.core import SolverOptions
 GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
 FLAT_KEYS = GRID_KEYS + ("samples", "verdict")
 VERDICTS = ("exact", "paper")
+#: how threshold mode finds a sample's threshold (:func:`~.thresholds.find_threshold`)
+THRESHOLD_METHODS = ("lp", "pebble")
 SECTIONS = {
     "lattice": {"kind"},
     "strain": {"gamma", "angles"},
     # the scalar fields of SolverOptions, and ``stages`` as names
     "solver": {f.name for f in fields(SolverOptions)} - {"refiner", "tolerances"},
     "output": {"chunk_size"},
-    "threshold": {"path"},
+    "threshold": {"path", "method"},
 }
 DEFAULTS: dict[str, list] = {
     "n": [16],
@@ -230,7 +234,8 @@ class Spec:
     chunk_size : int
         Samples per result file (the unit of resumption).
     threshold : dict or None
-        ``{"path": "p_r" | "total"}`` in threshold mode, None in grid mode.
+        ``{"path": "p_r" | "total"}`` in threshold mode (with ``"method": "pebble"`` when so
+        chosen), None in grid mode.
     angles : str
         Strain-angle sequence, "golden" or "uniform".
     verdict : str
@@ -318,12 +323,17 @@ class Spec:
         -------
         dict
             ``mode``, ``threshold_path``, ``lattice``, ``gamma``, ``angles``, ``verdict``,
-            ``solver``.
+            ``solver``, ``search`` (and ``threshold_method`` when it is not ``"lp"``).
         """
         opts = self.solver_options()
         return {
             "mode": self.mode,
             "threshold_path": None if self.threshold is None else self.threshold["path"],
+            **(
+                {"threshold_method": self.threshold["method"]}
+                if self.threshold is not None and "method" in self.threshold
+                else {}
+            ),
             "lattice": self.lattice,
             "gamma": self.gamma,
             "angles": self.angles,
@@ -464,6 +474,11 @@ def parse_spec(data: dict) -> Spec:
         if path not in ("p_r", "total"):
             raise SpecError(f"[threshold] path must be 'p_r' or 'total', got {path!r}")
         threshold = {"path": path}
+        method = data["threshold"].get("method", "lp")
+        if method not in THRESHOLD_METHODS:
+            raise SpecError(f"[threshold] method must be 'lp' or 'pebble', got {method!r}")
+        if method != "lp":  # recorded only when not the default: older specs keep their settings
+            threshold["method"] = method
         if "p_r" in data:
             raise SpecError("threshold mode finds p_r itself: remove the 'p_r' key")
     elif "p_r" not in data:
@@ -499,6 +514,13 @@ def parse_spec(data: dict) -> Spec:
         for v in grid.get(key, []):
             if not 0 <= v <= 1:
                 raise SpecError(f"'{key}' must lie in [0, 1], got {v}")
+    if threshold is not None and threshold.get("method") == "pebble":
+        if lattice == "fcc":
+            raise SpecError("[threshold] method 'pebble' decides 2D lattices, not 'fcc'")
+        if threshold["path"] != "p_r" or any(v != 0 for v in grid["p_t"]):
+            raise SpecError(
+                "[threshold] method 'pebble' follows rods-only paths: path 'p_r' with p_t = 0"
+            )
     if threshold is None:
         worst = max(grid["p_r"]) + max(grid["p_t"])
         if worst > 1 + 1e-12:

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..combinatorics.clusters import first_wrapping
 from ..errors import InputError
 from ..model.network import Element, Instance, PeriodicNetwork
 from ..solver.core import SolverOptions, Verdict, decide
@@ -202,6 +203,7 @@ def find_threshold(
     f_c: float,
     path: str = "p_r",
     options: SolverOptions | None = None,
+    method: str = "lp",
 ) -> Threshold:
     """Exact critical p_r of one sample along a monotone path.
 
@@ -220,13 +222,26 @@ def find_threshold(
     path : {"p_r", "total"}
         The path.
     options : SolverOptions, optional
-        Options of every verdict (the resolution model in particular).
+        Options of every verdict (the resolution model in particular; unused by ``"pebble"``).
+    method : {"lp", "pebble"}
+        ``"lp"``: certified bisection (any path). ``"pebble"``: one pass of the pebble game,
+        for rods-only paths (``path="p_r"``, ``p_t = 0``); ``strain`` is then taken as generic
+        and ``solves`` is 0.
 
     Returns
     -------
     Threshold
         The threshold, its interval and the work spent.
+
+    Raises
+    ------
+    InputError
+        On an unknown path or method, or ``"pebble"`` on a path that is not rods-only.
     """
+    if method == "pebble":
+        return _pebble_threshold(network, u, v, p_t, f_c, path)
+    if method != "lp":
+        raise InputError(f"unknown threshold method {method!r}; use 'lp' or 'pebble'")
     opts = options or SolverOptions(min_norm=False)
     ev = EventPath(np.asarray(u, float), np.asarray(v, float), path, p_t, f_c)
     n_ev = ev.n_events
@@ -311,6 +326,25 @@ def find_threshold(
     b = n_ev if top else n_ev + 1  # certified rigid (or beyond the path)
     a, b = _bisect(rigid_at, a, b, lo_cert, hi_cert)
     return result(a, b)
+
+
+def _pebble_threshold(
+    network: PeriodicNetwork, u: np.ndarray, v: np.ndarray, p_t: float, f_c: float, path: str
+) -> Threshold:
+    """Threshold of a rods-only path by one incremental pass of the pebble game."""
+    if path != "p_r" or p_t != 0:
+        raise InputError(
+            "method 'pebble' follows rods-only paths: use path 'p_r' with p_t = 0 "
+            f"(got path {path!r}, p_t = {p_t})"
+        )
+    ev = EventPath(np.asarray(u, float), np.asarray(v, float), path, p_t, f_c)
+    added = np.flatnonzero(ev.rod_event < ev.n_events)
+    order = added[np.argsort(ev.rod_event[added], kind="stable")]
+    q = first_wrapping(network, order)
+    if q < 0:
+        return Threshold(np.nan, np.nan, 0, np.nan, np.nan)
+    s = float(ev.positions[ev.rod_event[order[q]]])
+    return Threshold(s, p_t, 0, s, s)
 
 
 def _violated(network: PeriodicNetwork, strain: np.ndarray, cert, res, cable: np.ndarray):

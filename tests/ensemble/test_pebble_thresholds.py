@@ -1,0 +1,125 @@
+"""find_threshold(method="pebble") equals the certified bisection on rods-only paths."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tensegrity_rigidity import InputError, find_threshold, rigid_clusters
+from tensegrity_rigidity.ensemble.thresholds import EventPath
+from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
+from tensegrity_rigidity.model.sampling import lattice_geometry
+from tensegrity_rigidity.model.strain import strain_tensor
+
+#: (samples, smallest n, largest n) of the default run and of the slow run
+DEFAULT = (30, 4, 12)
+SLOW = (120, 4, 32)
+
+
+def _agreement(count: int, n_lo: int, n_hi: int, seed: int):
+    rng = np.random.default_rng(seed)
+    decided, disagreements = 0, []
+    for k in range(count):
+        n = int(rng.integers(n_lo, n_hi + 1))
+        net, u, v = lattice_geometry(n, DEFAULT_DELTA, rng)
+        eps = strain_tensor(float(rng.uniform(0, 2 * np.pi)), float(rng.uniform(0, 2 * np.pi)))
+        lp = find_threshold(net, u, v, eps, 0.0, 0.5)
+        pb = find_threshold(net, u, v, eps, 0.0, 0.5, method="pebble")
+        assert pb.decided and pb.solves == 0 and pb.undecided == 0
+        if lp.decided:
+            decided += 1
+            if not (lp.s == pb.s or (np.isnan(lp.s) and np.isnan(pb.s))):
+                disagreements.append((k, n, lp.s, pb.s))
+        else:  # an interval must still hold the exact threshold
+            assert lp.s_low <= pb.s <= lp.s_high
+    return decided, disagreements
+
+
+def test_pebble_thresholds_equal_the_certified_bisection():
+    decided, disagreements = _agreement(*DEFAULT, seed=770)
+    assert disagreements == []
+    assert decided >= 0.9 * DEFAULT[0]
+
+
+@pytest.mark.slow
+def test_pebble_thresholds_equal_the_certified_bisection_up_to_n_32():
+    decided, disagreements = _agreement(*SLOW, seed=771)
+    assert disagreements == []
+    assert decided >= 100
+
+
+def test_the_threshold_is_where_the_network_starts_to_wrap():
+    rng = np.random.default_rng(772)
+    net, u, v = lattice_geometry(8, DEFAULT_DELTA, rng)
+    th = find_threshold(net, u, v, np.eye(2), 0.0, 0.5, method="pebble")
+    assert 0.5 < th.s < 0.85 and th.p_t == 0.0 and th.s_low == th.s == th.s_high
+    ev = EventPath(u, v, "p_r", 0.0, 0.5)
+    at = int(np.searchsorted(ev.positions, th.s))  # the event that made it rigid
+    assert not rigid_clusters(net.with_kinds(ev.kinds(at))).wraps
+    assert rigid_clusters(net.with_kinds(ev.kinds(at + 1))).wraps
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"p_t": 0.1}, "rods-only"),
+        ({"path": "total"}, "rods-only"),
+        ({"method": "simplex"}, "unknown threshold method"),
+    ],
+)
+def test_bad_pebble_requests_are_refused(kwargs, match):
+    rng = np.random.default_rng(773)
+    net, u, v = lattice_geometry(4, DEFAULT_DELTA, rng)
+    args = {"p_t": 0.0, "path": "p_r", "method": "pebble"} | kwargs
+    with pytest.raises(InputError, match=match):
+        find_threshold(net, u, v, np.eye(2), args["p_t"], 0.5, args["path"], None, args["method"])
+
+
+SWEEP_SPEC = """
+n = 6
+p_t = 0.0
+phi = ["shear", "dilation"]
+samples = 8
+seed = 4
+[threshold]
+path = "p_r"
+"""
+
+
+def test_a_threshold_sweep_can_use_the_pebble_game(tmp_path):
+    import tomllib
+
+    from tensegrity_rigidity import load_results, parse_spec, run_sweep
+
+    lp = parse_spec(tomllib.loads(SWEEP_SPEC))
+    pb = parse_spec(tomllib.loads(SWEEP_SPEC + 'method = "pebble"\n'))
+    assert pb.threshold == {"path": "p_r", "method": "pebble"}
+    assert lp.threshold == {"path": "p_r"} and "threshold_method" not in lp.settings()
+    assert pb.settings()["threshold_method"] == "pebble"
+    run_sweep(lp, tmp_path / "lp", executor="serial", progress=False)
+    run_sweep(pb, tmp_path / "pb", executor="serial", progress=False)
+    a = load_results(tmp_path / "lp").sort_values(["phi", "sample"])
+    b = load_results(tmp_path / "pb").sort_values(["phi", "sample"])
+    assert (b.solves == 0).all() and b.decided.all()
+    ok = a.decided.values
+    np.testing.assert_array_equal(a.threshold_p_r.values[ok], b.threshold_p_r.values[ok])
+
+
+@pytest.mark.parametrize(
+    "extra, needle",
+    [
+        ('method = "simplex"\n', "method must be"),
+        ('method = "pebble"\np_t = 0.2\n', "rods-only"),
+    ],
+)
+def test_bad_pebble_specs_are_refused(extra, needle):
+    import tomllib
+
+    from tensegrity_rigidity import SpecError, parse_spec
+
+    text = SWEEP_SPEC.replace("p_t = 0.0\n", "") if "p_t" in extra else SWEEP_SPEC
+    if "p_t" in extra:
+        text = text.replace("n = 6\n", "n = 6\np_t = 0.2\n")
+        extra = extra.replace("p_t = 0.2\n", "")
+    with pytest.raises(SpecError, match=needle):
+        parse_spec(tomllib.loads(text + extra))
