@@ -23,34 +23,20 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from bench_threshold import refactor_seconds
 
 from tensegrity_rigidity import SolverOptions, UndecidedWarning, solve
 from tensegrity_rigidity.ensemble.spec import strain_angle
 from tensegrity_rigidity.ensemble.thresholds import find_threshold
 from tensegrity_rigidity.model.elements import place_elements
-from tensegrity_rigidity.model.network import Element, Instance
+from tensegrity_rigidity.model.network import Instance
 from tensegrity_rigidity.model.sampling import lattice_geometry
 from tensegrity_rigidity.model.strain import sequence_rotation, strain_tensor
-from tensegrity_rigidity.solver.problem import Problem
 
 RESULTS = Path(__file__).with_name("results") / "bench_3d.json"
 #: p_r of the timed solve(), near each lattice's threshold at p_t = 0.3
 P_R = {"fcc": 0.45, "triangular": 0.5}
 P_T, F_C, PHI, DELTA = 0.3, 0.5, "compression", 0.2
-
-
-def factorisation_seconds(inst: Instance) -> float:
-    """Median time of one numeric factorisation of the lattice's full Newton matrix."""
-    net = inst.network
-    p = Problem(Instance(net.with_kinds(np.full(net.n_sites, Element.ROD)), inst.strain))
-    values = p.values(np.ones(p.sites.size))
-    p.factor_values(values)
-    times = []
-    for _ in range(5):
-        t0 = time.perf_counter()
-        p.factor_values(values)
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def one(lattice: str, n: int, k: int) -> dict:
@@ -62,7 +48,7 @@ def one(lattice: str, n: int, k: int) -> dict:
     else:
         strain = strain_tensor(PHI, strain_angle(k, 1))
     inst = Instance(net.with_kinds(place_elements(u, v, P_R[lattice], P_T, F_C)), strain)
-    fact = factorisation_seconds(inst)
+    fact = refactor_seconds(net, strain)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UndecidedWarning)
         t0 = time.perf_counter()

@@ -149,6 +149,8 @@ def _changed(value, path):
         return value[:i] + (_changed(value[i], rest),) + value[i + 1 :]
     if isinstance(value, bool):
         return not value
+    if isinstance(value, float) and 0 < value < 0.25:  # tolerances: stay in their range
+        return value * 2
     if isinstance(value, (int, float)):
         return value * 2 + 1
     return {"auto": "cholmod", "dual+primal": "dual"}.get(value, value + "-changed")
