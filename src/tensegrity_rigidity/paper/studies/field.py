@@ -7,12 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ...ensemble.runner import sample_geometry
+from ...ensemble.runner import sample_geometry, sample_strain
 from ...ensemble.spec import parse_spec
 from ...model.elements import place_elements
 from ...model.lattice import DEFAULT_DELTA
 from ...model.network import Instance
-from ...model.strain import strain_tensor
 from ...solver.core import SolveResult, solve
 from .rows import Rows
 
@@ -95,6 +94,7 @@ def _rebuild(spec: dict, row: pd.Series, p_r: float) -> Instance:
     point = next(
         q for q in sp.points() if np.isclose(q.p_t, row.p_t) and np.isclose(q.phi, row.phi)
     )
-    net, u, v, theta = sample_geometry(sp, point, int(row["sample"]))
+    k = int(row["sample"])
+    net, u, v, theta = sample_geometry(sp, point, k)
     kinds = place_elements(u, v, p_r, point.p_t, point.f_c)
-    return Instance(net.with_kinds(kinds), strain_tensor(point.phi, theta, sp.gamma))
+    return Instance(net.with_kinds(kinds), sample_strain(sp, point, k, theta, net.dim))
