@@ -59,6 +59,9 @@ def test_undecided_probes_give_an_interval_that_contains_the_threshold():
         if th.undecided:
             widened += 1
             assert not th.decided and th.s_low < th.s_high
+            # the weak search stops far from either side: its probes are not resolved
+            assert th.not_resolved == th.undecided
+        assert full.not_resolved == 0
     assert widened >= 3
 
 

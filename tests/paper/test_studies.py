@@ -290,3 +290,31 @@ def test_every_figure_module_offers_sweeps_analyse_and_claims():
         for fn in ("sweeps", "analyse", "claims", "study"):
             assert callable(getattr(module, fn)), (name, fn)
         assert isinstance(module.sweeps(TINY), dict)
+
+
+def test_undecided_verdicts_are_counted_by_kind_for_every_sweep(tmp_path):
+    """A search of the affine stage alone leaves near-threshold probes and grid rows undecided,
+    every one not resolved; the table counts them per sweep, probes for threshold sweeps and
+    rows for grid sweeps."""
+    import tomllib
+
+    from tensegrity_rigidity.ensemble.spec import parse_spec
+    from tensegrity_rigidity.ensemble.sweep import load_results, run_sweep
+    from tensegrity_rigidity.paper.studies.rows import undecided_by_kind
+
+    base = 'n = 6\np_t = 0.3\nf_c = 0.5\nphi = "shear"\nsamples = 4\nseed = 9\n'
+    base += '[solver]\nstages = ["affine"]\nmin_norm = false\n'
+    specs = {"thresholds": base + '[threshold]\npath = "p_r"\n', "grid": "p_r = 0.4\n" + base}
+    for name, text in specs.items():
+        run_sweep(
+            parse_spec(tomllib.loads(text)), tmp_path / name, executor="serial", progress=False
+        )
+    table = undecided_by_kind(tmp_path).set_index("sweep")
+    probes = int(load_results(tmp_path / "thresholds").threshold_undecided.sum())
+    assert probes > 0 and table.loc["thresholds", "undecided"] == probes
+    assert table.loc["thresholds", "counted"] == "probes"
+    rows = load_results(tmp_path / "grid")
+    assert table.loc["grid", "undecided"] == int((~rows.decided).sum()) > 0
+    for sweep in ("thresholds", "grid"):
+        assert table.loc[sweep, "not resolved"] == table.loc[sweep, "undecided"]
+        assert table.loc[sweep, "within resolution"] == 0

@@ -294,3 +294,36 @@ def test_round_off_bounds_hold_against_40_digit_arithmetic(seed, far):
     for (i, j), (hx, hy), e, vb in zip(bonds, dhat, e0, v, strict=True):
         exact_v = e + hx * (D(uu[j, 0]) - D(uu[i, 0])) + hy * (D(uu[j, 1]) - D(uu[i, 1]))
         assert abs(_dec(_exact(vb)) - exact_v) <= D(violation_roundoff(size))
+
+
+def test_the_candidates_tell_within_resolution_from_not_resolved():
+    """A self-stress whose margin ``work - U residual`` is positive but below tau proves that
+    no displacement within U is floppy: within resolution; the same work with a residual
+    whose U-weighted size exceeds it proves nothing: not resolved. A displacement whose
+    violation is below the smallest work a rigid certificate can show rules out every
+    rigid certificate: within resolution."""
+    from tensegrity_rigidity.solver.certificates import (
+        NOT_RESOLVED,
+        WITHIN_RESOLUTION,
+        FloppyCertificate,
+        RigidCertificate,
+        undecided_reason,
+    )
+
+    res, ro = Resolution(), 1e-20
+    t, u = np.ones(3), np.zeros(4)
+    near = RigidCertificate(t, 0.9 * res.violation, 1e-19, False)
+    assert undecided_reason(near, None, res, ro)[0] == WITHIN_RESOLUTION
+    stuck = RigidCertificate(t, 0.9 * res.violation, 1e-17, False)
+    assert undecided_reason(stuck, None, res, ro)[0] == NOT_RESOLVED
+    far = RigidCertificate(t, 0.2, 3.7e-2, False)
+    assert undecided_reason(far, None, res, ro)[0] == NOT_RESOLVED
+    small_u = Resolution(displacement=1e5)
+    large = FloppyCertificate(u, 0.5 * res.violation, 10 * small_u.displacement, False)
+    assert undecided_reason(None, large, small_u, ro)[0] == WITHIN_RESOLUTION
+    # the round-off of a violation grows with the displacement: at 1e9 it exceeds tau
+    huge = FloppyCertificate(u, 0.5 * res.violation, 1e9, False)
+    assert undecided_reason(None, huge, res, ro)[0] == NOT_RESOLVED
+    coarse = FloppyCertificate(u, 1e3 * res.violation, 1.0, False)
+    assert undecided_reason(far, coarse, res, ro)[0] == NOT_RESOLVED
+    assert undecided_reason(None, None, res, ro)[0] == NOT_RESOLVED

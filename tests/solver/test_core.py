@@ -784,3 +784,19 @@ def test_a_strategy_passed_in_with_the_options_proposes_to_the_search():
     assert stub.status == "floppy" and stub.stage == "offer"
     wrong = decide(inst, SolverOptions(stages=(_Offer(np.zeros_like(u)),), min_norm=False))
     assert wrong.status == "undecided" and wrong.stage == ""
+
+
+def test_an_undecided_verdict_says_whether_it_is_within_resolution_or_not_resolved():
+    """The rods-only sample just below its threshold has a zero-energy displacement of 1.4e6
+    times the strain. With U = 1e6 it is admissible but too large: within resolution (no exact
+    self-stress can do the work a rigid certificate needs; with U = 1e5 it is rigid). Searched
+    by the affine stage alone, it ends with the origin (violation 1) as its best candidate:
+    not resolved."""
+    inst = near_threshold_instance(32, [32, 100, 10], "dilation", 0.0, 0.5, 4081)
+    small_u = decide(inst, SolverOptions(displacement_bound=1e6, min_norm=False))
+    assert small_u.status == "undecided" and small_u.reason == "within resolution"
+    assert small_u.floppy is not None and small_u.floppy.size > 1e6
+    assert small_u.message.startswith("within resolution: every exact self-stress")
+    weak = decide(inst, SolverOptions(stages=("affine",), min_norm=False))
+    assert weak.status == "undecided" and weak.reason == "not resolved"
+    assert decide(inst).reason == ""

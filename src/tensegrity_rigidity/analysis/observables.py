@@ -140,7 +140,8 @@ def sample_record(instance: Instance, result: SolveResult, gamma: float | None =
         ``nonaffinity``, ``min_norm_ok``, ``frac_cables_taut``, ``frac_struts_taut``,
         ``n_rods``, ``n_cables``, ``n_struts``, the certificate's ``work``,
         ``force_residual``, ``violation``, ``displacement_size``, and ``iterations``,
-        ``factorizations``, ``method``, ``solve_seconds``. ``nonaffinity`` is NaN where
+        ``factorizations``, ``method``, ``undecided_reason`` ("" when decided,
+        else "within resolution" or "not resolved"), ``solve_seconds``. ``nonaffinity`` is NaN where
         ``min_norm_ok`` is False (no wrong number in its place); ``nonaffinity_lower``
         (:func:`nonaffinity_lower`) is the nonaffinity where it is certified and a certified
         lower bound on it where the projection ran but was not certified (NaN where none
@@ -170,5 +171,6 @@ def sample_record(instance: Instance, result: SolveResult, gamma: float | None =
         "iterations": int(result.iterations),
         "factorizations": int(result.factorizations),
         "method": result.method,
+        "undecided_reason": result.reason,
         "solve_seconds": float(result.seconds),
     }

@@ -196,7 +196,8 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
         One row per sample: :func:`key_columns`, ``path``, ``threshold_p_r`` (the estimate,
         NaN if never rigid), ``threshold_p_t``, the interval ``threshold_p_r_low``,
         ``threshold_p_r_high`` (equal unless ``threshold_undecided`` probes on the
-        bisection path were undecided), ``solves``, ``decided`` (the
+        bisection path were undecided; ``threshold_not_resolved`` of them not resolved by the
+        search, the others within resolution), ``solves``, ``decided`` (the
         interval is a single event) and ``solve_seconds``.
     """
     assert spec.threshold is not None, "threshold_chunk needs a threshold spec"
@@ -218,6 +219,7 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
                 "threshold_p_r_low": th.s_low,
                 "threshold_p_r_high": th.s_high,
                 "threshold_undecided": th.undecided,
+                "threshold_not_resolved": th.not_resolved,
                 "solves": th.solves,
                 "decided": th.decided,
                 "solve_seconds": time.perf_counter() - start,

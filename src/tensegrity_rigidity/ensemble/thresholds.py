@@ -44,6 +44,7 @@ import numpy as np
 from ..combinatorics.clusters import first_wrapping
 from ..errors import InputError
 from ..model.network import Element, Instance, PeriodicNetwork
+from ..solver.certificates import NOT_RESOLVED
 from ..solver.core import SolverOptions, Verdict, decide
 
 
@@ -69,6 +70,9 @@ class Threshold:
         stages).
     jumps : int
         Bracket moves made by certificate transfer instead of a probe.
+    not_resolved : int
+        Of the undecided probes, those the search did not resolve (the others are within
+        resolution: :func:`~tensegrity_rigidity.solver.certificates.undecided_reason`).
     """
 
     s: float
@@ -78,6 +82,7 @@ class Threshold:
     s_high: float = float("nan")
     undecided: int = 0
     jumps: int = 0
+    not_resolved: int = 0
 
     @property
     def decided(self) -> bool:
@@ -246,6 +251,7 @@ def find_threshold(
     ev = EventPath(np.asarray(u, float), np.asarray(v, float), path, p_t, f_c)
     n_ev = ev.n_events
     status: dict[int, str] = {}
+    not_resolved: set[int] = set()  # undecided probes the search did not resolve
     jumps = 0
     res = opts.resolution
 
@@ -261,6 +267,8 @@ def find_threshold(
                 initial_tensions=hints["t"],
             )
             status[i] = verdict.status
+            if verdict.reason == NOT_RESOLVED:
+                not_resolved.add(i)
             _transfer(i, kinds, verdict)
         return status[i]
 
@@ -299,18 +307,19 @@ def find_threshold(
         """Threshold in (a, b]: a certified floppy (or -1), b certified rigid (or n_ev + 1:
         not rigid anywhere on the path, certified only if a == n_ev)."""
         undecided = sum(1 for s in status.values() if s == "undecided")
+        work = (undecided, jumps, len(not_resolved))
         if b > n_ev:
             if a == n_ev:  # certified floppy at the end of the path: never rigid
-                return Threshold(np.nan, np.nan, len(status), np.nan, np.nan, undecided, jumps)
+                return Threshold(np.nan, np.nan, len(status), np.nan, np.nan, *work)
             s_low = float(ev.positions[a]) if a >= 0 else 0.0
-            return Threshold(np.nan, np.nan, len(status), s_low, np.inf, undecided, jumps)
+            return Threshold(np.nan, np.nan, len(status), s_low, np.inf, *work)
         if b == 0:
-            return Threshold(0.0, _p_t_at(0.0), len(status), 0.0, 0.0, undecided, jumps)
+            return Threshold(0.0, _p_t_at(0.0), len(status), 0.0, 0.0, *work)
         s_low = float(ev.positions[max(a, 0)]) if a >= 0 else 0.0
         s_high = float(ev.positions[b - 1])
         c = (a + 1 + b) // 2
         s = float(ev.positions[c - 1]) if c >= 1 else 0.0
-        return Threshold(s, _p_t_at(s), len(status), s_low, s_high, undecided, jumps)
+        return Threshold(s, _p_t_at(s), len(status), s_low, s_high, *work)
 
     def _p_t_at(s: float) -> float:
         return p_t if path == "p_r" else p_t - s

@@ -33,6 +33,7 @@ from .comparison import (
 from .finite_size import NU_CHECK, PC_CHECK, nu_dependent
 from .render import to_html, to_markdown
 from .studies import ENERGY_BRACKETED
+from .studies.rows import undecided_by_kind
 
 FIGURE_CAPTIONS = {
     "1A": "A force-balanced rigid sample: rods solid, cables dashed, struts hollow; colour from "
@@ -62,6 +63,14 @@ FIGURE_CAPTIONS = {
     "the rods-only thresholds against n with its fitted n^(-1/nu), and p_c from the P = 1/2 "
     "point against that width.",
 }
+
+
+#: what the table of undecided verdicts by kind shows
+UNDECIDED_KINDS = (
+    "Undecided verdicts by kind. Within resolution: the best candidates prove that the sample "
+    "lies within the resolution model's tolerances of the boundary. Not resolved: the search "
+    'stopped before either side (docs/model.md, "Undecided verdicts").'
+)
 
 
 def excluded_samples(results: dict) -> dict[str, int]:
@@ -675,6 +684,9 @@ def report_blocks(
     blocks += [("h2", "Samples excluded"), ("p", text)]
     if len(table):
         blocks.append(("table", table))
+    kinds = extra.get("undecided_by_kind")
+    if kinds is not None and len(kinds):
+        blocks += [("p", UNDECIDED_KINDS), ("table", kinds)]
     blocks += [
         ("h2", "Conventions"),
         (
@@ -723,6 +735,8 @@ def write_report(
     tables.mkdir(parents=True, exist_ok=True)
     comparison_frame(compare(results)).to_csv(tables / "comparison.csv", index=False)
     extra = tables_of(results)
+    if (out / "studies").is_dir():
+        extra["undecided_by_kind"] = undecided_by_kind(out / "studies")
     for name, df in extra.items():
         df.to_csv(tables / f"{name}.csv", index=False)
     blocks = report_blocks(results, figures, scale_name, timings, extra)

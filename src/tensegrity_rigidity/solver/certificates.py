@@ -302,3 +302,63 @@ class ExactGeometry:
         """``|R^T t|_1 / |t|_1`` in extended precision, for nonzero ``t`` (m,)."""
         t = np.asarray(t, dtype=np.longdouble)
         return np.abs(self.forces(t)).sum() / np.abs(t).sum()
+
+
+#: The two kinds of undecided verdict (:func:`undecided_reason`).
+WITHIN_RESOLUTION = "within resolution"
+NOT_RESOLVED = "not resolved"
+
+
+def undecided_reason(
+    rigid: RigidCertificate | None,
+    floppy: FloppyCertificate | None,
+    res: Resolution,
+    roundoff: float,
+) -> tuple[str, str]:
+    """Why neither best candidate was accepted: the boundary is within resolution, or the
+    search did not resolve it.
+
+    Any self-stress and displacement satisfy ``violation >= work - size * residual``
+    (docs/model.md, "Undecided verdicts"), so the candidates bound the verdict LP both ways:
+
+    * a displacement of violation ``v`` bounds the work of every exact self-stress by ``v``;
+      at or below the smallest work a rigid certificate can show, ``tau + (U + 1) roundoff``,
+      no self-stress can ever pass;
+    * a self-stress with ``work - U (residual + roundoff) - roundoff > 0`` proves that every
+      displacement within ``U`` violates by more than that: no zero-energy displacement
+      exists within the bound, yet the margin is below ``tau``.
+
+    Either proves the sample lies within resolution of the boundary. Otherwise the strategies
+    ran out before reaching either side: the probe is not resolved.
+
+    Parameters
+    ----------
+    rigid, floppy : certificate or None
+        The best candidates of the search.
+    res : Resolution
+        The tolerances.
+    roundoff : float
+        :attr:`ExactGeometry.roundoff` of the problem.
+
+    Returns
+    -------
+    kind : str
+        :data:`WITHIN_RESOLUTION` or :data:`NOT_RESOLVED`.
+    evidence : str
+        The bound behind the kind, in one clause.
+    """
+    if floppy is not None and np.isfinite(floppy.violation):
+        bound = floppy.violation + violation_roundoff(floppy.size)
+        smallest = res.violation + (res.displacement + 1.0) * roundoff
+        if bound <= smallest:
+            return WITHIN_RESOLUTION, (
+                f"every exact self-stress does work at most {bound:.2e}, below the "
+                f"{smallest:.2e} a rigid certificate needs"
+            )
+    if rigid is not None and np.isfinite(rigid.residual):
+        margin = rigid.work - roundoff - res.displacement * (rigid.residual + roundoff)
+        if margin > 0:
+            return WITHIN_RESOLUTION, (
+                f"every displacement within U violates by at least {margin:.2e}, below tau"
+            )
+    return NOT_RESOLVED, "no candidate reaches either side of the resolution model"

@@ -23,7 +23,7 @@ from ..errors import InputError, UndecidedWarning
 from ..model.limits import check_energy_scale
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
-from .certificates import FloppyCertificate, RigidCertificate
+from .certificates import FloppyCertificate, RigidCertificate, undecided_reason
 from .displacements import MinimumNorm, minimum_norm
 from .linalg import one_blas_thread
 from .options import SolverOptions
@@ -55,6 +55,9 @@ class Verdict:
         Work spent: numeric factorisations, Newton iterations.
     message : str
         Why the sample is undecided ("" otherwise).
+    reason : str
+        "" when decided, else ``"within resolution"`` or ``"not resolved"``
+        (:func:`~.certificates.undecided_reason`).
     """
 
     status: str
@@ -65,6 +68,7 @@ class Verdict:
     factorizations: int
     iterations: int
     message: str = ""
+    reason: str = ""
 
     @property
     def decided(self) -> bool:
@@ -148,6 +152,8 @@ class SolveResult:
         when there is nothing to say.
     seconds : float
         Wall time of the solve (reported only; nothing depends on it).
+    reason : str
+        "" when decided, else ``"within resolution"`` or ``"not resolved"`` (:class:`Verdict`).
 
     See Also
     --------
@@ -174,6 +180,7 @@ class SolveResult:
     min_norm_lower: float = np.nan
     message: str = ""
     seconds: float = field(default=0.0)
+    reason: str = ""
 
     @property
     def status(self) -> str:
@@ -212,6 +219,7 @@ class SolveResult:
             "method": self.method,
             "min_norm_ok": bool(self.min_norm_ok),
             "message": self.message,
+            "reason": self.reason,
             "seconds": float(self.seconds),
         }
 
@@ -220,8 +228,8 @@ def _check_scale(p: Problem) -> None:
     check_energy_scale(p.scale, p.instance.network.stiffness_or_ones()[p.sites])
 
 
-def _undecided_message(s) -> str:
-    parts = ["no certificate passed the resolution model"]
+def _undecided_message(s, reason: str, evidence: str) -> str:
+    parts = [f"{reason}: {evidence}"]
     if s.rigid is not None:
         parts.append(f"best self-stress: work {s.rigid.work:.2e}, residual {s.rigid.residual:.2e}")
     if s.floppy is not None:
@@ -254,6 +262,9 @@ def _search(
 
 def _verdict(p: Problem, s) -> Verdict:
     status = "undecided" if not s.decided else ("rigid" if s.rigid_verdict else "floppy")
+    reason = evidence = ""
+    if not s.decided:
+        reason, evidence = undecided_reason(s.rigid, s.floppy, s.resolution, p.exact.roundoff)
     return Verdict(
         status=status,
         rigid=s.rigid,
@@ -262,7 +273,8 @@ def _verdict(p: Problem, s) -> Verdict:
         scale=p.scale,
         factorizations=p.factorizations,
         iterations=s.iterations,
-        message="" if s.decided else _undecided_message(s),
+        message="" if s.decided else _undecided_message(s, reason, evidence),
+        reason=reason,
     )
 
 
@@ -389,4 +401,5 @@ def _result(
         min_norm_lower=min_norm_lower,
         message=message,
         seconds=seconds,
+        reason=verdict.reason,
     )

@@ -209,3 +209,48 @@ def load_sweeps(out: Path, sweeps: dict[str, dict], energy: tuple[str, ...] = ()
         name: sweep_rows(out, name, spec, energy=name in energy, **kw)
         for name, spec in sweeps.items()
     }
+
+
+#: columns of :func:`undecided_by_kind`
+UNDECIDED_COLUMNS = ["sweep", "counted", "undecided", "within resolution", "not resolved"]
+
+
+def undecided_by_kind(studies: Path) -> pd.DataFrame:
+    """Undecided verdicts of every sweep under ``studies``, by kind.
+
+    Grid sweeps count undecided rows, threshold sweeps undecided probes on the bisection
+    paths; each is either within resolution of the boundary or not resolved by the search
+    (:func:`~tensegrity_rigidity.solver.certificates.undecided_reason`). Rows stored before
+    the kinds were recorded count as undecided only, so the last two columns may add up to
+    less.
+
+    Parameters
+    ----------
+    studies : path
+        ``out/studies`` of a reproduction (one sweep directory each).
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`UNDECIDED_COLUMNS`, one row per sweep with an undecided verdict.
+    """
+    out = []
+    for path in sorted(p for p in Path(studies).glob("*") if p.is_dir()):
+        rows = load_results(path)
+        if rows.empty:
+            continue
+        if "threshold_undecided" in rows:
+            counted, undecided = "probes", int(rows.threshold_undecided.sum())
+            if "threshold_not_resolved" in rows:
+                not_resolved = int(rows.threshold_not_resolved.fillna(0).sum())
+                within = undecided - not_resolved
+            else:
+                within = not_resolved = 0
+        else:
+            counted, undecided = "rows", int((~rows.decided.astype(bool)).sum())
+            reason = rows.get("undecided_reason", pd.Series("", index=rows.index))
+            within = int((reason == "within resolution").sum())
+            not_resolved = int((reason == "not resolved").sum())
+        if undecided:
+            out.append([path.name, counted, undecided, within, not_resolved])
+    return pd.DataFrame(out, columns=UNDECIDED_COLUMNS)
