@@ -598,10 +598,12 @@ def _candidate(w, wx, wy, balanced, cst, out, eu, ev, gx, gy, stamp, lab, touche
 
 
 @nb.njit(cache=True)
-def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
+def label_clusters(n_nodes, eu, ev, gx, gy, sites, out, n_seeds=-1):
     """Rigid-cluster label of every site in ``sites`` (-1 elsewhere), from a finished game.
 
-    Sites are taken in the given order; each one not yet labelled seeds a cluster: the pebbles
+    Sites are taken in the given order; each one not yet labelled seeds a cluster, up to
+    ``n_seeds`` clusters (-1: all; the rest stay -1: labelling only the cluster of one bond, as
+    at a threshold, costs one cluster's growth instead of every cluster's). The pebbles
     are gathered on its ends (at most 3). With 3 the cluster is a balanced (finite) rigid body,
     grown in the lift with potentials; with 2 it is the maximal tight set of the torus holding
     the bond (it wraps). A node joins when a search from it finds no free pebble.
@@ -642,6 +644,8 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
     cst = 0
     nlab = 0
     for b in sites:
+        if nlab == n_seeds:
+            return labels
         if labels[b] >= 0 or eu[b] == ev[b]:
             continue
         i = eu[b]

@@ -107,16 +107,28 @@ def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     }
 
 
-def rods_pc_sweep(n: int, delta: float, samples: int) -> dict[str, dict]:
+#: samples per chunk of the pebble-game sweeps of the p_c extrapolation: about a minute of one
+#: worker at n = 512 (about 6 s a sample), proportionally more samples below
+PEBBLE_CHUNK_SITES = 8 * 512**2
+
+
+def rods_pc_sweep(n: int, delta: float, samples: int, method: str = "lp") -> dict[str, dict]:
     """Sweep name -> spec of the rods-only thresholds of the p_c extrapolation at (n, delta).
 
     One strain (dilation): a rods-only threshold does not depend on the strain (identical under
     dilation, shear and compression for all 400 samples at n = 8 and 96 % at n = 32 of the fss
     run), so a second strain would cost a full search for no new information. Seed 61, so
     sample k is the disorder of sample k of :func:`headline_sweeps` (common random numbers).
+    ``method`` is the threshold method: ``"lp"`` (certified bisection) or ``"pebble"`` (one
+    pebble-game pass, which also records the spanning rigid cluster at the threshold; its sweeps
+    are named ``rods_pc_pebble_...``, so they never meet the bisection's).
     """
     spec = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": [0.0]}
     spec |= {"p_t": 0.0, "f_c": 0.5, "threshold": {"path": "p_r"}}
+    if method == "pebble":
+        spec["threshold"] = {"path": "p_r", "method": "pebble"}
+        chunk = max(1, min(256, PEBBLE_CHUNK_SITES // n**2))
+        return {f"rods_pc_pebble_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk}}}
     return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
 
 
@@ -435,7 +447,9 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     if scale.fss_pc:  # the rods-only point from its own sweeps, at its own sizes
         pc_rows, per_size = [], []
         for n in scale.pc_sizes:
-            ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
+            ((name, spec),) = rods_pc_sweep(
+                n, DEFAULT_DELTA, scale.pc_samples(n), scale.pc_method
+            ).items()
             rows, excluded[name] = sweep_rows(out, name, spec, **kw)
             per_size.append(rows.threshold_p_r.to_numpy(float))
             value, err = an.critical_point(per_size[-1], rng=stream("critical_point"))
@@ -666,7 +680,7 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
         out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
         out |= energy_sweeps(n, DEFAULT_DELTA, count=scale.fss_energy_samples(n))
     for n, samples in scale.fss_pc:
-        out |= rods_pc_sweep(n, DEFAULT_DELTA, samples)
+        out |= rods_pc_sweep(n, DEFAULT_DELTA, samples, scale.pc_method)
     return out
 
 

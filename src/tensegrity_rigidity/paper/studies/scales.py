@@ -78,6 +78,9 @@ class Scale:
     # (n, samples) of the rods-only thresholds extrapolated to p_c: dedicated one-strain sweeps
     # (the rods-only threshold does not depend on the strain); () reads the headline sweeps
     fss_pc: tuple[tuple[int, int], ...] = ()
+    # threshold method of the fss_pc sweeps: "lp" (certified bisection) or "pebble" (the pebble
+    # game, which also measures the spanning rigid cluster and its stressed part at threshold)
+    pc_method: str = "lp"
     deltas: tuple[float, ...] = (0.1, 0.2, 0.3)  # node-disorder study
     n_delta: int = 5
     samples_delta: int = 6
@@ -231,6 +234,8 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #: it, and is in pc and fss-cluster.
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 FSS_PC_NO_128 = FSS_PC[:-1]
+#: (n, samples) of the pc scale's pebble-game thresholds: see paper.budget (PEBBLE_SECONDS)
+PC_PEBBLE = ((32, 4000), (64, 4000), (128, 2000), (256, 600), (512, 200))
 SCALES = {
     "tiny": Scale(
         name="tiny", n_threshold=5, n_grid=5, samples_threshold=6, samples_grid=4,
@@ -259,8 +264,8 @@ SCALES = {
         studies=("fss", "delta"), budget_minutes=120,
     ),
     "pc": Scale(
-        name="pc", bootstrap=200, fss_sizes=(), samples_fss=(), fss_pc=FSS_PC,
-        studies=("fss",), budget_minutes=40,
+        name="pc", bootstrap=200, fss_sizes=(), samples_fss=(), fss_pc=PC_PEBBLE,
+        pc_method="pebble", studies=("fss",), budget_minutes=60,
     ),
     "fss-cluster": Scale(
         name="fss-cluster", bootstrap=200,
