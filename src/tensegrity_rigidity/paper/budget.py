@@ -319,7 +319,8 @@ class Estimate:
         return self.budget_minutes is not None and self.wall_seconds > 60 * self.budget_minutes
 
     def table(self) -> pd.DataFrame:
-        """Per study and size: threshold searches, grid solves, paper verdicts (rows still to
+        """Per study and size: threshold searches (pebble-game passes included), grid solves,
+        paper verdicts (rows still to
         compute), CPU and wall minutes (in-process work on the study's first row)."""
         rows = []
         for study in self.studies:
@@ -332,7 +333,9 @@ class Estimate:
                     {
                         "study": study,
                         "n": n,
-                        "thresholds": sum(s.new_rows for s in here if s.mode == "threshold"),
+                        "thresholds": sum(
+                            s.new_rows for s in here if s.mode in ("threshold", "pebble")
+                        ),
                         "grid": sum(s.new_rows for s in here if s.mode in ("grid", "energy")),
                         "paper": sum(s.new_rows for s in here if s.mode == "paper"),
                         "cpu_min": (sum(s.cpu_seconds for s in here) + serial) / 60,

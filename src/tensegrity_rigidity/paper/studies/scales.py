@@ -22,6 +22,7 @@ BOOTSTRAP_STREAMS = {
     "paired": 7,
     "finite_size": 8,
     "widths": 9,
+    "fractal": 10,
 }
 
 #: most samples per point of the finite-size study's energy grids by default (its threshold
@@ -235,7 +236,7 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 FSS_PC_NO_128 = FSS_PC[:-1]
 #: (n, samples) of the pc scale's pebble-game thresholds: see paper.budget (PEBBLE_SECONDS)
-PC_PEBBLE = ((32, 4000), (64, 4000), (128, 2000), (256, 600), (512, 200))
+PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 200))
 SCALES = {
     "tiny": Scale(
         name="tiny", n_threshold=5, n_grid=5, samples_threshold=6, samples_grid=4,
