@@ -235,8 +235,14 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #: it, and is in pc and fss-cluster.
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 FSS_PC_NO_128 = FSS_PC[:-1]
-#: (n, samples) of the pc scale's pebble-game thresholds: see paper.budget (PEBBLE_SECONDS)
-PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 200))
+#: (n, samples) of the pc scale's pebble-game thresholds (one pass each, priced by
+#: paper.budget's PEBBLE_SECONDS): the median's error is about 1.25 x the spread of the
+#: thresholds / sqrt(S), spreads 0.0105, 0.0059, 0.0033, 0.0018 at n = 32 to 256 (measured), about
+#: 0.001 at 512: 4000, 4000, 1000, 200 samples give 2.2e-4, 1.2e-4, 1.1e-4, 1.3e-4 (measured).
+#: n = 512 was meant to have 200 (14 min more on 2 idle cores by the estimate); on the shared
+#: machine (load average 15 to 20 on 2 cores) its chunks of 8 took 7 min each, and the run that
+#: wrote reports/pc stopped at 48. Raising the count resumes the sweep (its samples are kept).
+PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 48))
 SCALES = {
     "tiny": Scale(
         name="tiny", n_threshold=5, n_grid=5, samples_threshold=6, samples_grid=4,
