@@ -410,3 +410,27 @@ def test_width_scaling_refuses_never_rigid_samples():
     t = [np.array([0.6, 0.62, 0.65]), np.array([0.64, np.nan, 0.66]), np.array([0.65, 0.66, 0.67])]
     w = an.width_scaling(np.array([8.0, 16.0, 32.0]), t)
     assert np.isnan(w.nu) and np.isnan(w.p_c)
+
+
+# --------------------------------------------------------------------------- fractal dimension
+
+
+def test_fractal_dimension_recovers_a_known_exponent_with_a_calibrated_error():
+    """Masses A n^d times log-normal scatter (a cluster's mass varies by tens of per cent
+    between samples): d is recovered within its stated error, which matches the spread."""
+    rng = np.random.default_rng(17)
+    n = np.array([16.0, 32.0, 64.0, 128.0])
+    d_true = 1.84
+    est, err = [], []
+    for r in range(60):
+        masses = [2.5 * k**d_true * np.exp(rng.normal(0.0, 0.35, 80)) for k in n]
+        fit = an.fractal_dimension(n, masses, n_boot=100, rng=np.random.default_rng(r))
+        est.append(fit.d)
+        err.append(fit.d_err)
+        assert fit.dof == 2 and fit.mass.shape == (4,)
+    assert_calibrated(est, err, d_true)
+
+
+def test_fractal_dimension_is_nan_without_two_samples_per_size():
+    fit = an.fractal_dimension(np.array([8.0, 16.0]), [np.array([5.0]), np.array([9.0, 11.0])])
+    assert np.isnan(fit.d) and np.isnan(fit.d_err)

@@ -158,3 +158,65 @@ def test_a_3d_sample_is_drawn_as_its_three_projections(tmp_path, capsys):
     assert labels == [("x", "y"), ("x", "z"), ("y", "z")]
     with pytest.raises(InputError, match="plane"):
         draw_network(Figure().subplots(), inst, res, plane=(0, 3))
+
+
+def _colours(collection) -> set[str]:
+    return {matplotlib.colors.to_hex(c) for c in collection.get_colors()}
+
+
+def test_rods_only_clusters_are_coloured_with_stressed_sites_thicker():
+    from tensegrity_rigidity import rigid_clusters
+    from tensegrity_rigidity.paper import plotting
+
+    inst = lattice_instance(10, p_r=0.75, seed=4)
+    cl = rigid_clusters(inst)
+    assert cl.wraps and cl.overconstrained.any() and not cl.overconstrained.all()
+    ax = Figure().subplots()
+    plotting.draw_clusters(ax, inst.network, cl)
+    layers = {next(iter(_colours(c))): c for c in _collections(ax)}
+    palette = {c.lower() for c in plotting.OKABE_ITO} | {plotting.LONE_COLOUR.lower()}
+    assert set(layers) <= palette  # colour-blind safe
+    assert plotting.SPANNING_COLOUR.lower() in layers
+    assert plotting.STRESSED_COLOUR.lower() in layers
+    stressed = layers[plotting.STRESSED_COLOUR.lower()]
+    # every overconstrained rod of the spanning cluster, and only those, drawn stressed
+    labels = cl.labels
+    big = np.bincount(labels[cl.overconstrained]).argmax()
+    want = int(np.sum(cl.overconstrained & (labels == big)))
+    assert len(stressed.get_segments()) == want
+    assert min(stressed.get_linewidths()) > max(
+        layers[plotting.SPANNING_COLOUR.lower()].get_linewidths()
+    )
+    drawn = sum(len(c.get_segments()) for c in _collections(ax))
+    assert drawn == inst.network.count(Element.ROD)  # each rod once, empty sites not at all
+
+
+def test_solve_plot_of_a_rods_only_sample_adds_its_rigid_clusters(tmp_path, capsys):
+    from tensegrity_rigidity.paper import plotting
+
+    inst = lattice_instance(8, p_r=0.8, phi="shear", seed=2)
+    captured = {}
+
+    def keep(self, *args, **kwargs):
+        captured["fig"] = self
+
+    fig_path = tmp_path / "rods.png"
+    save_instance(tmp_path / "r.npz", inst)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Figure, "savefig", keep)
+        assert main(["solve", str(tmp_path / "r.npz"), "--plot", str(fig_path)]) == 0
+    axes = [a for a in captured["fig"].axes if a.get_label() != "<colorbar>"]
+    assert len(axes) == 2 and "rigid clusters (pebble game)" in axes[1].get_title()
+    colours = set().union(*(_colours(c) for c in _collections(axes[1])))
+    assert plotting.STRESSED_COLOUR.lower() in colours
+    # a sample with cables keeps the single drawing
+    assert not plotting._rods_only(lattice_instance(8, p_r=0.6, p_t=0.3, seed=1).network)
+
+
+def test_kind_and_tension_colours_are_colour_blind_safe():
+    from tensegrity_rigidity.paper import plotting
+
+    palette = {c.lower() for c in plotting.OKABE_ITO}
+    assert {matplotlib.colors.to_hex(c) for c in KIND_COLOURS.values()} <= palette
+    ends = {matplotlib.colors.to_hex(plotting.TENSION_CMAP(x)) for x in (0.0, 1.0)}
+    assert ends == {plotting.BLUE.lower(), plotting.VERMILLION.lower()}

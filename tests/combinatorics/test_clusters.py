@@ -210,3 +210,43 @@ def test_3d_networks_are_refused_not_counted_as_2d():
     spec = {"n": 3, "phi": "dilation", "lattice": {"kind": "fcc"}}
     with pytest.raises(InputError, match="2D lattices"):
         parse_spec(spec | {"threshold": {"path": "p_r", "method": "pebble"}})
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_spanning_cluster_is_the_full_labelling_cluster_of_the_threshold_bond(seed):
+    from tensegrity_rigidity.combinatorics.clusters import spanning_cluster
+
+    rng = np.random.default_rng([91, seed])
+    net = lattice_rods(rng, (5, 9), (1.0, 1.0)).network
+    order = rng.permutation(net.n_sites)
+    sc = spanning_cluster(net, order)
+    assert sc.position == first_wrapping(net, order) >= 0
+    kinds = np.zeros(net.n_sites, dtype=np.int64)
+    kinds[order[: sc.position + 1]] = Element.ROD
+    full = rigid_clusters(net.with_kinds(kinds))
+    assert full.wraps
+    members = np.flatnonzero(full.labels == full.labels[order[sc.position]])
+    np.testing.assert_array_equal(sc.sites, members)
+    np.testing.assert_array_equal(sc.stressed, full.overconstrained[members])
+    assert sc.stressed[np.searchsorted(sc.sites, order[sc.position])]  # it closed a circuit
+    assert sc.nodes == np.unique(net.bonds[members]).size
+    assert sc.stressed_nodes == np.unique(net.bonds[members[sc.stressed]]).size
+
+
+def test_a_network_that_never_wraps_has_no_spanning_cluster():
+    from tensegrity_rigidity.combinatorics.clusters import spanning_cluster
+
+    net = lattice_instance(6, p_r=1.0, seed=2).network
+    sc = spanning_cluster(net, np.arange(3))  # three rods cannot wrap
+    assert sc.position == -1 and sc.sites.size == 0 and sc.nodes == sc.stressed_nodes == 0
+
+
+def test_labelling_can_stop_after_the_first_seeded_cluster():
+    net = lattice_instance(8, p_r=0.7, seed=5).network
+    eu, ev, gx, gy = game_arrays(net)
+    sites = np.flatnonzero(net.kinds == Element.ROD).astype(np.int64)
+    _, _, out, _ = pebble.play(net.n_nodes, eu, ev, gx, gy, sites, False, False)
+    every = pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, sites, out)
+    one = pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, sites, out, 1)
+    np.testing.assert_array_equal(one >= 0, every == every[sites[0]])
+    assert every.max() > 0  # there were others to leave out

@@ -181,3 +181,17 @@ def test_cli_estimate_prints_every_study_and_runs_nothing(tmp_path, capsys):
 def test_reproduce_needs_an_output_directory_unless_estimating(capsys):
     assert main(["reproduce", "--scale", "tiny"]) == 2
     assert "--out" in capsys.readouterr().err
+
+
+def test_pebble_game_sweeps_are_priced_as_such():
+    est = budget.estimate("pc", workers=2)
+    assert {s.mode for s in est.sweeps} == {"pebble"}
+    by_n = {s.n: s for s in est.sweeps}
+    assert set(by_n) == {32, 64, 128, 256, 512}
+    for n, s in by_n.items():
+        assert s.cpu_seconds == pytest.approx(budget.PEBBLE_SECONDS[n] * s.new_rows)
+    table = est.table()
+    assert list(table.thresholds) == [s.new_rows for _, s in sorted(by_n.items())]
+    assert budget.row_seconds("pebble", 64, 0.0) == (budget.PEBBLE_SECONDS[64], False)
+    # a bisection costs orders of magnitude more at the same size
+    assert budget.row_seconds("threshold", 128, 0.0)[0] > 100 * budget.PEBBLE_SECONDS[128]

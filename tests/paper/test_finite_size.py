@@ -558,3 +558,63 @@ def test_the_quoted_free_range_leaves_out_fits_at_the_bound_or_without_dof():
         text
     )
     assert table.nu.str.endswith("(at bound)").sum() == 2
+
+
+#: the pc scale's shape with the pebble game at tiny sizes
+PC_PEBBLE_TINY = studies.Scale(
+    name="pc-pebble-tiny", bootstrap=10, fss_sizes=(), samples_fss=(),
+    fss_pc=((5, 8), (6, 8), (8, 8), (10, 8)), pc_method="pebble", studies=("fss",),
+)  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def pebble_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("pc-pebble")
+    return out, fs.study_fss(out, PC_PEBBLE_TINY, **SERIAL)
+
+
+def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run, tmp_path):
+    from tensegrity_rigidity.paper.figures import fig_clusters
+    from tensegrity_rigidity.paper.report import clusters_section
+
+    out, r = pebble_run
+    names = sorted(p.name for p in (out / "studies").iterdir())
+    assert names == [f"rods_pc_pebble_n{n}_delta0.2" for n in (10, 5, 6, 8)]
+    rows = load_results(out / "studies" / names[0])
+    assert (rows.solves == 0).all() and (rows.cluster_nodes <= 100).all()
+    assert (rows.stressed_sites <= rows.cluster_sites).all() and (rows.stressed_sites > 0).all()
+    assert set(r.extrapolated.key) == {"rods_only_pc"} and r.pc_widths is not None
+    f = r.fractal
+    assert set(f.cluster) == {"rigid", "stressed"} and set(f.mass) == {"nodes", "sites"}
+    assert set(f.n_min) == {5, 6} and np.all(np.isfinite(f.d)) and np.all(f.d_err > 0)
+    assert np.all((f.d > 1.0) & (f.d < 2.5))  # a fractal below the dimension of the plane
+    assert list(r.fractal_by_size.n) == [5, 6, 8, 10]
+    assert np.all(np.diff(r.fractal_by_size.rigid_nodes) > 0)
+    pic = r.picture
+    assert pic.n == 10 and pic.clusters.wraps  # the size nearest 64, just after its threshold
+    assert pic.p_r == rows[rows["sample"] == 1].threshold_p_r.item()
+    assert fs.PICTURE_SAMPLE == 1 and pic.spanning.sites.size == rows.cluster_sites.iloc[0]
+    assert all(p.exists() for p in fig_clusters(r, tmp_path))
+    sec = clusters_section(r)
+    text = " ".join(sec.paragraphs)
+    assert "pebble game" in text and "d_f =" in text
+    table = sec.tables[0]
+    assert {"p_c", "nu"} <= set(table.quantity)
+    assert {"Javerzat & Notarmuzi", "Jacobs & Thorpe"} <= set(table.source)
+
+
+def test_the_fss_scale_keeps_its_bisection_thresholds():
+    """The pc scale alone uses the pebble game; the fss scales' rods-only sweeps keep the
+    certified bisection and their names, so their stored samples stay valid."""
+    assert SCALES["pc"].pc_method == "pebble"
+    for name in ("fss", "fss-cluster", "tiny"):
+        assert SCALES[name].pc_method == "lp"
+    lp = fs.fss_sweeps(SCALES["fss"])
+    assert all("pebble" not in k and "method" not in v.get("threshold", {}) for k, v in lp.items())
+    pc = fs.fss_sweeps(SCALES["pc"])
+    assert all(k.startswith("rods_pc_pebble_n") for k in pc)
+    assert all(v["threshold"]["method"] == "pebble" for v in pc.values())
+    pc_sizes = dict(SCALES["pc"].fss_pc)
+    assert set(pc_sizes) == {32, 64, 128, 256, 512}
+    assert all(pc_sizes[n] >= 1000 for n in (32, 64, 128))
+    assert pc_sizes[256] >= 200 and pc_sizes[512] >= 48  # 200 meant: see scales.PC_PEBBLE

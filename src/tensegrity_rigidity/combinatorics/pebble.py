@@ -150,6 +150,35 @@ def _gather(i, j, want, out, eu, ev, seen, stamp, pred, stack, breadth=False):
 
 
 @nb.njit(cache=True)
+def _seed_pair(i, j, g0, g1, seen, st, px, py, lst):
+    """Start a lifted search at i (potential 0) and j (potential g) under stamp ``st``.
+
+    Returns the nodes written to ``lst`` (1 when j is i) and whether the two starts agree
+    (j is not i, or g is 0).
+    """
+    seen[i] = st
+    px[i] = 0
+    py[i] = 0
+    lst[0] = i
+    if seen[j] == st:
+        return 1, g0 == 0 and g1 == 0
+    seen[j] = st
+    px[j] = g0
+    py[j] = g1
+    lst[1] = j
+    return 2, True
+
+
+@nb.njit(cache=True)
+def _reversed(b, v, vx, vy, npath, oe, otv, otx, oty):
+    """Whether bond b out of the lifted node v(vx, vy) is one the overlay path reverses."""
+    for t in range(npath):
+        if oe[t] == b and otv[t] == v and otx[t] == vx and oty[t] == vy:
+            return True
+    return False
+
+
+@nb.njit(cache=True)
 def _reach(i, j, g0, g1, out, eu, ev, gx, gy, seen, stamp, px, py, lst):
     """Nodes reachable from i (potential 0) and j (potential g) along the orientation.
 
@@ -158,21 +187,7 @@ def _reach(i, j, g0, g1, out, eu, ev, gx, gy, seen, stamp, px, py, lst):
     """
     stamp[0] += 1
     st = stamp[0]
-    n = 0
-    ok = True
-    seen[i] = st
-    px[i] = 0
-    py[i] = 0
-    lst[n] = i
-    n += 1
-    if seen[j] == st:
-        ok = ok and (g0 == 0 and g1 == 0)
-    else:
-        seen[j] = st
-        px[j] = g0
-        py[j] = g1
-        lst[n] = j
-        n += 1
+    n, ok = _seed_pair(i, j, g0, g1, seen, st, px, py, lst)
     k = 0
     while k < n:
         v = lst[k]
@@ -363,17 +378,7 @@ def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path, over, tra
     # step 2: reach of {i(0), j(g)} in the modified lift, one potential per node
     stamp[0] += 1
     st = stamp[0]
-    m = 0
-    seen[i] = st
-    px[i] = 0
-    py[i] = 0
-    lst[m] = i
-    m += 1
-    seen[j] = st
-    px[j] = g0
-    py[j] = g1
-    lst[m] = j
-    m += 1
+    m, _ = _seed_pair(i, j, g0, g1, seen, st, px, py, lst)
     k = 0
     while k < m:
         v = lst[k]
@@ -384,12 +389,7 @@ def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path, over, tra
             b = out[v, s]
             if b < 0:
                 continue
-            skip = False
-            if mark[v] == ost:
-                for t in range(npath):
-                    if oe[t] == b and otv[t] == v and otx[t] == vx and oty[t] == vy:
-                        skip = True
-            if skip:
+            if mark[v] == ost and _reversed(b, v, vx, vy, npath, oe, otv, otx, oty):
                 continue
             w, dx, dy = _step(b, v, eu, ev, gx, gy)
             if seen[w] == st:
@@ -428,12 +428,7 @@ def _mark_circuit(mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv,
             b = out[v, s]
             if b < 0:
                 continue
-            skip = False
-            if mark[v] == ost:
-                for t in range(npath):
-                    if oe[t] == b and otv[t] == v and otx[t] == px[v] and oty[t] == py[v]:
-                        skip = True
-            if not skip:
+            if not (mark[v] == ost and _reversed(b, v, px[v], py[v], npath, oe, otv, otx, oty)):
                 over[b] = True
         if mark[v] == ost:
             for t in range(npath):
@@ -598,10 +593,12 @@ def _candidate(w, wx, wy, balanced, cst, out, eu, ev, gx, gy, stamp, lab, touche
 
 
 @nb.njit(cache=True)
-def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
+def label_clusters(n_nodes, eu, ev, gx, gy, sites, out, n_seeds=-1):
     """Rigid-cluster label of every site in ``sites`` (-1 elsewhere), from a finished game.
 
-    Sites are taken in the given order; each one not yet labelled seeds a cluster: the pebbles
+    Sites are taken in the given order; each one not yet labelled seeds a cluster, up to
+    ``n_seeds`` clusters (-1: all; the rest stay -1: labelling only the cluster of one bond, as
+    at a threshold, costs one cluster's growth instead of every cluster's). The pebbles
     are gathered on its ends (at most 3). With 3 the cluster is a balanced (finite) rigid body,
     grown in the lift with potentials; with 2 it is the maximal tight set of the torus holding
     the bond (it wraps). A node joins when a search from it finds no free pebble.
@@ -642,6 +639,8 @@ def label_clusters(n_nodes, eu, ev, gx, gy, sites, out):
     cst = 0
     nlab = 0
     for b in sites:
+        if nlab == n_seeds:
+            return labels
         if labels[b] >= 0 or eu[b] == ev[b]:
             continue
         i = eu[b]

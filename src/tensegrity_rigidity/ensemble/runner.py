@@ -26,7 +26,7 @@ from ..model.strain import sequence_rotation, strain_tensor
 from ..solver.core import solve
 from ..solver.inexact import paper_verdict
 from .spec import GridPoint, Spec
-from .thresholds import find_threshold
+from .thresholds import find_threshold, pebble_pass
 
 
 def sample_rng(point: GridPoint, k: int) -> np.random.Generator:
@@ -198,7 +198,11 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
         ``threshold_p_r_high`` (equal unless ``threshold_undecided`` probes on the
         bisection path were undecided; ``threshold_not_resolved`` of them not resolved by the
         search, the others within resolution), ``solves``, ``decided`` (the
-        interval is a single event) and ``solve_seconds``.
+        interval is a single event) and ``solve_seconds``. With the ``"pebble"`` method also
+        the spanning rigid cluster at the threshold
+        (:class:`~tensegrity_rigidity.combinatorics.clusters.SpanningCluster`): its bond sites
+        ``cluster_sites`` and nodes ``cluster_nodes``, and those of its stressed
+        (overconstrained) part, ``stressed_sites`` and ``stressed_nodes`` (0 when never rigid).
     """
     assert spec.threshold is not None, "threshold_chunk needs a threshold spec"
     opts = spec.solver_options()
@@ -209,7 +213,17 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
         net, u, v, theta = sample_geometry(spec, point, k)
         start = time.perf_counter()
         strain = sample_strain(spec, point, k, theta, net.dim)
-        th = find_threshold(net, u, v, strain, point.p_t, point.f_c, path, opts, method)
+        extra = {}
+        if method == "pebble":
+            th, cl = pebble_pass(net, u, v, point.p_t, point.f_c, path)
+            extra = {
+                "cluster_sites": int(cl.sites.size),
+                "cluster_nodes": cl.nodes,
+                "stressed_sites": int(cl.stressed.sum()),
+                "stressed_nodes": cl.stressed_nodes,
+            }
+        else:
+            th = find_threshold(net, u, v, strain, point.p_t, point.f_c, path, opts, method)
         rows.append(
             key_columns(spec, point, k, theta)
             | {
@@ -224,6 +238,7 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
                 "decided": th.decided,
                 "solve_seconds": time.perf_counter() - start,
             }
+            | extra
         )
     return pd.DataFrame(rows)
 

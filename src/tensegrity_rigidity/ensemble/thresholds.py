@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..combinatorics.clusters import first_wrapping
+from ..combinatorics.clusters import SpanningCluster, spanning_cluster
 from ..errors import InputError
 from ..model.network import Element, Instance, PeriodicNetwork
 from ..solver.certificates import NOT_RESOLVED
@@ -341,6 +341,36 @@ def _pebble_threshold(
     network: PeriodicNetwork, u: np.ndarray, v: np.ndarray, p_t: float, f_c: float, path: str
 ) -> Threshold:
     """Threshold of a rods-only path by one incremental pass of the pebble game."""
+    return pebble_pass(network, u, v, p_t, f_c, path)[0]
+
+
+def pebble_pass(
+    network: PeriodicNetwork,
+    u: np.ndarray,
+    v: np.ndarray,
+    p_t: float = 0.0,
+    f_c: float = 0.5,
+    path: str = "p_r",
+) -> tuple[Threshold, SpanningCluster]:
+    """Threshold of a rods-only path and its spanning rigid cluster, in one pebble-game pass.
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        Geometry (element kinds are ignored).
+    u, v : (m,) float
+        The sample's site uniforms (rods enter in the order of ``u``: Newman-Ziff).
+    p_t, f_c, path
+        As :func:`find_threshold`; the path must be rods-only (``"p_r"``, ``p_t = 0``).
+
+    Returns
+    -------
+    threshold : Threshold
+        As ``find_threshold(..., method="pebble")``.
+    cluster : SpanningCluster
+        The rigid cluster of the threshold bond just after it was added, with its stressed
+        sites (:func:`~tensegrity_rigidity.combinatorics.clusters.spanning_cluster`).
+    """
     if path != "p_r" or p_t != 0:
         raise InputError(
             "method 'pebble' follows rods-only paths: use path 'p_r' with p_t = 0 "
@@ -349,11 +379,12 @@ def _pebble_threshold(
     ev = EventPath(np.asarray(u, float), np.asarray(v, float), path, p_t, f_c)
     added = np.flatnonzero(ev.rod_event < ev.n_events)
     order = added[np.argsort(ev.rod_event[added], kind="stable")]
-    q = first_wrapping(network, order)
+    cluster = spanning_cluster(network, order)
+    q = cluster.position
     if q < 0:
-        return Threshold(np.nan, np.nan, 0, np.nan, np.nan)
+        return Threshold(np.nan, np.nan, 0, np.nan, np.nan), cluster
     s = float(ev.positions[ev.rod_event[order[q]]])
-    return Threshold(s, p_t, 0, s, s)
+    return Threshold(s, p_t, 0, s, s), cluster
 
 
 def _violated(network: PeriodicNetwork, strain: np.ndarray, cert, res, cable: np.ndarray):

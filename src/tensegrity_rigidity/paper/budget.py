@@ -78,6 +78,14 @@ THRESHOLD_PT_FACTOR = ((0.0, 0.17), (0.1, 0.58), (0.2, 0.92), (0.3, 1.0))
 #   searches meet undecided probes (153 in 64 searches at n = 128), and an undecided probe runs
 #   every stage. Before the refine stage (same day): 0.076, 0.40, 6.2 and 139 s at n = 16 to 128.
 RODS_THRESHOLD_SECONDS = {8: 0.028, 16: 0.061, 32: 0.295, 64: 2.83, 128: 53.1}
+# PEBBLE_SECONDS: a rods-only threshold by the pebble game with its spanning rigid cluster
+#   (``[threshold] method = "pebble"``, the pc scale), wall seconds per sample of
+#   ensemble.runner.threshold_chunk (geometry, one pass, the spanning cluster's labelling) on one
+#   process of the reference machine under the other jobs' load (load average 8 on 2 cores):
+#   200, 100, 30, 8 and 3 samples at n = 32, 64, 128, 256, 512. About N^1.5 in N = n^2 nodes
+#   at the largest sizes (one pass costs about N^1.2 near threshold; the wrapping cluster's
+#   labelling adds 5 to 10 %).
+PEBBLE_SECONDS = {32: 0.0108, 64: 0.0268, 128: 0.142, 256: 1.11, 512: 8.07}
 # GRID_SECONDS: one grid sample, solve() with the minimum-norm displacements (what grid sweeps
 #   record), at the reference p_t = 0.15, from the rows of finished runs priced by
 #   benchmarks/calibrate_budget.py (BENCHMARKS.md, "Budget model against finished runs"): the
@@ -201,10 +209,13 @@ def _factor(table, p_t: float) -> float:
 def row_seconds(mode: str, n: int, p_t: float) -> tuple[float, bool]:
     """(mean seconds of one row, extrapolated?) for a sweep of ``mode`` at size n and p_t.
 
-    ``mode``: "threshold" (a threshold search), "grid" (an exact grid sample with its
+    ``mode``: "threshold" (a threshold search), "pebble" (a rods-only threshold by the pebble
+    game, with its spanning cluster), "grid" (an exact grid sample with its
     minimum-norm displacements), "energy" (the same without them) or "paper" (a grid sample
     decided the paper's way).
     """
+    if mode == "pebble":
+        return _power_law(PEBBLE_SECONDS, n)
     if mode == "threshold" and p_t == 0.0:
         return _power_law(RODS_THRESHOLD_SECONDS, n)
     if mode == "threshold":
@@ -216,7 +227,9 @@ def row_seconds(mode: str, n: int, p_t: float) -> tuple[float, bool]:
         return t * _factor(GRID_PT_FACTOR, p_t), ext
     if mode == "paper":
         return _power_law(PAPER_VERDICT_SECONDS, n)
-    raise InputError(f"unknown sweep mode {mode!r}; use 'threshold', 'grid', 'energy' or 'paper'")
+    raise InputError(
+        f"unknown sweep mode {mode!r}; use 'threshold', 'pebble', 'grid', 'energy' or 'paper'"
+    )
 
 
 def sigma_1(estimator: str, n: int) -> tuple[float, bool]:
@@ -306,7 +319,8 @@ class Estimate:
         return self.budget_minutes is not None and self.wall_seconds > 60 * self.budget_minutes
 
     def table(self) -> pd.DataFrame:
-        """Per study and size: threshold searches, grid solves, paper verdicts (rows still to
+        """Per study and size: threshold searches (pebble-game passes included), grid solves,
+        paper verdicts (rows still to
         compute), CPU and wall minutes (in-process work on the study's first row)."""
         rows = []
         for study in self.studies:
@@ -319,7 +333,9 @@ class Estimate:
                     {
                         "study": study,
                         "n": n,
-                        "thresholds": sum(s.new_rows for s in here if s.mode == "threshold"),
+                        "thresholds": sum(
+                            s.new_rows for s in here if s.mode in ("threshold", "pebble")
+                        ),
                         "grid": sum(s.new_rows for s in here if s.mode in ("grid", "energy")),
                         "paper": sum(s.new_rows for s in here if s.mode == "paper"),
                         "cpu_min": (sum(s.cpu_seconds for s in here) + serial) / 60,
@@ -396,6 +412,8 @@ def estimate(
             done = planned[name]
             chunks = plan_chunks(spec, done)
             mode = "threshold" if spec.mode == "threshold" else spec.verdict
+            if spec.threshold is not None and spec.threshold.get("method") == "pebble":
+                mode = "pebble"
             mode = "grid" if mode == "exact" else mode
             if mode == "grid" and not spec.solver_options().min_norm:
                 mode = "energy"

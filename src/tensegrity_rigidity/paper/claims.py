@@ -50,10 +50,38 @@ REFERENCES = {
         "as jacobs1995generic)",
     ),
     "pc_javerzat_notarmuzi": Reference(
-        0.66027,
+        0.6602741,
+        0.0000004,
+        "Javerzat & Notarmuzi (2025), generic rigidity percolation of the bond-diluted "
+        "triangular lattice: pebble game in Newman-Ziff order with wrapping detection, up to "
+        "5e8 nodes; 0.6602741(4) as quoted in the project's brief (not found among the sources "
+        "searched here, so not verified against the paper)",
+    ),
+    "nu_javerzat_notarmuzi": Reference(
+        1.1694,
+        0.0008,
+        "Javerzat & Notarmuzi (2025), correlation-length exponent, 1.1694(8) as quoted in the "
+        "project's brief (not verified against the paper)",
+    ),
+    "df_rigid_javerzat_notarmuzi": Reference(
+        1.8423,
+        0.0007,
+        "Javerzat & Notarmuzi (2025), fractal dimension of the rigid cluster at p_c, 1.8423(7) "
+        "as quoted in the project's brief (not verified against the paper)",
+    ),
+    "df_rigid_jacobs_thorpe": Reference(
+        1.86,
         None,
-        "Javerzat & Notarmuzi, generic rigidity percolation of the bond-diluted triangular "
-        "lattice, as quoted in the project's brief (0.66027; the reference was not verified here)",
+        "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995): spanning rigid cluster, about 1.86 "
+        "as quoted in the project's brief; the abstract (checked) gives p_c, nu and beta only, "
+        "so this value and its error are not verified",
+    ),
+    "df_stressed_jacobs_thorpe": Reference(
+        1.78,
+        None,
+        "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995): stressed backbone, about 1.78 as "
+        "quoted in the project's brief; the abstract (checked) gives p_c, nu and beta only, so "
+        "this value and its error are not verified",
     ),
     "nu_jacobs_thorpe": Reference(
         1.21, 0.06, "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995): correlation-length exponent"

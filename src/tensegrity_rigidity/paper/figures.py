@@ -18,7 +18,14 @@ from matplotlib.ticker import NullFormatter, NullLocator  # noqa: E402
 
 from ..model.network import Element  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
-from .plotting import bond_segments, draw_network  # noqa: E402
+from .plotting import (  # noqa: E402
+    CYCLE,
+    KIND_COLOURS,
+    bond_segments,
+    draw_clusters,
+    draw_network,
+)
+from .plotting import OKABE_ITO as OKABE_ITO  # noqa: E402  (the palette, re-exported)
 from .studies import PT4  # noqa: E402
 
 if TYPE_CHECKING:
@@ -32,15 +39,6 @@ if TYPE_CHECKING:
         Fig4Result,
     )
 
-#: Okabe and Ito's palette, distinguishable with every common colour-vision deficiency
-#: (Wong, Nature Methods 8, 441, 2011): black, orange, sky blue, bluish green, yellow, blue,
-#: vermillion, reddish purple
-OKABE_ITO = (
-    "#000000", "#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7"
-)  # fmt: skip
-#: the colour cycle of every figure: the palette without black (kept for averages) and yellow
-#: (too light on white)
-CYCLE = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
 #: one style for every figure: sizes a journal column takes, the palette, no top and right spines
 STYLE: dict[Any, Any] = {
     "axes.prop_cycle": cycler(color=CYCLE),
@@ -180,7 +178,10 @@ def fig2a(r: Fig2Result, figdir: Path):
     ax.add_collection(LineCollection(seg[kinds == Element.ROD], colors="k", linewidths=0.8))
     ax.add_collection(
         LineCollection(
-            seg[kinds == Element.CABLE], colors="tab:red", linewidths=0.8, linestyles=(0, (3, 2))
+            seg[kinds == Element.CABLE],
+            colors=KIND_COLOURS[Element.CABLE],
+            linewidths=0.8,
+            linestyles=(0, (3, 2)),
         )
     )
     unit = u / np.where(mag > 0, mag, 1.0)[:, None]
@@ -558,6 +559,47 @@ def _width_panel(ax, w) -> None:
     ax.legend(fontsize=7)
 
 
+def fig_clusters(r: FiniteSizeResult, figdir: Path):
+    """Rigid clusters at the threshold (the pc scale's pebble-game sweeps): one sample drawn
+    just after its threshold event, its spanning rigid cluster and that cluster's stressed
+    (overconstrained) sites coloured (:func:`~tensegrity_rigidity.paper.plotting.draw_clusters`);
+    beside it, log-log, the mean masses (nodes) of both at the threshold against n with their
+    fitted ``n^d`` (:func:`~tensegrity_rigidity.paper.finite_size.fractal_dimensions`)."""
+    pic, fits, by = r.picture, r.fractal, r.fractal_by_size
+    assert fits is not None and by is not None, "fig_clusters needs the pebble-game sweeps"
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 5.2))
+    if pic is not None:
+        draw_clusters(left, pic.network, pic.clusters, spanning=pic.spanning.sites)
+        left.set_title(
+            f"n = {pic.n}, sample {pic.sample} at its threshold p_r = {pic.p_r:.4f}: "
+            f"{pic.spanning.sites.size} rods in the spanning cluster, "
+            f"{int(pic.spanning.stressed.sum())} stressed",
+            fontsize=8,
+        )
+    colours = {"rigid": CYCLE[0], "stressed": CYCLE[1]}
+    names = {"rigid": "spanning rigid cluster", "stressed": "its stressed part"}
+    n = by.n.to_numpy(float)
+    for cluster, colour in colours.items():
+        mean, err = by[f"{cluster}_nodes"], by[f"{cluster}_nodes_err"]
+        f = fits[(fits.cluster == cluster) & (fits.mass == "nodes") & (fits.n_min == n.min())]
+        (row,) = f.itertuples()
+        right.errorbar(n, mean, yerr=err, marker="o", ls="none", color=colour, capsize=3)
+        # the line through the points' weighted centre with the fitted slope (display only)
+        w = (mean / err) ** 2
+        c = np.sum(w * (np.log(mean) - row.d * np.log(n))) / np.sum(w)
+        right.plot(n, np.exp(c) * n**row.d, "--", color=colour, lw=1,
+                   label=f"{names[cluster]}: d = {row.d:.3f} ± {row.d_err:.3f}")  # fmt: skip
+    right.set_xscale("log")
+    right.set_yscale("log")
+    right.set_xticks(n, [f"{v:g}" for v in n])
+    right.xaxis.set_minor_locator(NullLocator())
+    right.set_xlabel("n")
+    right.set_ylabel("mean nodes at the threshold")
+    right.set_title("mass against size: M ~ n^d", fontsize=9)
+    right.legend(fontsize=7)
+    return _save(fig, figdir, "RC")
+
+
 def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
     """Draw every figure in :data:`STYLE`; returns {figure id: [png, svg]}."""
     with plt.rc_context(STYLE):
@@ -586,4 +628,6 @@ def _all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
         out["4C"] = fig4c(results["fig4"], figdir)
     if "fss" in results:
         out["FS"] = fig_fss(results["fss"], figdir)
+        if results["fss"].fractal is not None:
+            out["RC"] = fig_clusters(results["fss"], figdir)
     return out

@@ -107,16 +107,28 @@ def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     }
 
 
-def rods_pc_sweep(n: int, delta: float, samples: int) -> dict[str, dict]:
+#: samples per chunk of the pebble-game sweeps of the p_c extrapolation: about a minute of one
+#: worker at n = 512 (about 6 s a sample), proportionally more samples below
+PEBBLE_CHUNK_SITES = 8 * 512**2
+
+
+def rods_pc_sweep(n: int, delta: float, samples: int, method: str = "lp") -> dict[str, dict]:
     """Sweep name -> spec of the rods-only thresholds of the p_c extrapolation at (n, delta).
 
     One strain (dilation): a rods-only threshold does not depend on the strain (identical under
     dilation, shear and compression for all 400 samples at n = 8 and 96 % at n = 32 of the fss
     run), so a second strain would cost a full search for no new information. Seed 61, so
     sample k is the disorder of sample k of :func:`headline_sweeps` (common random numbers).
+    ``method`` is the threshold method: ``"lp"`` (certified bisection) or ``"pebble"`` (one
+    pebble-game pass, which also records the spanning rigid cluster at the threshold; its sweeps
+    are named ``rods_pc_pebble_...``, so they never meet the bisection's).
     """
     spec = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": [0.0]}
     spec |= {"p_t": 0.0, "f_c": 0.5, "threshold": {"path": "p_r"}}
+    if method == "pebble":
+        spec["threshold"] = {"path": "p_r", "method": "pebble"}
+        chunk = max(1, min(256, PEBBLE_CHUNK_SITES // n**2))
+        return {f"rods_pc_pebble_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk}}}
     return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
 
 
@@ -320,6 +332,14 @@ class FiniteSizeResult:
         The rods-only extrapolation refitted from the sizes ``n >= n_min``, one row per
         ``n_min`` (:func:`pc_by_smallest_size`): how much the extrapolation rests on the
         smallest sizes, where corrections to scaling are largest.
+    fractal : DataFrame or None
+        Where the rods-only sweeps ran the pebble game: the fractal dimensions of the spanning
+        rigid cluster and of its stressed part at the threshold (:func:`fractal_dimensions`).
+    fractal_by_size : DataFrame or None
+        Their mean masses per size (:func:`fractal_dimensions`).
+    picture : ClusterPicture or None
+        One pebble-game sample at its threshold, for the figure of its clusters
+        (:func:`cluster_picture`).
     measured : tuple of Measurement
         The evidence for the comparison's factor "finite size": per claim, the extrapolation
         with the free fit's nu and the one with nu fixed at :data:`NU_CHECK`, labelled so; and
@@ -345,6 +365,133 @@ class FiniteSizeResult:
     pc_widths_z: float = float("nan")
     pc_widths_nu_z: float = float("nan")
     pc_by_smallest: pd.DataFrame | None = None
+    fractal: pd.DataFrame | None = None
+    fractal_by_size: pd.DataFrame | None = None
+    picture: ClusterPicture | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class ClusterPicture:
+    """One rods-only sample just after its threshold event, with its rigid clusters.
+
+    Attributes
+    ----------
+    network : PeriodicNetwork
+        The sample's rods at the threshold (the threshold bond included).
+    clusters : RigidClusters
+        Its rigid clusters and overconstrained sites
+        (:func:`~tensegrity_rigidity.combinatorics.clusters.rigid_clusters`).
+    spanning : SpanningCluster
+        The spanning rigid cluster (the threshold bond's) and its stressed sites.
+    n, sample : int
+        Its size and sample index (of :func:`rods_pc_sweep`'s pebble sweep).
+    p_r : float
+        Its threshold.
+    """
+
+    network: Any
+    clusters: Any
+    spanning: Any
+    n: int
+    sample: int
+    p_r: float
+
+
+#: the size and sample drawn at its threshold in the pc report (64: small enough to read)
+PICTURE_N, PICTURE_SAMPLE = 64, 1
+
+
+def cluster_picture(sizes: tuple[int, ...], delta: float = DEFAULT_DELTA) -> ClusterPicture | None:
+    """Sample :data:`PICTURE_SAMPLE` of the pebble sweep at the size of ``sizes`` nearest
+    :data:`PICTURE_N`, at its threshold (None if it never becomes rigid).
+
+    Rebuilt from its seed, as the sweep built it (a second pass of the pebble game, then the
+    full labelling of that one network).
+    """
+    from ..combinatorics.clusters import rigid_clusters
+    from ..ensemble.runner import sample_geometry
+    from ..ensemble.spec import parse_spec
+    from ..ensemble.thresholds import pebble_pass
+    from ..model.elements import place_elements
+
+    n = min(sizes, key=lambda k: (abs(math.log(k / PICTURE_N)), k))
+    ((_, raw),) = rods_pc_sweep(n, delta, PICTURE_SAMPLE, "pebble").items()
+    spec = parse_spec(raw)
+    point = spec.points()[0]
+    net, u, v, _ = sample_geometry(spec, point, PICTURE_SAMPLE)
+    th, spanning = pebble_pass(net, u, v)
+    if not np.isfinite(th.s):
+        return None
+    # rods with u <= s: the threshold bond (u = s) included
+    at = net.with_kinds(place_elements(u, v, np.nextafter(th.s, np.inf), 0.0, 0.5))
+    return ClusterPicture(at, rigid_clusters(at), spanning, n, PICTURE_SAMPLE, th.s)
+
+
+#: (name, mass column of the pebble-game rows, literature value) of the clusters whose fractal
+#: dimension the pc scale measures at the threshold
+FRACTAL_CLUSTERS = (
+    ("rigid", "cluster_nodes", REFERENCES["df_rigid_javerzat_notarmuzi"]),
+    ("stressed", "stressed_nodes", REFERENCES["df_stressed_jacobs_thorpe"]),
+)
+#: their masses counted in bond sites instead of nodes: a second reading of the same exponent
+FRACTAL_SITES = {"rigid": "cluster_sites", "stressed": "stressed_sites"}
+
+
+def fractal_dimensions(
+    sizes: tuple[int, ...], rows: list[pd.DataFrame], n_boot: int
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Fractal dimensions of the spanning rigid cluster and its stressed part at threshold.
+
+    Parameters
+    ----------
+    sizes : tuple of int
+        The sizes of the rods-only sweeps.
+    rows : list of DataFrame
+        Their pebble-game rows, one frame per size (columns of
+        :data:`FRACTAL_CLUSTERS` and :data:`FRACTAL_SITES`; samples never rigid are left out).
+    n_boot : int
+        Bootstrap replicas.
+
+    Returns
+    -------
+    fits : DataFrame
+        One row per (``cluster``, ``mass`` = "nodes" or "sites", ``n_min``: the smallest size
+        fitted, all sizes and without the smallest): ``d``, ``d_err``, ``chi2``, ``dof``, the
+        literature value ``reference`` with ``reference_err`` and ``z`` against it
+        (:func:`~tensegrity_rigidity.analysis.scaling.fractal_dimension`: ``M ~ n^d``, the mass
+        of each sample at its own threshold, the wrapping event).
+    by_size : DataFrame
+        Per size: ``n``, ``samples`` and, per cluster and mass, the mean and its error
+        (``<cluster>_<mass>``, ``<cluster>_<mass>_err``).
+    """
+    n = np.asarray(sizes, float)
+    rigid = [r[np.isfinite(r.threshold_p_r)] for r in rows]
+    by_size = pd.DataFrame({"n": np.asarray(sizes, int), "samples": [len(r) for r in rigid]})
+    fits = []
+    for name, nodes_col, ref in FRACTAL_CLUSTERS:
+        for mass, col in (("nodes", nodes_col), ("sites", FRACTAL_SITES[name])):
+            masses = [r[col].to_numpy(float) for r in rigid]
+            for k, n_min in enumerate(n[: max(1, n.size - 2)]):
+                fit = an.fractal_dimension(n[k:], masses[k:], n_boot, rng=stream("fractal", k))
+                if k == 0:
+                    by_size[f"{name}_{mass}"] = fit.mass
+                    by_size[f"{name}_{mass}_err"] = fit.mass_err
+                ref_err = ref.error or 0.0
+                fits.append(
+                    {
+                        "cluster": name,
+                        "mass": mass,
+                        "n_min": int(n_min),
+                        "d": fit.d,
+                        "d_err": fit.d_err,
+                        "chi2": fit.chi2,
+                        "dof": fit.dof,
+                        "reference": ref.value,
+                        "reference_err": ref_err,
+                        "z": an.agreement_z(fit.d, fit.d_err**2, ref.value, ref_err),
+                    }
+                )
+    return pd.DataFrame(fits), by_size
 
 
 def _at_bound(nu: float) -> bool:
@@ -432,11 +579,15 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         else pd.DataFrame(columns=["key", "value", "err", "n"])
     )
     widths = None
+    fractal = fractal_by_size = picture = None
     if scale.fss_pc:  # the rods-only point from its own sweeps, at its own sizes
-        pc_rows, per_size = [], []
+        pc_rows, per_size, pc_frames = [], [], []
         for n in scale.pc_sizes:
-            ((name, spec),) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n)).items()
+            ((name, spec),) = rods_pc_sweep(
+                n, DEFAULT_DELTA, scale.pc_samples(n), scale.pc_method
+            ).items()
             rows, excluded[name] = sweep_rows(out, name, spec, **kw)
+            pc_frames.append(rows)
             per_size.append(rows.threshold_p_r.to_numpy(float))
             value, err = an.critical_point(per_size[-1], rng=stream("critical_point"))
             width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
@@ -456,6 +607,11 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
             [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
         )
         widths = an.width_scaling(np.asarray(scale.pc_sizes, float), per_size, rng=stream("widths"))
+        if scale.pc_method == "pebble" and len(scale.pc_sizes) >= 2:
+            fractal, fractal_by_size = fractal_dimensions(
+                scale.pc_sizes, pc_frames, scale.bootstrap
+            )
+            picture = cluster_picture(scale.pc_sizes)
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
@@ -552,6 +708,9 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_widths_z=widths_z,
         pc_widths_nu_z=widths_nu_z,
         pc_by_smallest=pc_by_smallest_size(*series("rods_only_pc")),
+        fractal=fractal,
+        fractal_by_size=fractal_by_size,
+        picture=picture,
     )
 
 
@@ -666,7 +825,7 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
         out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
         out |= energy_sweeps(n, DEFAULT_DELTA, count=scale.fss_energy_samples(n))
     for n, samples in scale.fss_pc:
-        out |= rods_pc_sweep(n, DEFAULT_DELTA, samples)
+        out |= rods_pc_sweep(n, DEFAULT_DELTA, samples, scale.pc_method)
     return out
 
 

@@ -3,11 +3,14 @@
 :func:`draw_network` draws onto a Matplotlib ``Axes`` in the style of the paper's Fig. 1A:
 rods solid, cables dashed, struts hollow (a coloured outline around a white core). With a
 :class:`~tensegrity_rigidity.solver.core.SolveResult` the line width grows with ``|t|`` (slack
-elements stay thin) and the colour gives either the tension (``colour="tension"``, the
-paper's: red pulls, green is zero, blue pushes) or the kind (``colour="kind"``: rods black,
-cables red, struts blue); the displacements are drawn as arrows. :func:`plot_solution` writes
-such a drawing to a file (``tensegrity-rigidity solve FILE --plot out.png``); a 3D network is
-drawn as its three projections on the coordinate planes, side by side.
+elements stay thin) and the colour gives either the tension (``colour="tension"``, as the
+paper's but colour-blind safe: vermillion pulls, grey is zero, blue pushes) or the kind
+(``colour="kind"``: rods black, cables vermillion, struts blue); the displacements are drawn
+as arrows. :func:`plot_solution` writes such a drawing to a file (``tensegrity-rigidity solve
+FILE --plot out.png``); a 3D network is drawn as its three projections on the coordinate
+planes, side by side, and a 2D rods-only network beside its rigid clusters and overconstrained
+sites (:func:`draw_clusters`, from the pebble game). Colours are Okabe and Ito's
+(:data:`OKABE_ITO`), safe for colour-blind readers.
 
 Nothing here selects a Matplotlib backend: :func:`plot_solution` draws on a bare
 ``matplotlib.figure.Figure`` (no GUI needed), and :func:`draw_network` draws on whatever
@@ -28,14 +31,31 @@ from matplotlib.colors import LinearSegmentedColormap, TwoSlopeNorm
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from ..combinatorics.clusters import RigidClusters, rigid_clusters
 from ..errors import InputError
 from ..model.network import Element, Instance, PeriodicNetwork
 from ..solver.core import SolveResult
 
-#: colours of ``colour="kind"``
-KIND_COLOURS = {Element.ROD: "black", Element.CABLE: "tab:red", Element.STRUT: "tab:blue"}
-#: the paper's tension colours: blue (pushes) -> green (zero) -> red (pulls)
-TENSION_CMAP = LinearSegmentedColormap.from_list("tension", ["blue", "limegreen", "red"])
+#: Okabe and Ito's palette, distinguishable with every common colour-vision deficiency
+#: (Wong, Nature Methods 8, 441, 2011): black, orange, sky blue, bluish green, yellow, blue,
+#: vermillion, reddish purple; every drawing and figure takes its colours from it
+OKABE_ITO = (
+    "#000000", "#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7"
+)  # fmt: skip
+BLUE, VERMILLION, GREEN, PURPLE, ORANGE, SKY = (
+    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"
+)  # fmt: skip
+#: the colour cycle of every figure: the palette without black (kept for averages) and yellow
+#: (too light on white)
+CYCLE = (BLUE, VERMILLION, GREEN, PURPLE, ORANGE, SKY)
+#: colours of ``colour="kind"``: rods black, cables vermillion, struts blue
+KIND_COLOURS = {Element.ROD: "black", Element.CABLE: VERMILLION, Element.STRUT: BLUE}
+#: tension colours, as the paper's Fig. 1A but colour-blind safe: blue (pushes) -> grey (zero)
+#: -> vermillion (pulls)
+TENSION_CMAP = LinearSegmentedColormap.from_list("tension", [BLUE, "#BBBBBB", VERMILLION])
+#: rigid-cluster drawings (:func:`draw_clusters`): the spanning cluster, its stressed
+#: (overconstrained) sites, the other clusters of more than one bond and the lone bonds
+SPANNING_COLOUR, STRESSED_COLOUR, CLUSTER_COLOUR, LONE_COLOUR = BLUE, VERMILLION, SKY, "#C8C8C8"
 _DASH = (0, (3, 2))
 
 
@@ -106,8 +126,9 @@ def draw_network(
         colours with ``colour="tension"``), its ``displacements`` (N, d) the arrows.
         Without it every element is drawn thin and coloured by kind.
     colour : {"tension", "kind"}
-        Colour by tension (the paper's Fig. 1A: red pulls, green zero, blue pushes, on a
-        symmetric scale) or by kind (rods black, cables red, struts blue).
+        Colour by tension (as the paper's Fig. 1A, colour-blind safe: vermillion pulls, grey
+        zero, blue pushes, on a symmetric scale) or by kind (rods black, cables vermillion,
+        struts blue).
     arrows : bool
         Draw the displacements as arrows, scaled so that the longest is 0.8 mean bond
         lengths (their lengths are relative: near the transition a few nodes move far more
@@ -192,13 +213,86 @@ def draw_network(
             handles.append(arrow)
     if by_tension and colorbar:
         sm = ScalarMappable(norm=norm, cmap=TENSION_CMAP)
-        ax.figure.colorbar(sm, ax=ax, label="tension t (red pulls, blue pushes)")
+        ax.figure.colorbar(sm, ax=ax, label="tension t (vermillion pulls, blue pushes)")
     if legend and handles:
         ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
     ax.set_aspect("equal")
     ax.autoscale()
     ax.set_xlabel("xyz"[axes[0]])
     ax.set_ylabel("xyz"[axes[1]])
+    return ax
+
+
+def draw_clusters(
+    ax: Axes,
+    network: PeriodicNetwork,
+    clusters: RigidClusters,
+    spanning: np.ndarray | None = None,
+    legend: bool = True,
+) -> Axes:
+    """Draw a rods-only network's rigid clusters and its overconstrained sites onto ``ax``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw (its aspect is set equal).
+    network : PeriodicNetwork
+        The network (``m`` sites); empty sites are not drawn.
+    clusters : RigidClusters
+        Its rigid clusters (:func:`~tensegrity_rigidity.combinatorics.clusters.rigid_clusters`).
+    spanning : (k,) int, optional
+        Sites of one cluster to draw as the spanning one (:data:`SPANNING_COLOUR`; its
+        overconstrained sites :data:`STRESSED_COLOUR`, thicker). By default the largest
+        cluster that holds an overconstrained site of a wrapping network, none otherwise.
+    legend : bool
+        Add a legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``. Other clusters of two bonds or more are :data:`CLUSTER_COLOUR` (their
+        overconstrained sites thicker), lone bonds (a cluster of one: free to rotate)
+        :data:`LONE_COLOUR`, thin.
+    """
+    labels = np.asarray(clusters.labels)
+    over = np.asarray(clusters.overconstrained, dtype=bool)
+    if labels.shape != (network.n_sites,):
+        raise InputError("the clusters do not belong to this network (numbers of sites differ)")
+    present = labels >= 0
+    size = np.bincount(labels[present], minlength=clusters.n_clusters)
+    in_span = np.zeros(network.n_sites, dtype=bool)
+    if spanning is not None:
+        in_span[np.asarray(spanning, dtype=np.int64)] = True
+    elif clusters.wraps and over.any():
+        stressed_labels = np.unique(labels[over & present])
+        in_span = labels == stressed_labels[np.argmax(size[stressed_labels])]
+    lone = present & (size[np.maximum(labels, 0)] == 1) & ~in_span
+    other = present & ~lone & ~in_span
+    seg = bond_segments(network)[:, :, :2]
+    layers = (
+        (lone, LONE_COLOUR, 0.5, "lone bond (floppy)"),
+        (other & ~over, CLUSTER_COLOUR, 0.9, "other rigid cluster"),
+        (
+            other & over,
+            CLUSTER_COLOUR,
+            1.8,
+            "",
+        ),
+        (in_span & ~over, SPANNING_COLOUR, 1.1, "spanning rigid cluster"),
+        (in_span & over, STRESSED_COLOUR, 1.8, "its stressed (overconstrained) sites"),
+    )
+    handles = []
+    for on, colour, width, label in layers:
+        if on.any():
+            ax.add_collection(LineCollection(seg[on], colors=colour, linewidths=width))
+            if label:
+                handles.append(Line2D([], [], color=colour, lw=max(width, 1.5), label=label))
+    if legend and handles:  # below the drawing, which fills its box
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.0, -0.1), ncol=2, fontsize=7)
+    ax.set_aspect("equal")
+    ax.autoscale()
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
     return ax
 
 
@@ -236,6 +330,13 @@ def check_plot_path(path: str | os.PathLike) -> Path:
             f"{', '.join('.' + f for f in sorted(formats))}"
         )
     return p
+
+
+def _rods_only(network: PeriodicNetwork) -> bool:
+    """A 2D network with rods and no cable or strut: its rigid clusters are drawn too."""
+    kinds = network.kinds
+    one_sided = (kinds == Element.CABLE) | (kinds == Element.STRUT)
+    return network.dim == 2 and bool((kinds == Element.ROD).any()) and not one_sided.any()
 
 
 def plot_solution(
@@ -284,6 +385,18 @@ def plot_solution(
                 ax, instance, result, colour, arrows, legend=i == 0, colorbar=last, plane=plane
             )
         ax = panels[1]
+    elif _rods_only(net):  # the tensions beside the rigid clusters (pebble game)
+        fig = Figure(figsize=(14, 6))
+        ax, right = fig.subplots(1, 2)
+        draw_network(ax, instance, result, colour=colour, arrows=arrows)
+        cl = rigid_clusters(net)
+        draw_clusters(right, net, cl)
+        right.set_title(
+            f"rigid clusters (pebble game): {cl.n_clusters} clusters, "
+            f"{int(cl.overconstrained.sum())} overconstrained rods, {cl.floppy_modes} floppy "
+            f"modes; {'resists' if cl.wraps else 'does not resist'} a generic strain",
+            fontsize=9,
+        )
     else:
         fig = Figure(figsize=(7, 6))
         ax = fig.subplots()

@@ -31,8 +31,9 @@ EXPECTED = {
     "threshold sweeps (estimated 109 minutes then); with the energy grids (24 samples per "
     "point at every size), estimated 119 minutes; resumable: re-run to "
     "continue",
-    "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
-    "minutes measured (estimated 33 minutes)",
+    "pc": "the rods-only study by the pebble game (n = 32 to 512; p_c, nu, fractal dimensions): "
+    "53 minutes measured on 2 cores shared with other jobs (load average 15 to 20), 48 samples "
+    "at n = 512 (estimated 8 minutes on idle cores)",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 62 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }

@@ -22,6 +22,7 @@ BOOTSTRAP_STREAMS = {
     "paired": 7,
     "finite_size": 8,
     "widths": 9,
+    "fractal": 10,
 }
 
 #: most samples per point of the finite-size study's energy grids by default (its threshold
@@ -78,6 +79,9 @@ class Scale:
     # (n, samples) of the rods-only thresholds extrapolated to p_c: dedicated one-strain sweeps
     # (the rods-only threshold does not depend on the strain); () reads the headline sweeps
     fss_pc: tuple[tuple[int, int], ...] = ()
+    # threshold method of the fss_pc sweeps: "lp" (certified bisection) or "pebble" (the pebble
+    # game, which also measures the spanning rigid cluster and its stressed part at threshold)
+    pc_method: str = "lp"
     deltas: tuple[float, ...] = (0.1, 0.2, 0.3)  # node-disorder study
     n_delta: int = 5
     samples_delta: int = 6
@@ -231,6 +235,14 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #: it, and is in pc and fss-cluster.
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 FSS_PC_NO_128 = FSS_PC[:-1]
+#: (n, samples) of the pc scale's pebble-game thresholds (one pass each, priced by
+#: paper.budget's PEBBLE_SECONDS): the median's error is about 1.25 x the spread of the
+#: thresholds / sqrt(S), spreads 0.0105, 0.0059, 0.0033, 0.0018 at n = 32 to 256 (measured), about
+#: 0.001 at 512: 4000, 4000, 1000, 200 samples give 2.2e-4, 1.2e-4, 1.1e-4, 1.3e-4 (measured).
+#: n = 512 was meant to have 200 (14 min more on 2 idle cores by the estimate); on the shared
+#: machine (load average 15 to 20 on 2 cores) its chunks of 8 took 7 min each, and the run that
+#: wrote reports/pc stopped at 48. Raising the count resumes the sweep (its samples are kept).
+PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 48))
 SCALES = {
     "tiny": Scale(
         name="tiny", n_threshold=5, n_grid=5, samples_threshold=6, samples_grid=4,
@@ -259,8 +271,8 @@ SCALES = {
         studies=("fss", "delta"), budget_minutes=120,
     ),
     "pc": Scale(
-        name="pc", bootstrap=200, fss_sizes=(), samples_fss=(), fss_pc=FSS_PC,
-        studies=("fss",), budget_minutes=40,
+        name="pc", bootstrap=200, fss_sizes=(), samples_fss=(), fss_pc=PC_PEBBLE,
+        pc_method="pebble", studies=("fss",), budget_minutes=60,
     ),
     "fss-cluster": Scale(
         name="fss-cluster", bootstrap=200,
