@@ -22,37 +22,14 @@ from .tolerances import DEFAULT_REGULARIZATION, Tolerances
 class Problem:
     """The non-empty part of an instance with a reusable factorisation of the Newton matrix.
 
-    Parameters
-    ----------
-    instance : Instance
-        Network, elements and strain.
-    regularization : float
-        ``mu``, the diagonal shift of ``R^T D R + mu I`` relative to the mean stiffness.
-    backend : {"auto", "cholmod", "qdldl"}
-        Factorisation backend (:class:`~.linalg.PatternFactor`).
-    unit_stiffness : bool
-        Use unit stiffness on every element (the verdict does not depend on stiffness).
-    tolerances : Tolerances, optional
-        The numeric constants the routines working on the problem read (default ``Tolerances()``).
-
-    Attributes
-    ----------
-    sites : (m,) int
-        The non-empty bond sites of the instance.
-    R, RT : sparse (m, 2N), (2N, m)
-        Rigidity matrix of those sites and its transpose.
-    e0 : (m,) float
-        Affine extensions in units of ``scale``.
-    k : (m,) float
-        Stiffnesses relative to ``k_scale``.
-    sigma : (m,) float
-        +1 on cables, -1 on struts, 0 on rods.
-    scale, k_scale : float
-        ``max |e0|`` over all bond sites and the mean stiffness (physical units).
-    factorizations : int
-        Numeric factorisations so far.
-    tol : Tolerances
-        The numeric constants of the search and the relaxation.
+    Built from ``instance`` with the shift ``regularization`` (``mu`` of ``R^T D R + mu I``,
+    relative to the mean stiffness), the factorisation ``backend``
+    (:class:`~.linalg.PatternFactor`), unit stiffnesses where ``unit_stiffness`` (the verdict
+    does not depend on them) and ``tolerances`` (default ``Tolerances()``, read by the routines
+    as ``tol``). It holds the non-empty ``sites`` (m,), the rigidity matrix ``R`` (m, dN) and
+    ``RT``, the affine extensions ``e0`` (m,) in units of ``scale`` (``max |e0|`` over all bond
+    sites), the stiffnesses ``k`` (m,) relative to ``k_scale`` (their mean), ``sigma`` (m,; +1 on
+    cables, -1 on struts, 0 on rods) and the count of numeric ``factorizations``.
     """
 
     def __init__(
