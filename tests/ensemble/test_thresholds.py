@@ -76,10 +76,10 @@ def test_a_rods_only_threshold_that_the_energy_stages_leave_an_interval_is_one_e
     from tensegrity_rigidity.solver.stages import LinearProgram
 
     net, u, v, eps = near_threshold_sample(32, [32, 100, 10], "dilation")
-    unrefined = ("affine", "newton", "crossover", "ipm", LinearProgram(refine=0))
+    unrefined = ("affine", "newton", "ipm", LinearProgram(refine=0))
     energy_only = SolverOptions(stages=unrefined, polish=False)
-    lp_refined = SolverOptions(stages=("affine", "newton", "crossover", "ipm", "lp"))
-    with_refine = SolverOptions(stages=("affine", "newton", "refine", "crossover", "ipm", "lp"))
+    lp_refined = SolverOptions(stages=("affine", "newton", "ipm", "lp"))
+    with_refine = SolverOptions(stages=("affine", "newton", "refine", "ipm", "lp"))
     wide = find_threshold(net, u, v, eps, 0.0, 0.5, options=energy_only)
     th = find_threshold(net, u, v, eps, 0.0, 0.5, options=with_refine)
     assert wide.undecided > 0 and wide.s_low < wide.s_high

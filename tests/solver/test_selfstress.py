@@ -131,3 +131,18 @@ def test_the_support_optimum_does_not_depend_on_the_point_the_tensions_come_from
         looser += _dual_bound(p, purified) < (1 - 1e-6) * E
         checked += 1
     assert checked >= 8 and 4 * looser >= 3 * checked, (checked, looser)
+
+
+def test_purification_reads_its_defaults_from_the_problems_tolerances():
+    """The instance of the test above: a problem whose ``Tolerances.purify_work_floor`` is 0
+    purifies as an explicit ``work_floor=0`` does (4 factorisations, not 2), so the default
+    is the options' field, part of the settings digest."""
+    from tensegrity_rigidity.solver.tolerances import Tolerances
+
+    inst = lattice_instance(8, 0.4, 0.2, 0.5, phi="shear", theta=0.4, seed=134)
+    p = Problem(inst, unit_stiffness=True, tolerances=Tolerances(purify_work_floor=0.0))
+    _, _, t = p.state(np.zeros(p.n2))
+    tp, n = _purify_counted(p, t)
+    explicit, n_explicit = _purify_counted(Problem(inst, unit_stiffness=True), t, work_floor=0.0)
+    assert n == n_explicit == 4
+    assert np.array_equal(tp, explicit)

@@ -1,22 +1,11 @@
 """The two certificates of a verdict and the resolution model that makes them exclude each other.
 
-Units: the affine extensions and the displacements are measured in units of the largest affine
-extension over all bond sites, ``s0 = max_b |e0_b|``, so nothing here depends on the strain
-magnitude.
-
-* **Floppy**: a displacement ``u`` whose extensions ``v = e0 + R u`` are admissible (rods
-  unstretched, cables not stretched, struts not compressed). Its *violation* is the largest
-  ``|v|`` on rods, ``max(v, 0)`` on cables, ``max(-v, 0)`` on struts; its *size* ``max |u| / s0``.
-* **Rigid**: an admissible self-stress ``t`` (``t >= 0`` on cables, ``<= 0`` on struts). Its
-  *work* is ``w = t . e0 / (|t|_1 s0)``, its *force residual* ``r = |R^T t|_1 / |t|_1``.
-
-With a violation tolerance ``tau`` and a displacement bound ``U`` (:class:`Resolution`) a
-floppy certificate is accepted when its violation is at most ``tau`` and its size at most
-``U``, a rigid one when ``w > tau + U r``; the two can never both be accepted for one instance
-(docs/model.md, "The resolution model"). Every quantity is evaluated in extended precision
-with the bond vectors recomputed in it, and a bound on its round-off (:func:`violation_roundoff`,
-:attr:`ExactGeometry.roundoff`, derived in docs/model.md) is added to each test. An instance
-with neither certificate is reported undecided, with both best candidates, never guessed.
+In units of the largest affine extension ``s0 = max_b |e0_b|``: a **floppy** certificate is a
+displacement ``u`` whose extensions ``v = e0 + R u`` are admissible to ``tau`` (violation: ``|v|``
+on rods, ``max(sigma v, 0)`` on one-sided elements) with size ``max |u| <= U``; a **rigid** one
+an admissible self-stress ``t`` with work ``w = t . e0 / |t|_1 > tau + U r``, ``r = |R^T t|_1 /
+|t|_1``. Both cannot pass for one instance (docs/model.md, "The resolution model"). Every
+quantity is evaluated in extended precision, with a bound on its round-off added to each test.
 """
 
 from __future__ import annotations
@@ -32,25 +21,22 @@ EPS = float(np.finfo(np.longdouble).eps) / 2
 
 
 def violation_roundoff(size: float) -> float:
-    """Round-off bound of an extended-precision violation at displacements of ``size``
-    (units of ``max |e0|``; returns a float in the same units).
-
-    ``v_b = e0_b + dhat_b . (u_j - u_i)`` takes about ten roundings of quantities up to
-    ``1 + 4 size`` (unit bond vectors and displacements), bounded by ``20 EPS (1 + 4 size)``.
+    """Round-off bound of an extended-precision violation at displacements of ``size`` (units of
+    ``max |e0|``): about ten roundings of quantities up to ``1 + 4 size``, ``20 EPS (1 + 4 size)``.
     """
     return 20.0 * EPS * (1.0 + 4.0 * size)
 
 
 @dataclass(frozen=True)
 class Resolution:
-    """Tolerances of the resolution model (dimensionless; see the module docstring).
+    """Tolerances of the resolution model (dimensionless, units of ``max |e0|``).
 
     Attributes
     ----------
     violation : float
-        ``tau``: largest violation of a floppy certificate, in units of ``max |e0|``.
+        ``tau``: largest violation of a floppy certificate.
     displacement : float
-        ``U``: largest displacement of a floppy certificate, in units of ``max |e0|``.
+        ``U``: largest displacement of a floppy certificate.
     """
 
     violation: float = 1e-9
@@ -64,9 +50,7 @@ class FloppyCertificate:
     Attributes
     ----------
     u : (2N,) float or longdouble
-        Displacements in units of ``max |e0|``, in extended precision when they were computed
-        in it (beyond ``1e6`` times the strain, rounding ``u`` to double precision alone
-        leaves violations of ``1e-10`` or more).
+        Displacements in units of ``max |e0|`` (in extended precision when computed in it).
     violation : float
         Largest violation of ``e0 + R u``, in units of ``max |e0|``.
     size : float
@@ -88,8 +72,7 @@ class RigidCertificate:
     Attributes
     ----------
     t : (m,) float or longdouble
-        Tensions on the non-empty sites (signs admissible), in extended precision when
-        purification refined them beyond double-precision round-off.
+        Tensions on the non-empty sites (signs admissible).
     work : float
         ``t . e0 / (|t|_1 max |e0|)``.
     residual : float
@@ -112,24 +95,9 @@ def _two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def bond_vectors(network, sites: np.ndarray) -> np.ndarray:
-    """Bond vectors of ``sites`` in extended precision, correctly rounded up to ``~EPS^2``.
-
-    ``d = x_j + s . box - x_i`` is summed from its terms (positions and integer multiples of the
-    box vectors, each exact in a 64-bit mantissa for shifts below 2^11) by cascaded TwoSum
-    (Ogita, Rump and Oishi's Sum2): the error is at most ``EPS |d| + 9 EPS^2`` times the
-    largest term, however far from the origin the nodes lie (a plain sum would lose
-    ``EPS |x| / |d|`` relative).
-
-    Parameters
-    ----------
-    network : PeriodicNetwork
-        Positions (N, d), bonds (B, 2), shifts (B, d) and box (d, d).
-    sites : (m,) int
-        Bond sites.
-
-    Returns
-    -------
-    (m, d) longdouble
+    """Bond vectors ((m, d) longdouble) of ``sites`` (m,) of ``network``, correctly rounded up to
+    ``~EPS^2``: ``x_j + s . box - x_i`` summed by cascaded TwoSum (docs/solver.md), however far
+    from the origin the nodes lie.
     """
     pos = network.positions.astype(np.longdouble)
     box = network.box.astype(np.longdouble)
@@ -146,19 +114,9 @@ def bond_vectors(network, sites: np.ndarray) -> np.ndarray:
 class ExactGeometry:
     """The rigidity matrix of a problem in extended precision, for certificate checks.
 
-    Parameters
-    ----------
-    bonds : (m, 2) int
-        Node pairs of the non-empty sites.
-    d : (m, dim) longdouble
-        Bond vectors of those sites in extended precision (:func:`bond_vectors`), ``dim = 2``
-        or ``3``.
-    e0 : (m,) float
-        Affine extensions in units of the instance's ``max |e0|`` (so ``|e0| <= 1``).
-    sigma : (m,) float
-        +1 on cables, -1 on struts, 0 on rods.
-    n_nodes : int
-        Number of nodes.
+    Built from the node pairs ``bonds`` (m, 2), the extended-precision bond vectors ``d`` (m, dim)
+    (:func:`bond_vectors`), the affine extensions ``e0`` (m,) in units of ``max |e0|``, the signs
+    ``sigma`` (m,) and the number of nodes ``n_nodes``.
     """
 
     def __init__(self, bonds, d, e0, sigma, n_nodes: int):
@@ -180,9 +138,7 @@ class ExactGeometry:
 
     @property
     def matrix(self) -> sp.csr_matrix:
-        """The rigidity matrix ``R`` (m, dN) in extended precision (built on first use); a row
-        holds ``-dhat`` at its first node and ``+dhat`` at its second, so a node's force in
-        ``R^T t`` sums at most ``D`` products in turn, as the bound assumes."""
+        """The rigidity matrix ``R`` (m, dN) in extended precision (built on first use)."""
         if self._R is None:
             m, dim = len(self.bonds), self.dim
             i, j = self.bonds[:, 0], self.bonds[:, 1]
@@ -197,63 +153,24 @@ class ExactGeometry:
         return self._R
 
     def extensions(self, u_n: np.ndarray) -> np.ndarray:
-        """``e0 + R u`` in extended precision.
-
-        Parameters
-        ----------
-        u_n : (dN,) float
-            Displacements in units of ``max |e0|``.
-
-        Returns
-        -------
-        (m,) longdouble
-        """
+        """``e0 + R u`` ((m,) longdouble) at displacements ``u_n`` (dN,), units of ``max |e0|``."""
         u = np.asarray(u_n, dtype=np.longdouble).reshape(-1, self.dim)
         i, j = self.bonds[:, 0], self.bonds[:, 1]
         return self.e0n + (self.dhat * (u[j] - u[i])).sum(axis=1)
 
     def forces(self, t: np.ndarray) -> np.ndarray:
-        """Net forces ``R^T t`` in extended precision.
-
-        Parameters
-        ----------
-        t : (m,) float or longdouble
-            Tensions.
-
-        Returns
-        -------
-        (2N,) longdouble
-        """
+        """Net forces ``R^T t`` ((dN,) longdouble) of tensions ``t`` (m,)."""
         return self.matrix.T @ np.asarray(t, dtype=np.longdouble)
 
     def violations(self, v: np.ndarray) -> np.ndarray:
-        """Per-site violation of extensions.
-
-        Parameters
-        ----------
-        v : (m,) float or longdouble
-            Extensions.
-
-        Returns
-        -------
-        (m,) array
-            ``|v|`` on rods, ``max(sigma v, 0)`` on one-sided elements.
+        """Per-site violation ((m,)) of extensions ``v`` (m,): ``|v|`` on rods, ``max(sigma v, 0)``
+        on one-sided elements.
         """
         return np.where(self.rod, np.abs(v), np.maximum(self.sigma * v, 0))
 
     def floppy(self, u: np.ndarray, res: Resolution) -> FloppyCertificate:
-        """Check displacements as a floppy certificate.
-
-        Parameters
-        ----------
-        u : (2N,) float or longdouble
-            Displacements in units of ``max |e0|`` (extended precision is kept).
-        res : Resolution
-            The tolerances.
-
-        Returns
-        -------
-        FloppyCertificate
+        """Check displacements ``u`` ((2N,), extended precision kept) as a floppy certificate at
+        resolution ``res``.
         """
         u_n = np.asarray(u).ravel()
         if u_n.dtype != np.longdouble:
@@ -268,19 +185,8 @@ class ExactGeometry:
         return FloppyCertificate(u_n, viol, size, ok)
 
     def rigid(self, t: np.ndarray, res: Resolution) -> RigidCertificate:
-        """Check tensions as a rigid certificate.
-
-        Parameters
-        ----------
-        t : (m,) float or longdouble
-            Tensions on the non-empty sites (wrong signs are rejected, never clipped).
-        res : Resolution
-            The tolerances.
-
-        Returns
-        -------
-        RigidCertificate
-        """
+        """Check tensions ``t`` ((m,); wrong signs are rejected, never clipped) as a rigid
+        certificate at resolution ``res``."""
         t = np.asarray(t)
         if t.dtype != np.longdouble:
             t = t.astype(float)

@@ -1,13 +1,11 @@
 """The certified rigid/floppy verdict of an instance and its exact relaxed state.
 
 :func:`decide` runs the verdict search (:mod:`.stages`) on unit stiffnesses and unit strain
-scale (the verdict depends on neither) and returns a :class:`Verdict`: by Farkas' lemma an
-instance is rigid iff an admissible self-stress does positive work on the strain, floppy iff a
-displacement puts every element in its admissible set, and only a certificate accepted by the
-resolution model of :mod:`.certificates` decides; otherwise the instance is undecided, with both
-best candidates, never guessed. :func:`solve` composes the verdict with the relaxation
-(:mod:`.relaxation`: ``E*``, ``t*`` and a certified lower bound) and the minimum-norm projection
-(:mod:`.displacements`) into a :class:`SolveResult` in the instance's units.
+scale (the verdict depends on neither): by Farkas' lemma an instance is rigid iff an admissible
+self-stress does positive work on the strain, floppy iff a displacement puts every element in
+its admissible set, and only a certificate accepted by the resolution model decides; otherwise
+it is undecided, never guessed. :func:`solve` = :func:`decide` -> :func:`~.relaxation.relax` ->
+:func:`~.displacements.minimum_norm`, in the instance's units.
 """
 
 from __future__ import annotations
@@ -43,12 +41,11 @@ class Verdict:
     status : str
         "rigid", "floppy" or "undecided".
     rigid : RigidCertificate or None
-        The accepted self-stress (rigid), else the best candidate found.
+        The accepted self-stress, else the best candidate found.
     floppy : FloppyCertificate or None
-        The accepted displacement (floppy), else the best candidate found. Displacements are
-        in units of ``scale``.
+        The accepted displacement, else the best candidate found (units of ``scale``).
     stage : str
-        The stage whose candidate was accepted ("" when undecided).
+        The strategy whose candidate was accepted ("" when undecided).
     scale : float
         ``max |e0|`` over the non-empty sites (physical units).
     factorizations, iterations : int
@@ -72,14 +69,7 @@ class Verdict:
 
     @property
     def decided(self) -> bool:
-        """Whether a certificate was accepted.
-
-        Returns
-        -------
-        bool
-            False when the instance is within resolution of the boundary (or no stage found
-            a certificate).
-        """
+        """Whether a certificate was accepted (False within resolution of the boundary)."""
         return self.status != "undecided"
 
 
@@ -90,74 +80,47 @@ class SolveResult:
     Attributes
     ----------
     energy : float
-        Minimum energy E* = min_u 1/2 sum_b k_b h_b(e_b) e_b^2 (docs/model.md) in the instance's
-        units (stiffness x length^2); exactly 0 on a floppy verdict. On a rigid or undecided
-        verdict it is the relaxation's lowest energy, E* to within ``Tolerances.energy_gap`` where
-        :func:`energy_certified` holds for it and ``energy_lower``.
+        Minimum energy E* (docs/model.md) in the instance's units; exactly 0 on a floppy verdict,
+        else the relaxation's lowest energy (E* to within ``Tolerances.energy_gap`` where
+        :func:`energy_certified` holds for it and ``energy_lower``).
     energy_lower : float
-        A certified lower bound on E* (weak duality from the relaxed tensions purified onto a
-        self-stress, or from the rigid certificate's self-stress, whichever is larger; E*
-        itself on a floppy verdict). ``energy - energy_lower`` bounds the error of ``energy``.
+        A certified lower bound on E* (weak duality from a self-stress); ``energy - energy_lower``
+        bounds the error of ``energy``.
     affine_energy : float
         Energy of the affine deformation, E(u = 0).
-    rigid : bool
-        Verdict (False also when undecided; check ``decided``).
-    decided : bool
-        True when a certificate was accepted.
+    rigid, decided : bool
+        The verdict (False also when undecided) and whether a certificate was accepted.
     tensions : (m,) float
-        Tensions t* at the minimum (zero on empty sites, >= 0 on cables, <= 0 on struts).
+        Tensions t* (zero on empty sites, >= 0 on cables, <= 0 on struts).
     displacements : (N, d) float
         Minimising displacements, mean translation removed (minimum-norm when ``min_norm_ok``).
     extensions : (m,) float
-        Total extensions e0 + R u at the reported displacements.
-    work : float
-        Normalised work ``t . e0 / (|t|_1 max |e0|)`` of the best self-stress (the rigid
-        certificate on a rigid verdict).
-    force_residual : float
-        ``|R^T t|_1 / |t|_1`` of that self-stress (``inf`` when the search met no self-stress,
-        as on most floppy verdicts, with ``work`` 0).
-    violation : float
-        Largest violation of the best floppy candidate, in units of ``max |e0|`` (``inf``
-        when the search met none). On a rigid verdict this is a rejected candidate, often
-        ``u = 0`` (violation 1 when the largest affine extension is on a rod, size 0).
-    displacement_size : float
-        ``max |u| / max |e0|`` of that candidate (``inf`` when there is none).
-    iterations : int
-        Newton iterations.
-    factorizations : int
-        Numeric factorisations of the solver's ``2N x 2N`` matrix: the verdict's, the
-        relaxation's and the minimum-norm projection's.
+        Total extensions e0 + R u at those displacements.
+    work, force_residual : float
+        Normalised work ``t . e0 / (|t|_1 max |e0|)`` and ``|R^T t|_1 / |t|_1`` of the best
+        self-stress (0 and ``inf`` when the search met none).
+    violation, displacement_size : float
+        Largest violation (units of ``max |e0|``) and ``max |u| / max |e0|`` of the best floppy
+        candidate (``inf`` when there is none; on a rigid verdict a rejected one).
+    iterations, factorizations : int
+        Newton iterations; numeric factorisations of the verdict, relaxation and projection.
     method : str
-        The stage whose certificate decided ("newton", "ipm", ...), or "undecided".
+        The strategy whose certificate decided ("newton", "ipm", ...), or "undecided".
     min_norm_ok : bool
-        Whether the displacements are the minimum-norm minimiser, certified by its KKT
-        residuals (:mod:`.displacements`) on the polyhedron of minimisers, itself certified by
-        the energy's lower bound on a rigid or undecided verdict (``Tolerances.energy_gap``).
+        Whether the displacements are the minimum-norm minimiser, certified by their KKT
+        residuals on the polyhedron of minimisers (itself certified by ``energy_lower``).
     min_norm_residuals : tuple of 3 float
-        Those residuals: feasibility (the largest violation of the polyhedron of minimisers,
-        units of ``max |e0|``); stationarity (the larger of ``|u + R^T lam|_inf / |u|_inf``
-        and the relative duality gap, both dimensionless); dual (the largest wrong-signed
-        multiplier relative to ``|lam|_inf``). All NaN when the displacements were not asked
-        for (``SolverOptions.min_norm`` False) or not computed (relaxed energy not certified);
-        all 0 when nothing is strained or there is no element (``u = 0`` is exact).
+        Feasibility (units of ``max |e0|``), stationarity and dual KKT residuals; NaN when not
+        computed, 0 when nothing is strained.
     min_norm_lower : float
-        A certified lower bound on ``sum_i |u*_i|^2`` of the minimum-norm minimiser (length^2):
-        that sum itself where ``min_norm_ok``; where the projection ran but was not certified,
-        the bound weak duality gives from its multipliers
-        (:func:`~tensegrity_rigidity.solver.displacements.norm_lower_bound`); NaN where no
-        projection ran.
+        A certified lower bound on ``sum_i |u*_i|^2`` (length^2): the sum itself where
+        ``min_norm_ok``, else the projection's weak-duality bound; NaN where no projection ran.
     message : str
-        Why the sample is undecided, and why the displacements are not certified minimum-norm
-        (not asked for, relaxed energy not certified, or the projection's residuals); empty
-        when there is nothing to say.
+        Why the sample is undecided and why the displacements are not certified minimum-norm.
     seconds : float
-        Wall time of the solve (reported only; nothing depends on it).
+        Wall time of the solve (reported only).
     reason : str
         "" when decided, else ``"within resolution"`` or ``"not resolved"`` (:class:`Verdict`).
-
-    See Also
-    --------
-    status : "rigid", "floppy" or "undecided" (a property).
     """
 
     energy: float
@@ -195,33 +158,35 @@ class SolveResult:
         Returns
         -------
         dict
-            Status, verdict, energies, certificate residuals, work counts, method and
-            message; non-finite numbers as None (so that ``json.dumps`` writes valid JSON).
+            Status, verdict, energies, certificate residuals, work counts, method and message;
+            non-finite numbers as None (so that ``json.dumps`` writes valid JSON).
         """
 
         def num(x):
             x = float(x)
             return x if np.isfinite(x) else None
 
-        return {
-            "status": self.status,
-            "rigid": bool(self.rigid),
-            "decided": bool(self.decided),
-            "energy": num(self.energy),
-            "energy_lower": num(self.energy_lower),
-            "affine_energy": num(self.affine_energy),
-            "work": num(self.work),
-            "force_residual": num(self.force_residual),
-            "violation": num(self.violation),
-            "displacement_size": num(self.displacement_size),
-            "iterations": int(self.iterations),
-            "factorizations": int(self.factorizations),
-            "method": self.method,
-            "min_norm_ok": bool(self.min_norm_ok),
+        out = {"status": self.status, "rigid": bool(self.rigid), "decided": bool(self.decided)}
+        out |= {name: num(getattr(self, name)) for name in _SUMMARY_FLOATS}
+        out |= {"iterations": int(self.iterations), "factorizations": int(self.factorizations)}
+        out |= {"method": self.method, "min_norm_ok": bool(self.min_norm_ok)}
+        return out | {
             "message": self.message,
             "reason": self.reason,
             "seconds": float(self.seconds),
         }
+
+
+#: the float fields of :meth:`SolveResult.summary`, in order
+_SUMMARY_FLOATS = (
+    "energy",
+    "energy_lower",
+    "affine_energy",
+    "work",
+    "force_residual",
+    "violation",
+    "displacement_size",
+)
 
 
 def _check_scale(p: Problem) -> None:
@@ -291,22 +256,18 @@ def decide(
     instance : Instance
         Network, elements and strain.
     options : SolverOptions, optional
-        Resolution model, stages and limits.
+        Resolution model, strategies and tolerances.
     initial_displacements : (N, d) float, optional
-        A starting point (offered as a floppy candidate, crossed over, and used by Newton).
+        A starting point (offered as a floppy candidate and crossed over).
     initial_tensions : (m,) float, optional
-        Tensions on every site (a neighbouring configuration's self-stress, say), purified
-        and offered as a rigid candidate before any stage runs.
+        Tensions on every site (a neighbouring configuration's self-stress, say), purified and
+        offered as a rigid candidate first.
 
     Returns
     -------
     Verdict
-        Status, the accepted certificate (or the best candidates) and the work spent.
-
-    Notes
-    -----
-    Starting points only add candidates: they can decide a sample sooner, never change a
-    decided verdict (the certificates exclude each other).
+        Status, the accepted certificate (or the best candidates) and the work spent. Starting
+        points only add candidates: they never change a decided verdict.
     """
     opts = options or SolverOptions()
     with one_blas_thread():  # the same last bits whatever the thread settings
@@ -326,23 +287,16 @@ def solve(
     instance : Instance
         Network, elements and strain.
     options : SolverOptions, optional
-        Resolution model, strategies and limits; the defaults suit any geometry and strain
-        magnitude.
+        Resolution model, strategies and tolerances.
     initial_displacements : (N, d) float, optional
         Warm start (for example the solution of a neighbouring sample).
 
     Returns
     -------
     SolveResult
-        Energy, tensions, minimum-norm displacements, verdict and its certificate.
-
-    Notes
-    -----
-    ``solve`` = the verdict (:func:`decide`) -> the relaxation
-    (:func:`~.relaxation.relax`) -> the minimum-norm projection
-    (:func:`~.displacements.minimum_norm`). The verdict never rests on an energy threshold:
-    rigid needs an admissible self-stress doing positive work beyond its residual, floppy a
-    displacement of bounded size whose extensions are admissible to ``violation_tol``.
+        Energy, tensions, minimum-norm displacements, verdict and its certificate: the verdict
+        (:func:`decide`), then the relaxation (:func:`~.relaxation.relax`), then the minimum-norm
+        projection (:func:`~.displacements.minimum_norm`). No energy threshold decides.
     """
     opts = options or SolverOptions()
     start = time.perf_counter()

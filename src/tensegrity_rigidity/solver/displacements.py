@@ -1,15 +1,12 @@
 """Minimum-norm minimising displacements, with their optimality certificate.
 
-Minimisers are not unique on floppy networks. Given the unique tensions ``t*`` they form a
-polyhedron ``U*`` (equalities on rods and stressed one-sided elements, inequalities on the
-others), and the reported displacements are the projection of the origin onto it: the limit of
-a vanishing background stiffness. :func:`active_set` tries the projection first where ``t*`` is
-not zero (a rigid sample's equalities leave few inequalities to guess); the primal-dual
-interior point :func:`min_norm_minimizer` does the rest. Both solve reduced ``2N x 2N`` systems
-in the pattern of the verdict's Newton matrix (:class:`_ReducedKKT`), whose identity block
-keeps them regular however near-floppy the network is. The result is reported as minimum-norm
-only when its KKT residuals (feasibility, stationarity with the duality gap, dual) are below
-their tolerances. docs/model.md ("The minimum-norm projection") gives the derivation.
+Given the unique tensions ``t*`` the minimisers form a polyhedron ``U*`` (equalities on rods and
+stressed one-sided elements, inequalities on the others); the reported displacements are the
+projection of the origin onto it, the limit of a vanishing background stiffness. A primal-dual
+active set (:func:`active_set`) tries first where ``t*`` is not zero, a primal-dual interior
+point (:func:`min_norm_minimizer`) does the rest; both solve reduced ``2N x 2N`` systems in the
+pattern of the Newton matrix (:class:`_ReducedKKT`). The result is minimum-norm only when its
+KKT residuals pass; docs/model.md ("The relaxed state") and docs/solver.md give the derivation.
 """
 
 from __future__ import annotations
@@ -31,68 +28,42 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class MinNormResult:
-    """The projection of the origin onto the minimisers and its KKT residuals.
+    """The projection of the origin onto the minimisers and its KKT residuals."""
 
-    Attributes
-    ----------
-    u : (2N,) float
-        Displacements (units of ``max |e0|``).
-    feasibility : float
-        Largest violation of the constraints of ``U*``.
-    stationarity : float
-        The larger of the stationarity residual ``|u + R^T lam|_inf / |u|_inf`` and the
-        complementarity as a relative duality gap, ``sum |lam_b v_b| / |u|^2`` over the
-        inequalities: ``|u|^2`` is within twice this fraction of its minimum when the point is
-        feasible.
-    dual : float
-        Largest wrong-signed multiplier of an inequality, relative to ``max |lam|``.
-    rounds : int
-        Iterations (each one numeric factorisation).
-    ok : bool
-        All three residuals below their tolerances.
-    multipliers : (m,) float or longdouble, optional
-        The multipliers ``lam`` of the residuals (``u = -R^T lam`` at the projection,
-        ``sigma lam >= 0`` on the inequalities), where the method has them.
-    norm_lower : float
-        A certified lower bound on ``|u*|^2``, the squared norm of the projection itself
-        (units of ``max |e0|`` squared), from the multipliers by weak duality
-        (:func:`norm_lower_bound`): computed by :func:`min_norm_minimizer` where it ends
-        uncertified, NaN elsewhere.
-    """
-
+    #: Displacements (units of ``max |e0|``).
     u: np.ndarray
+    #: Largest violation of the constraints of ``U*``.
     feasibility: float
+    #: The larger of ``|u + R^T lam|_inf / |u|_inf`` and the relative duality gap ``sum |lam_b v_b|
+    #: / |u|^2`` over the inequalities.
     stationarity: float
+    #: Largest wrong-signed multiplier of an inequality, relative to ``max |lam|``.
     dual: float
+    #: Iterations (each one numeric factorisation).
     rounds: int
+    #: All three residuals below their tolerances.
     ok: bool
+    #: ``lam`` (``u = -R^T lam`` at the projection, ``sigma lam >= 0`` on the inequalities).
     multipliers: np.ndarray | None = None
+    #: Where :func:`min_norm_minimizer` ends uncertified, a certified lower bound on ``|u*|^2``
+    #: (:func:`norm_lower_bound`); NaN elsewhere.
     norm_lower: float = float("nan")
 
 
 @dataclass(frozen=True)
 class MinimumNorm:
-    """The displacements :func:`~tensegrity_rigidity.solver.core.solve` reports.
+    """The displacements :func:`~tensegrity_rigidity.solver.core.solve` reports."""
 
-    Attributes
-    ----------
-    status : str
-        "certified" (the minimum-norm minimiser, by its KKT residuals), "uncertified" (a
-        minimiser), "not computed" (the relaxed energy is not certified) or "not asked".
-    message : str
-        Why the displacements are not certified minimum-norm ("" when they are).
-    u : (2N,) float
-        The displacements (units of ``max |e0|``).
-    residuals : tuple of 3 float
-        Feasibility, stationarity and dual KKT residuals (NaN where no projection ran).
-    norm_lower : float
-        Where the projection ran uncertified, a lower bound on ``|u*|^2``; NaN elsewhere.
-    """
-
+    #: "certified" (the minimum-norm minimiser, by its KKT residuals), "uncertified" (a minimiser),
+    #: "not computed" (the relaxed energy is not certified) or "not asked".
     status: str
+    #: Why the displacements are not certified minimum-norm ("" when they are).
     message: str
+    #: The displacements (units of ``max |e0|``).
     u: np.ndarray
+    #: Feasibility, stationarity and dual KKT residuals (NaN where no projection ran).
     residuals: tuple[float, float, float] = (np.nan, np.nan, np.nan)
+    #: Where the projection ran uncertified, a lower bound on ``|u*|^2``; NaN elsewhere.
     norm_lower: float = np.nan
 
     @property
@@ -102,28 +73,11 @@ class MinimumNorm:
 
 
 def minimum_norm(relaxed: Relaxation, asked: bool = True) -> MinimumNorm:
-    """The minimum-norm minimiser of a relaxed state, projected from its displacements.
+    """The minimum-norm minimiser of a relaxed state (if ``asked``: ``SolverOptions.min_norm``).
 
-    Parameters
-    ----------
-    relaxed : Relaxation
-        The relaxed state (its problem, displacements and tensions).
-    asked : bool
-        Whether to compute it (``SolverOptions.min_norm``).
-
-    Returns
-    -------
-    MinimumNorm
-        The displacements, their status and KKT residuals.
-
-    Notes
-    -----
-    The polyhedron of minimisers is built from the relaxed tensions: it is ``U*`` only when they
-    are ``t*``, which the energy's lower bound certifies, so it is not projected onto
-    otherwise. The targets are ``t*/k`` as the relaxed minimiser realises them on every
-    equality (rods, and one-sided elements where the balanced tensions are not zero), so that
-    the equalities are consistent: a rod's target is its extension at ``u`` even where its
-    balanced tension is 0.
+    The polyhedron is built from the relaxed tensions, so it is ``U*`` only where the energy's
+    lower bound certifies them; otherwise nothing is projected. The targets are the extensions
+    the relaxed minimiser realises on every equality, so that the equalities are consistent.
     """
     p, u = relaxed.problem, relaxed.u
     if not (p.sites.size and np.any(p.e0)):  # nothing strained or no element: u = 0 is exact
@@ -156,24 +110,9 @@ _NOT_ASKED = "minimum-norm displacements not asked for (SolverOptions.min_norm)"
 
 
 def project(p: Problem, t: np.ndarray, u_start: np.ndarray | None = None) -> MinNormResult:
-    """The minimum-norm minimiser: :func:`active_set` where ``t`` is not zero and a start is
-    given, then, unless that is certified, :func:`min_norm_minimizer` (see the module
-    docstring).
-
-    Parameters
-    ----------
-    p : Problem
-        The problem.
-    t : (m,) float
-        The unique tensions ``t*`` on the non-empty sites.
-    u_start : (2N,) float, optional
-        A minimiser (the verdict's).
-
-    Returns
-    -------
-    MinNormResult
-        The first certified result, else the interior point's.
-    """
+    """The minimum-norm minimiser for the tensions ``t*`` ``t`` (m,) from the minimiser
+    ``u_start`` (2N,): :func:`active_set` where ``t`` is not zero and a start is given, then,
+    unless that is certified, :func:`min_norm_minimizer`."""
     if np.any(t) and u_start is not None:
         first = active_set(p, t, u_start)
         if first.ok:
@@ -185,50 +124,26 @@ def active_set(
     p: Problem,
     t: np.ndarray,
     u_start: np.ndarray,
-    tol: float = 1e-8,
+    tol: float | None = None,
     max_iterations: int = 5,
-    regularization: float = 1e-14,
+    regularization: float | None = None,
     refinement: int = 3,
     corrections: int = 4,
 ) -> MinNormResult:
-    """Projection of the origin onto ``U*`` by a primal-dual active set: each iteration solves
-    the projection onto the equalities and the held inequalities, all as equalities.
+    """Projection of the origin onto ``U*`` by a primal-dual active set.
 
-    The held set starts as the inequalities the start touches; each iteration takes one step of
-    :class:`_ReducedKKT` from ``u_start`` (its third block's diagonal zero) and checks the KKT
-    residuals of :func:`min_norm_minimizer` with the multipliers of the held rows. Where they are
-    not certified, the next held set is the held inequalities whose multiplier has the right sign
-    and the others the new point violates; where that leaves it as it was, up to ``corrections``
-    further steps on the same factorisation run while each halves the feasibility and
-    stationarity residuals. It suits rigid verdicts (:func:`project`), whose equalities fix all
-    but a few mechanisms; on floppy ones its stationarity stalls.
-
-    Parameters
-    ----------
-    p : Problem
-        The problem (its stiffnesses define ``t* / k``).
-    t : (m,) float
-        The unique tensions ``t*`` on the non-empty sites.
-    u_start : (2N,) float
-        A minimiser (the verdict's): each iteration's step starts there.
-    tol : float
-        Tolerance of the feasibility and stationarity residuals (units of ``max |e0|``).
-    max_iterations : int
-        Most iterations (each one numeric factorisation).
-    regularization : float
-        ``d`` of :class:`_ReducedKKT`.
-    refinement : int
-        Steps of iterative refinement per solve, against the unregularised system.
-    corrections : int
-        Most further solves with the same factorisation where the held set did not change but
-        the residuals are not certified (the start can lie far from ``U*``'s lowest point along
-        the held rows' mechanisms).
-
-    Returns
-    -------
-    MinNormResult
-        The last iterate (``rounds``: the iterations, each one factorisation).
+    Each iteration projects onto the equalities and the held inequalities, all as equalities
+    (one :class:`_ReducedKKT` step from the minimiser ``u_start`` (2N,) for the tensions ``t``
+    (m,)). The held set starts as the inequalities the start touches, then keeps those whose
+    multiplier has the right sign and adds those the new point violates; where it stands, up to
+    ``corrections`` further steps on the same factorisation run while each halves the
+    residuals. ``tol`` (default ``Tolerances.min_norm_tol``) bounds the feasibility and
+    stationarity residuals, ``regularization`` is ``d`` of :class:`_ReducedKKT` (default
+    ``Tolerances.min_norm_regularization``), ``refinement`` the refinement steps per solve.
+    It suits rigid verdicts; on floppy ones its stationarity stalls. Returns the last iterate.
     """
+    tol = p.tol.min_norm_tol if tol is None else tol
+    regularization = p.tol.min_norm_regularization if regularization is None else regularization
     eq, ineq, c, E, In = _polyhedron(p, t)
     u0 = np.asarray(u_start, dtype=float)
     sig = p.sigma[In]
@@ -280,9 +195,8 @@ def active_set(
 def _equality_step(
     p: Problem, kkt_system: _ReducedKKT, bE, h, point, polyhedron
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[float, float, float]]:
-    """The Newton step of :func:`active_set`'s equality-constrained projection from ``point =
-    (u, y, z)`` (a step from a point it reached is a correction: the same linear system), and
-    the KKT residuals where it ends; ``polyhedron`` is ``(E, H, eq, ineq, c)``."""
+    """The step of :func:`active_set`'s equality-constrained projection from ``point = (u, y,
+    z)`` and the KKT residuals where it ends; ``polyhedron`` is ``(E, H, eq, ineq, c)``."""
     u, y, z = point
     du, dy, dz = kkt_system.solve(
         -(u + kkt_system.REt @ y + kkt_system.Gt @ z), bE - kkt_system.RE @ u, h - kkt_system.G @ u
@@ -296,48 +210,27 @@ def min_norm_minimizer(
     p: Problem,
     t: np.ndarray,
     u_start: np.ndarray | None = None,
-    tol: float = 1e-8,
+    tol: float | None = None,
     max_iterations: int = 150,
-    regularization: float = 1e-14,
+    regularization: float | None = None,
     refinement: int = 3,
     predictor_refinement: int = 0,
     refine_multipliers: bool = True,
 ) -> MinNormResult:
-    """Projection of the origin onto the minimisers ``U*`` of problem ``p``.
+    """Projection of the origin onto the minimisers ``U*`` by a primal-dual interior point.
 
-    Parameters
-    ----------
-    p : Problem
-        The problem (its stiffnesses define ``t* / k``).
-    t : (m,) float
-        The unique tensions ``t*`` on the non-empty sites (zero on a floppy verdict).
-    u_start : (2N,) float, optional
-        A minimiser (the verdict's): the iteration starts there (else at ``u = 0``).
-    tol : float
-        Tolerance of the feasibility and stationarity residuals (units of ``max |e0|``).
-    max_iterations : int
-        Most interior-point iterations (each one numeric factorisation).
-    regularization : float
-        ``d``, the diagonal regularisation of the interior-point system (:class:`_ReducedKKT`).
-    refinement : int
-        Steps of iterative refinement of the corrector's solve (the step taken), against the
-        unregularised system.
-    predictor_refinement : int
-        Steps of iterative refinement of the predictor's solve. The predictor only sets the
-        centring and the corrector's second-order term, and the corrector's own solve is
-        refined: unrefined, an iteration costs 5 triangular solves instead of 8.
-    refine_multipliers : bool
-        Where the iteration ends at a feasible point it has not certified, refine its
-        multipliers in extended precision and check again (:func:`_refined_certificate`):
-        near a sample's own threshold their size can stall the stationarity residual at the
-        round-off of ``R^T lam``.
-
-    Returns
-    -------
-    MinNormResult
-        The displacements and their KKT residuals: the first iterate certified with a
-        margin (``min_norm_certify_below``), else the iterate with the smallest KKT residual.
+    From the minimiser ``u_start`` (2N,) (default the origin) for the tensions ``t*`` ``t`` (m,),
+    at most ``max_iterations`` iterations (one factorisation each). ``tol`` (default
+    ``Tolerances.min_norm_tol``) bounds the feasibility and stationarity residuals,
+    ``regularization`` is ``d`` of :class:`_ReducedKKT` (default
+    ``Tolerances.min_norm_regularization``); ``refinement`` and ``predictor_refinement`` are the
+    refinement steps of the corrector's and the predictor's solves (the predictor only sets the
+    centring). With ``refine_multipliers``, a feasible end point it has not certified gets its
+    multipliers refined in extended precision (:func:`_refined_certificate`) and is checked again.
+    Returns the first iterate certified with a margin, else the one with the least KKT measure.
     """
+    tol = p.tol.min_norm_tol if tol is None else tol
+    regularization = p.tol.min_norm_regularization if regularization is None else regularization
     eq, ineq, c, E, In = _polyhedron(p, t)
     kkt_system = _ReducedKKT(p, E, In, p.sigma[In], regularization, refinement)
     RE, G, REt, Gt = kkt_system.RE, kkt_system.G, kkt_system.REt, kkt_system.Gt
@@ -405,29 +298,13 @@ def min_norm_minimizer(
 
 
 def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
-    """A certified lower bound on ``|u*|^2`` from any multipliers, by weak duality.
+    """A certified lower bound on ``|u*|^2`` from any multipliers ``lam`` (m,), by weak duality.
 
-    For multipliers ``lam`` with ``sigma lam >= 0`` on the inequalities the dual function of the
-    projection, ``g(lam) = -1/2 |R^T lam|^2 + lam . (e0 - c)``, bounds ``1/2 |u*|^2`` from below
-    whether or not ``lam`` is optimal (wrong-signed multipliers are set to 0 first). It is evaluated
-    on the certificates' geometry, less bounds on its round-off: where the interior point stalls
-    near a threshold, this is what is known of the minimum norm.
-
-    Parameters
-    ----------
-    p : Problem
-        The problem.
-    lam : (m,) float or longdouble
-        Multipliers (``u = -R^T lam`` at the projection).
-    eq, ineq : (m,) bool
-        The polyhedron's equalities and inequalities (:func:`_polyhedron`).
-    c : (m,) float
-        Its targets.
-
-    Returns
-    -------
-    float
-        ``2 g(lam)`` less its round-off bound, or 0 where that is negative.
+    With wrong-signed multipliers set to 0, the projection's dual function ``g(lam) = -1/2
+    |R^T lam|^2 + lam . (e0 - c)`` bounds ``1/2 |u*|^2`` from below; it is evaluated on the
+    certificates' geometry less bounds on its round-off (docs/solver.md). ``eq``, ``ineq`` and
+    ``c`` are the polyhedron's masks and targets (:func:`_polyhedron`). Returns ``2 g(lam)`` less
+    its round-off bound, or 0 where that is negative.
     """
     lam_x = np.where(eq | (ineq & (p.sigma * np.asarray(lam, dtype=float) >= 0)), lam, 0)
     lam_x = np.asarray(lam_x, dtype=np.longdouble)
@@ -497,12 +374,10 @@ def _refined_certificate(
     """The KKT residuals of ``u`` (2N,) with its multipliers ``lam`` (m,) refined in extended
     precision, and those multipliers ((m,) longdouble); None when the factorisation fails.
 
-    Near a sample's own threshold the multipliers can grow to ``1e8`` times ``|u|`` along
-    near-self-stresses of the constraints, where the stationarity residual ``u + R^T lam`` is the
-    round-off of ``R^T lam`` in double precision. Each step corrects ``lam`` by the least-squares
-    solution of ``R^T dlam = -(u + R^T lam)``, the residual evaluated in extended precision and
-    ``lam`` accumulated in it (one factorisation of ``R^T R + shift I``, one solve per step). The
-    stationarity reported includes a bound on the round-off of the extended-precision forces.
+    Near a sample's own threshold ``|lam|`` reaches ``1e8 |u|`` and the stationarity residual is
+    the round-off of ``R^T lam``: each step corrects ``lam`` by the least-squares solution of
+    ``R^T dlam = -(u + R^T lam)``, evaluated and accumulated in extended precision; the reported
+    stationarity includes a bound on the round-off of those forces.
     """
     f = p.factor_shifted(np.ones(p.sites.size), p.tol.min_norm_multiplier_shifts)
     if f is None:
@@ -530,17 +405,11 @@ def _force_roundoff(p: Problem, lam: np.ndarray) -> np.ndarray:
 class _ReducedKKT:
     """The interior-point system of the projection, reduced to ``2N x 2N``.
 
-    The step of :func:`min_norm_minimizer` (and, with ``D = 0``, of :func:`active_set`) solves
-
-        [ I    R_E^T   G^T  ] [du]   [r1]
-        [ R_E  0       0    ] [dy] = [r2],    G = diag(sigma) R_I,  D = S / Z.
-        [ G    0       -D   ] [dz]   [r3]
-
-    Regularised by ``d`` in its last two blocks, ``dy`` and ``dz`` are eliminated, leaving
-    ``(d I + R_E^T R_E + G^T diag(d / (D + d)) G) du = d r1 + R_E^T r2 + G^T (d r3 / (D + d))``:
-    a matrix in the pattern of the verdict's Newton matrix, factorised by the problem's sparse
-    Cholesky. A solve can be refined against the unregularised system, which removes the errors
-    the elimination leaves along the mechanisms of ``R_E`` (order ``eps / d``).
+    The steps of :func:`min_norm_minimizer` (and, with ``D = 0``, of :func:`active_set`) solve
+    ``[[I, R_E^T, G^T], [R_E, 0, 0], [G, 0, -D]] (du, dy, dz) = (r1, r2, r3)`` with
+    ``G = diag(sigma) R_I``, ``D = S / Z``. Regularised by ``d`` in its last two blocks, ``dy``
+    and ``dz`` are eliminated, leaving a matrix in the pattern of the Newton matrix
+    (docs/solver.md); a solve can be refined against the unregularised system.
     """
 
     def __init__(self, p: Problem, E, In, sigma_in, d: float, refinement: int):

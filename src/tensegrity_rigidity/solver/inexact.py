@@ -1,24 +1,13 @@
 """The paper's way of deciding a sample: a generic local minimiser read by an energy threshold.
 
 The paper minimises the energy with Mathematica's ``FindMinimum`` and calls a sample rigid "if
-the energy is greater than 0" (supplement, section A). This module reproduces that procedure
-with a generic minimiser so that its verdicts can be set beside the certified ones of
-:func:`tensegrity_rigidity.solver.core.solve` on the same samples:
-
-* minimiser: SciPy's L-BFGS-B with its default tolerances (``ftol`` = 2.2e-9 relative decrease
-  per step, ``gtol`` = 1e-5 on the largest gradient component, at most 15000 iterations), the
-  exact gradient ``R^T t``, started from ``u = 0`` (the affine deformation);
-* verdict: rigid when the energy it stops at exceeds :data:`PAPER_THRESHOLD` times the affine
-  energy ``E(u = 0)``.
-
-Why that threshold: "E > 0" cannot be read literally from an iterative minimiser, whose energy
-on a floppy sample only approaches 0. A minimiser stopped at default tolerances resolves the
-energy to roughly half the machine digits relative to its scale (Mathematica's default
-``PrecisionGoal`` is half the working precision, 8 digits; L-BFGS-B's default ``ftol`` is
-2.2e-9), so the smallest energy such a run can tell from zero is about 1e-8 of the scale, the
-affine energy. Energies are stored, so other thresholds can be applied afterwards (the method
-study reports 1e-6 and 1e-10 too). Nothing here is certified: this is the method under test,
-not a fallback of the exact solver.
+the energy is greater than 0" (supplement, section A). This reproduces it with SciPy's L-BFGS-B
+at its default tolerances, the exact gradient ``R^T t``, from ``u = 0``: rigid when the energy
+it stops at exceeds :data:`PAPER_THRESHOLD` times the affine energy. A minimiser stopped at
+default tolerances resolves the energy to about half the machine digits of its scale
+(Mathematica's ``PrecisionGoal``, L-BFGS-B's ``ftol`` = 2.2e-9), so "E > 0" is read as
+``E > 1e-8 E(0)``; energies are stored, so other thresholds can be applied afterwards. Nothing
+here is certified: this is the method under test, set beside :func:`~.core.solve`.
 """
 
 from __future__ import annotations
@@ -80,9 +69,9 @@ class InexactResult:
         Returns
         -------
         dict
-            ``rigid``, ``decided`` (always True: the method always answers, which is the
-            point of comparing it), ``energy``, ``affine_energy``, ``iterations``,
-            ``evaluations``, ``converged``, ``method`` ("paper-lbfgsb"), ``solve_seconds``.
+            ``rigid``, ``decided`` (always True: the method always answers, which is the point of
+            comparing it), ``energy``, ``affine_energy``, ``iterations``, ``evaluations``,
+            ``converged``, ``method`` ("paper-lbfgsb"), ``solve_seconds``.
         """
         return {
             "rigid": bool(self.rigid),
@@ -105,7 +94,7 @@ def paper_verdict(instance: Instance, threshold: float = PAPER_THRESHOLD) -> Ine
     instance : Instance
         Network, elements and strain.
     threshold : float
-        Relative energy threshold of the verdict.
+        Relative energy threshold of the verdict (times the affine energy).
 
     Returns
     -------

@@ -1,15 +1,11 @@
 """A primal-dual interior-point method specialised to the tensegrity energy.
 
-With one slack per one-sided element (a cable's ``1/2 k max(e, 0)^2`` is ``min 1/2 k (e + w)^2``
-over ``w >= 0``, a strut's with ``e - w``) the energy is a convex QP with bound constraints only.
-Its Newton system's Schur complement ``R^T diag(k~) R`` has exactly the pattern of the
-semismooth Newton matrix, so each iteration is one numeric refactorisation, used twice by
-Mehrotra's predictor-corrector, and the iteration count hardly depends on the combinatorics
-that slow active-set methods near the transition. With ``anchored=True`` the objective also
-gets ``mu/2 |u|^2``: on a floppy sample the plain central path drifts along the unbounded
-optimal face (``|u| ~ 1e6`` times the affine displacements near the transition), the anchored
-one stays near the minimum-norm minimiser. Its multipliers ``lambda_b = sigma_b t_b >= 0`` and
-displacements are offered to the certificates by the search (:mod:`.stages`).
+With one slack per one-sided element the energy is a convex QP with bounds only; its Newton
+system's Schur complement ``R^T diag(k~) R`` has the pattern of the Newton matrix, so each
+Mehrotra predictor-corrector iteration is one numeric refactorisation, and the iteration count
+hardly depends on the combinatorics that slow active-set methods near the transition.
+``anchored=True`` adds ``mu/2 |u|^2``, which keeps a floppy sample's central path near the
+minimum-norm minimiser (docs/solver.md).
 """
 
 from __future__ import annotations
@@ -23,42 +19,31 @@ from .problem import Problem
 
 @dataclass(frozen=True, eq=False)
 class IpmState:
-    """Where a run of :func:`interior_point` ended: its iterate after ``steps`` Newton steps
-    from the cold start, in the run's own units (``e0`` divided by its largest magnitude).
+    """Where a run of :func:`interior_point` ended, in the run's own units.
 
-    The iteration is a function of its iterate alone, so a later run on the same problem that
-    would have taken those same steps (at most this tolerance, at least ``steps`` iterations, no
-    checkpoint callback) may start there and end exactly where it would have ended from the cold
-    start: the relaxation goes on from the verdict search's run instead of retracing it.
-
-    Attributes
-    ----------
-    problem : Problem
-        The problem it ran on.
-    anchored : bool
-        Its ``anchored`` setting.
-    tol : float
-        Its tolerance.
-    steps : int
-        Newton steps taken.
-    u : (2N,) float
-        Displacements.
-    w, lam : (k,) float
-        Slacks and multipliers of the ``k`` one-sided sites.
+    The iteration is a function of its iterate alone, so a later run that would take the same
+    steps may start there and end where it would have from the cold start: the relaxation goes on
+    from the verdict search's run instead of retracing it.
     """
 
+    #: The problem it ran on.
     problem: Problem
+    #: Its ``anchored`` setting.
     anchored: bool
+    #: Its tolerance.
     tol: float
+    #: Newton steps taken from the cold start.
     steps: int
+    #: Displacements.
     u: np.ndarray
+    #: Slacks and multipliers of the ``k`` one-sided sites.
     w: np.ndarray
     lam: np.ndarray
 
     def resumes(self, p: Problem, max_iter: int, tol: float, anchored: bool) -> bool:
-        """Whether a run on ``p`` with these settings certainly passes through this state (a
-        sufficient condition: the same problem object and objective, a tolerance at most this
-        run's, at least ``steps`` iterations)."""
+        """Whether a run on ``p`` with these settings certainly passes through this state (the
+        same problem object and objective, a tolerance at most this run's, at least ``steps``
+        iterations)."""
         return (
             self.problem is p
             and self.anchored == anchored
@@ -70,33 +55,25 @@ class IpmState:
 def interior_point(
     p: Problem,
     max_iter: int = 60,
-    tol: float = 1e-10,
+    tol: float | None = None,
     checkpoints: tuple[float, ...] = (),
     callback=None,
     anchored: bool = False,
     start: IpmState | None = None,
     record: list[IpmState] | None = None,
 ):
-    """Approximately minimise the energy of problem ``p`` (a :class:`~.problem.Problem`).
+    """Approximately minimise the energy of problem ``p``.
 
-    Returns (u, w, lam, iterations): displacements (2N,), slacks and multipliers on the
-    one-sided sites. Stops when the scaled residuals and the duality measure are below ``tol``,
-    or when ``callback(u, lam)`` returns True; the callback is offered the displacements and the
-    multipliers each time
-    the larger of the two measures first falls below the next of the decreasing
-    ``checkpoints`` (the caller tries to finish exactly from there). ``anchored`` adds the
-    background stiffness ``p.mu`` to the objective (see the module docstring). It also stops,
-    at its last finite iterate, when a slack has underflowed so that the next Newton matrix
-    would not be finite (a ``tol`` below what the iterates resolve: the relaxation's long run
-    to 1e-14 on about one sample in 20,000 of the quick Fig. 4 sweeps); the iterate returned
-    was NaN before.
-
-    ``start``: an earlier run's end (:class:`IpmState`) through which this run passes
-    (:meth:`IpmState.resumes`, and no checkpoint offered to a callback; otherwise ignored): the
-    iteration goes on from there, with the same result as from the cold start and fewer steps
-    (the iterations returned count the earlier run's steps too). ``record``: a list to which
-    the run's own end state is appended.
+    Returns (u, w, lam, iterations): displacements (2N,), slacks and multipliers on the one-sided
+    sites. Stops when the scaled residuals and the duality measure are below ``tol`` (default
+    ``Tolerances.relax_short_ipm``'s), when ``callback(u, lam)`` returns True (offered each time
+    the larger measure first falls below the next of the decreasing ``checkpoints``), or at its
+    last finite iterate when a slack has underflowed. ``anchored``: see the module docstring.
+    ``start``: an earlier run's end (:class:`IpmState`) through which this one passes
+    (:meth:`IpmState.resumes`, no checkpoint pending), to go on from; ``record``: a list to which
+    this run's end state is appended.
     """
+    tol = p.tol.relax_short_ipm[1] if tol is None else tol
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
     os_ = p.one_sided
     sig = p.sigma[os_]

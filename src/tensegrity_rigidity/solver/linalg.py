@@ -1,16 +1,9 @@
-"""Repeated sparse LDL^T / Cholesky factorisation of matrices with one fixed sparsity pattern.
+"""Repeated sparse Cholesky / LDL^T factorisation of matrices with one fixed sparsity pattern.
 
-Every Newton, crossover and interior-point step factorises ``R^T D R + mu I`` for a new diagonal
-``D`` but the same pattern. :class:`PatternFactor` computes the fill-reducing ordering and the
-symbolic analysis once and redoes only the numeric factorisation.
-
-Backends, fastest first (docs/benchmarks.md):
-
-* **CHOLMOD, supernodal** (SuiteSparse, through CVXOPT's bundled build): LL^T with dense BLAS
-  kernels on supernodes, 3 to 7 times faster than a simplicial LDL^T on these lattices.
-* **QDLDL** (simplicial LDL^T, no pivoting): used for a matrix on which Cholesky reports a
-  non-positive pivot (possible because ``mu`` is tiny on floppy networks). LDL^T accepts such
-  pivots, as before.
+Every Newton, crossover and interior-point step factorises ``R^T D R + mu I`` for a new ``D``
+in the same pattern: :class:`PatternFactor` orders and analyses it once and redoes only the
+numeric factorisation, by CHOLMOD's supernodal Cholesky (through CVXOPT) and, for a matrix on
+which that meets a non-positive pivot, QDLDL's LDL^T (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -43,40 +36,18 @@ def _controller() -> ThreadpoolController:
 def one_blas_thread() -> Iterator[None]:
     """Run the enclosed code with every loaded BLAS on one thread, then restore the counts.
 
-    A verdict must be a function of the instance and the options, not of the machine's
-    thread settings. A multithreaded BLAS splits long reductions (the dot products of
-    NumPy vectors longer than about 10,000 entries, n >= 128 here) between its threads and
-    adds the parts in another order, so the last bits of every iterate depend on the thread
-    count; near a threshold, that decides which probes within resolution of the boundary are
-    certified. The solver's dense algebra is vectors, so one thread costs nothing measurable.
-    The thread pools are found once, when first needed (NumPy's,
-    SciPy's and CVXOPT's BLAS are loaded by then).
+    A multithreaded BLAS adds the parts of long dot products in an order that depends on its
+    thread count, and near a threshold the last bits decide which probes are certified: the
+    verdict must be a function of the instance and the options only.
     """
     with _controller().limit(limits=1, user_api="blas"):
         yield
 
 
 def nested_dissection(n_nodes: int, pairs: np.ndarray, dim: int) -> np.ndarray:
-    """A nested-dissection ordering of the ``dim n_nodes`` unknowns of a network (METIS).
-
-    METIS orders the node graph (one vertex per node, an edge per bonded pair); each node's
-    ``dim`` unknowns follow it in turn. On the FCC lattice CHOLMOD's factorisations take half
-    the time they take with its own AMD ordering (``docs/benchmarks.md``). METIS is
-    deterministic for a given graph, so the verdict stays a function of the instance.
-
-    Parameters
-    ----------
-    n_nodes : int
-        Nodes N.
-    pairs : (m, 2) int
-        Node pairs of the bonds (self-images and repeats allowed: they add no edge).
-    dim : int
-        Unknowns per node.
-
-    Returns
-    -------
-    (dim N,) int
-        The permutation (new position -> unknown).
+    """A METIS nested-dissection ordering ((dim N,) int, new position -> unknown) of the
+    ``dim n_nodes`` unknowns of a network with node pairs ``pairs`` (m, 2) (self-images and
+    repeats allowed): each node's ``dim`` unknowns follow it in turn. Deterministic for a graph.
     """
     import pymetis
 
@@ -102,13 +73,12 @@ class PatternFactor:
     Parameters
     ----------
     indptr, indices : int arrays
-        CSC pattern of the **upper** triangle (sorted row indices within each column),
-        of an (N, N) matrix.
+        CSC pattern of the **upper** triangle (sorted row indices within each column) of an
+        (n, n) matrix.
     backend : {"auto", "cholmod", "qdldl"}
         "auto" uses CHOLMOD when available and QDLDL for matrices CHOLMOD rejects.
-    ordering : (N,) int, optional
-        A fill-reducing permutation for CHOLMOD (:func:`nested_dissection`); by default
-        CHOLMOD chooses (AMD). QDLDL always orders by AMD.
+    ordering : (n,) int, optional
+        A fill-reducing permutation for CHOLMOD (default: CHOLMOD's AMD).
 
     Attributes
     ----------
@@ -143,10 +113,8 @@ class PatternFactor:
         return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))
 
     def factor(self, data: np.ndarray) -> PatternFactor:
-        """Factorise the matrix with values ``data`` (in pattern order); returns self.
-
-        Raises ArithmeticError when the matrix is numerically singular for every allowed
-        backend (a non-positive Cholesky pivot and, where allowed, a zero LDL^T pivot).
+        """Factorise the matrix with values ``data`` (in pattern order); returns self. Raises
+        ArithmeticError when it is numerically singular for every allowed backend.
         """
         if self._use_cholmod:
             if self._cvx is None:

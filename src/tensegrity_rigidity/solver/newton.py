@@ -1,8 +1,7 @@
 """Semismooth Newton on the energy, its exact line search, and the active-set crossover.
 
-All functions work on a :class:`~.problem.Problem` in its normalised units (``max |e0| = 1``,
-mean stiffness 1). None of them decides anything: their points are offered to the
-certificates (:mod:`.certificates`) by the stages (:mod:`.stages`).
+All work on a :class:`~.problem.Problem` in its normalised units; none decides anything: the
+strategies (:mod:`.stages`) offer their points to the certificates.
 """
 
 from __future__ import annotations
@@ -13,22 +12,9 @@ from .problem import Problem
 
 
 def line_search(p: Problem, e: np.ndarray, s: np.ndarray) -> float:
-    """Exact minimiser ``alpha >= 0`` of the energy along ``e + alpha s``.
-
-    Parameters
-    ----------
-    p : Problem
-        The problem.
-    e : (m,) float
-        Extensions at the current point.
-    s : (m,) float
-        ``R d`` for the search direction ``d``.
-
-    Returns
-    -------
-    float
-        The minimiser of the one-dimensional convex piecewise quadratic (breakpoints where
-        one-sided elements engage or slacken, sorted).
+    """Exact minimiser ``alpha >= 0`` of the energy along ``e + alpha s`` (extensions ``e`` (m,),
+    ``s = R d`` (m,) for the direction ``d``): the convex piecewise quadratic's breakpoints, where
+    one-sided elements engage or slacken, are sorted and walked.
     """
     k, sig = p.k, p.sigma
     ks, kes = k * s * s, k * e * s
@@ -68,30 +54,10 @@ def line_search(p: Problem, e: np.ndarray, s: np.ndarray) -> float:
 
 
 def prox_minimize(p: Problem, w: np.ndarray, x: np.ndarray, max_iter: int = 100):
-    """Minimise ``1/2 sum_b w_b (e0 + R x)_b^2`` by proximal iterations from x.
-
-    ``x <- x - (R^T W R + mu I)^-1 grad`` on one factorisation converges to the minimiser
-    closest to the start (floppy directions of W are left alone). Stops when the gradient has
-    not halved for three iterations (round-off reached): on very floppy sets round-off along the
-    floppy modes then grows, so the iterate with the smallest gradient is returned.
-
-    Parameters
-    ----------
-    p : Problem
-        The problem.
-    w : (m,) float
-        Weights (the fixed active set's stiffnesses).
-    x : (2N,) float
-        Start.
-    max_iter : int
-        Most iterations.
-
-    Returns
-    -------
-    x : (2N,) float
-        The iterate with the smallest gradient.
-    g : float
-        Its gradient norm.
+    """Minimise ``1/2 sum_b w_b (e0 + R x)_b^2`` (weights ``w`` (m,)) by proximal iterations from
+    ``x`` (2N,) on one factorisation, at most ``max_iter``: the minimiser closest to the start.
+    Stops when the gradient has not halved for three iterations (on floppy sets round-off then
+    grows along the floppy modes); returns the iterate with the smallest gradient and its norm.
     """
     solver = p.factor(w)
     best_x, best_g, g0, since = x, np.inf, None, 0
@@ -115,14 +81,12 @@ def newton(
     max_truncated: float = np.inf,
     energy_floor: float = 0.0,
 ) -> tuple[np.ndarray, float, int]:
-    """Semismooth Newton with exact line search from u; returns (u, E, iterations).
+    """Semismooth Newton with exact line search from ``u`` (2N,); returns (u, E, iterations).
 
-    On the current active set (rods, stretched cables, compressed struts) the step solves
-    ``(R^T D_A R + mu I) d = -R^T t``. Stops after ``max_iter`` iterations; once
-    ``E <= energy_floor``; when the gradient is at round-off relative to the tensions; when
-    neither the energy nor the gradient has improved for three steps; or after
-    ``max_truncated`` consecutive steps that the line search cut short at a breakpoint (the
-    active set then changes a few elements per step, which the interior point handles better).
+    The step solves ``(R^T D_A R + mu I) d = -R^T t`` on the current active set. Stops after
+    ``max_iter`` iterations, once ``E <= energy_floor``, at a round-off gradient, after three steps
+    without progress, or after ``max_truncated`` steps in a row cut short at a breakpoint (the
+    active set then crawls, which the interior point handles better).
     """
     e, act, t = p.state(u)
     E = 0.5 * float(np.dot(t, e))
@@ -155,20 +119,17 @@ def newton(
     return u, E, it
 
 
-def crossover(p: Problem, u: np.ndarray, tau: float = 1e-7, rounds: int = 12):
-    """Exact solve on a guessed active set, corrected by KKT signs (primal-dual active set).
+def crossover(p: Problem, u: np.ndarray, tau: float | None = None, rounds: int = 12):
+    """Exact solve on a guessed active set corrected by KKT signs (primal-dual active set).
 
-    The guess is rods plus every one-sided element within ``tau * max|e0|`` of engaging. On a
-    fixed set the energy is a quadratic; proximal iterations on one factorisation minimise it
-    exactly (to round-off) even when the set is floppy; the iterate with the smallest gradient
-    is kept, since on very floppy sets round-off along the floppy modes grows once the gradient
-    has stalled. Engaged elements whose tension has the wrong sign are released and slack
-    elements that end up stretched are added, for a few rounds. Returns displacements, or None
-    if the rounds do not settle or the number of corrections grows from one round to the next
-    (the guess was too far off; this cuts the cost of a failed crossover to a few
-    factorisations). The caller judges the result by its certificates, so a wrong
-    guess costs time, never a wrong verdict.
+    The guess is the rods and every one-sided element within ``tau max |e0|`` of engaging
+    (default ``tau``: the first of ``Tolerances.crossover_taus``); on the fixed set
+    :func:`prox_minimize` minimises the quadratic energy exactly. Engaged elements with a
+    wrong-signed tension are released and stretched slack ones added, for at most ``rounds``.
+    Returns the displacements (2N,), or None when the rounds do not settle or the corrections grow
+    (a wrong guess costs time, never a wrong verdict).
     """
+    tau = p.tol.crossover_taus[0] if tau is None else tau
     scale = float(np.abs(p.e0).max())
     e = p.e0 + p.R @ u
     A = p.rod | (p.sigma * e > -tau * scale)

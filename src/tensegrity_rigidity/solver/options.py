@@ -1,10 +1,8 @@
 """The options of a verdict and a solve: the resolution model, the strategies, every tolerance.
 
-:class:`SolverOptions` is the one object a verdict depends on besides the instance: the
-resolution model (``tau``, ``U``), the ordered strategies of the search (:mod:`.stages`), the
-refiner that cleans candidates, and the :class:`~.tolerances.Tolerances` of the numerical
-routines. It is frozen and plain data throughout, so the sweep settings digest is derived from
-it as a whole (:meth:`~tensegrity_rigidity.ensemble.spec.Spec.settings`).
+:class:`SolverOptions` is the one object a verdict depends on besides the instance. It is
+frozen plain data throughout, so the sweep settings digest is derived from it as a whole
+(:meth:`~tensegrity_rigidity.ensemble.spec.Spec.settings`).
 """
 
 from __future__ import annotations
@@ -18,34 +16,23 @@ from .certificates import Resolution, violation_roundoff
 from .stages import (
     DEFAULT_STRATEGIES,
     Affine,
-    Crossover,
     InteriorPoint,
     LinearProgram,
     Newton,
     Refine,
     Refiner,
 )
-from .tolerances import Tolerances
+from .tolerances import DEFAULT_REGULARIZATION, Tolerances
 
 
 def strategy_named(name: str):
-    """The default strategy of a given name (``SolverOptions.stages`` also accepts names).
-
-    Parameters
-    ----------
-    name : str
-        "affine", "newton", "refine", "crossover", "ipm" or "lp".
-
-    Returns
-    -------
-    object
-        That strategy with its default knobs.
+    """The default strategy named ``name`` ("affine", "newton", "refine", "ipm" or "lp"), as
+    ``SolverOptions.stages`` accepts names.
     """
     table = {
         "affine": Affine,
         "newton": Newton,
         "refine": Refine,
-        "crossover": Crossover,
         "ipm": InteriorPoint,
         "lp": LinearProgram,
     }
@@ -61,31 +48,26 @@ class SolverOptions:
     Attributes
     ----------
     violation_tol : float
-        ``tau`` of the resolution model: the largest violation of a floppy certificate, and
-        the smallest normalised work of a rigid one, in units of ``max |e0|``.
+        ``tau`` of the resolution model: the largest violation of a floppy certificate and the
+        smallest normalised work of a rigid one, in units of ``max |e0|``.
     displacement_bound : float
-        ``U`` of the resolution model: the largest displacement of a floppy certificate, in
-        units of ``max |e0|``; a rigid certificate's force residual is weighed against it.
+        ``U`` of the resolution model: the largest displacement of a floppy certificate, in units
+        of ``max |e0|``; a rigid certificate's force residual is weighed against it.
     stages : tuple of strategies
-        The strategies of the verdict search, in order (:mod:`tensegrity_rigidity.solver.stages`;
-        default :data:`~tensegrity_rigidity.solver.stages.DEFAULT_STRATEGIES`): objects with a
-        ``name`` and a ``run(search)`` method. Names ("newton", "lp", ...) stand for the
-        default strategy of that name (:func:`strategy_named`).
-    polish : bool
-        Polish floppy candidates that narrowly fail onto their tight set in extended precision
-        before rejecting them (:class:`~tensegrity_rigidity.solver.stages.Refiner`).
-    balance : bool
-        Balance rigid candidates that narrowly fail to extended round-off after purification.
+        The strategies of the verdict search in order (default
+        :data:`~tensegrity_rigidity.solver.stages.DEFAULT_STRATEGIES`): objects with a ``name``
+        and a ``run(search)`` method, or names of default strategies (:func:`strategy_named`).
+    polish, balance : bool
+        Whether the refiner polishes floppy candidates that narrowly fail, balances rigid ones
+        (:class:`~tensegrity_rigidity.solver.stages.Refiner`).
     regularization : float
-        ``mu`` of the Newton matrix, relative to the mean stiffness (the relaxation's long run
-        uses ``Tolerances.relax_long_shift`` instead).
+        ``mu`` of the Newton matrix, relative to the mean stiffness.
     max_iter : int
         Newton iterations when the energy is minimised for the relaxed state.
     min_norm : bool
         Compute the minimum-norm minimiser (needed for the nonaffinity).
     factorization : str
-        Sparse factorisation backend: "auto" (CHOLMOD, QDLDL where Cholesky fails), "cholmod"
-        or "qdldl"; see :mod:`tensegrity_rigidity.solver.linalg`.
+        Sparse factorisation backend: "auto", "cholmod" or "qdldl" (:mod:`.linalg`).
     refiner : Refiner
         How candidates are cleaned before the certificates judge them.
     tolerances : Tolerances
@@ -97,7 +79,7 @@ class SolverOptions:
     stages: tuple = DEFAULT_STRATEGIES
     polish: bool = True
     balance: bool = True
-    regularization: float = 1e-12
+    regularization: float = DEFAULT_REGULARIZATION
     max_iter: int = 40
     min_norm: bool = True
     factorization: str = "auto"
@@ -120,8 +102,7 @@ class SolverOptions:
         if not stages:
             raise InputError(
                 "SolverOptions.stages is empty: no stage would look for a certificate, so every "
-                "sample would end undecided; choose from affine, newton, refine, crossover, "
-                "ipm, lp"
+                "sample would end undecided; choose from affine, newton, refine, ipm, lp"
             )
         strategies = tuple(strategy_named(x) if isinstance(x, str) else x for x in stages)
         object.__setattr__(self, "stages", strategies)
@@ -161,11 +142,5 @@ class SolverOptions:
 
     @property
     def resolution(self) -> Resolution:
-        """The resolution model of the certificates.
-
-        Returns
-        -------
-        Resolution
-            ``Resolution(violation_tol, displacement_bound)``.
-        """
+        """The certificates' ``Resolution(violation_tol, displacement_bound)``."""
         return Resolution(self.violation_tol, self.displacement_bound)

@@ -1,12 +1,10 @@
 """The relaxed state after a verdict: the minimum energy, its tensions and a certified bound.
 
-On a floppy verdict ``E* = 0`` and ``t* = 0``. On a rigid (or undecided) one the energy with the
-instance's stiffnesses is minimised from the search's lowest-energy point by semismooth Newton,
-the interior point and a crossover (:mod:`.newton`, :mod:`.ipm`); a weak-duality lower bound on
-``E*`` from the relaxed tensions moved onto an exact self-stress (or from the rigid
-certificate's) states the accuracy of ``E*`` instead of assuming it. Where the short run leaves
-the energy uncertified (near a sample's own threshold), a long run on a Newton matrix shifted
-far less goes on from it; the better of the two is kept.
+On a floppy verdict ``E* = 0`` and ``t* = 0``. On a rigid or undecided one the energy with the
+instance's stiffnesses is minimised from the search's lowest-energy point (Newton, the interior
+point, a crossover), and a weak-duality lower bound on ``E*`` from a self-stress states its
+accuracy. Where the short run leaves the energy uncertified, a long run on a Newton matrix
+shifted far less goes on from it; the better of the two is kept (docs/model.md).
 """
 
 from __future__ import annotations
@@ -33,8 +31,8 @@ class Relaxation:
     Attributes
     ----------
     status : str
-        "floppy" (``E* = 0`` exactly), "certified" (the energy within
-        ``Tolerances.energy_gap`` of its lower bound) or "uncertified".
+        "floppy" (``E* = 0`` exactly), "certified" (within ``Tolerances.energy_gap`` of its lower
+        bound) or "uncertified".
     message : str
         Why the energy is not certified ("" otherwise).
     problem : Problem
@@ -49,10 +47,8 @@ class Relaxation:
         The tensions ``k (e0 + R u)`` at ``u`` (zero on slack one-sided elements).
     tensions : (m,) float or longdouble
         The same moved onto an exact self-stress where that certifies them.
-    iterations : int
-        Newton iterations, the verdict's included.
-    extra_factorizations : int
-        Factorisations of the long run's own problem.
+    iterations, extra_factorizations : int
+        Newton iterations (the verdict's included); factorisations of the long run's own problem.
     """
 
     status: str
@@ -76,8 +72,7 @@ class Relaxation:
 def relax(
     instance: Instance, p: Problem, s: Search, status: str, opts: SolverOptions
 ) -> Relaxation:
-    """The relaxed state after the verdict search ``s`` on ``p`` (unit stiffness) ended with
-    verdict ``status``.
+    """The relaxed state after the verdict search.
 
     Parameters
     ----------
@@ -88,7 +83,7 @@ def relax(
     s : Search
         The verdict search's final state (its lowest-energy point, its rigid certificate).
     status : str
-        "rigid", "floppy" or "undecided".
+        The verdict: "rigid", "floppy" or "undecided".
     opts : SolverOptions
         The options.
 
@@ -121,25 +116,14 @@ def relax(
             if E_2 < E:
                 u, E, t_relaxed, t_n = u_2, E_2, t_relaxed_2, t_n_2
             E_lower = min(E_lower, E)  # and E bounds it from above
-    certified = energy_certified(E, E_lower, tol.energy_gap)
-    message = (
-        ""
-        if certified
-        else f"the relaxed energy is not certified (its lower bound is {E_lower / E:.1e} of it)"
-    )
-    return Relaxation(
-        "certified" if certified else "uncertified",
-        message,
-        pe,
-        k_unit,
-        u,
-        E,
-        E_lower,
-        t_relaxed,
-        t_n,
-        s.iterations + more,
-        extra,
-    )
+    status, message = "certified", ""
+    if not energy_certified(E, E_lower, tol.energy_gap):
+        status = "uncertified"
+        message = (
+            f"the relaxed energy is not certified (its lower bound is {E_lower / E:.1e} of it)"
+        )
+    it = s.iterations + more
+    return Relaxation(status, message, pe, k_unit, u, E, E_lower, t_relaxed, t_n, it, extra)
 
 
 def energy_certified(energy, energy_lower, gap: float = Tolerances.energy_gap):
@@ -148,20 +132,16 @@ def energy_certified(energy, energy_lower, gap: float = Tolerances.energy_gap):
     Parameters
     ----------
     energy, energy_lower : float or (k,) float array
-        Relaxed energies and their lower bounds (``SolveResult.energy``, ``energy_lower``;
-        the sweep rows' columns of the same names).
+        Relaxed energies and their lower bounds (``SolveResult`` fields, sweep-row columns).
     gap : float
         The largest relative gap (``Tolerances.energy_gap``).
 
     Returns
     -------
     bool or (k,) bool array
-        True where the relaxed tensions are certified to be t* (False where either is NaN).
-
-    Notes
-    -----
-    By the strong convexity of the energy in the tensions, ``sum (t_b - t*_b)^2 / k_b <=
-    2 (E - E_lower)``: a small gap bounds how far the relaxed tensions are from ``t*``.
+        True where the relaxed tensions are certified to be t* (False where either is NaN): by
+        the strong convexity of the energy in the tensions ``sum (t_b - t*_b)^2 / k_b <= 2 (E -
+        E_lower)``.
     """
     return energy_lower >= (1.0 - gap) * energy
 
@@ -173,11 +153,11 @@ def _relax(
     ipm: tuple[int, float] | None = None,
     ipm_start: IpmState | None = None,
 ) -> tuple[np.ndarray, float, int]:
-    """Minimise the energy from u: Newton, then (if not stationary) the interior point with
-    ``ipm`` = (iterations, tolerance) + crossover, and a final exact solve on the active set (a
-    crossover) when it lowers the force residual. The interior point goes on from
-    ``ipm_start`` where it passes through it (the verdict search's own run, which the cold
-    start would retrace step for step: :class:`~.ipm.IpmState`)."""
+    """Minimise the energy from ``u`` (2N,): Newton, then (if not stationary) the interior point
+    with ``ipm`` = (iterations, tolerance), going on from ``ipm_start`` where it passes through it,
+    and a crossover; then a final crossover where it lowers the force residual. Returns (u, E,
+    iterations).
+    """
 
     def residual(x):
         _, _, t = p.state(x)
@@ -214,23 +194,9 @@ def _relaxed(
     ipm: tuple[int, float] | None = None,
     ipm_start: IpmState | None = None,
 ) -> tuple[np.ndarray, float, int, np.ndarray, np.ndarray, float]:
-    """The relaxation from ``u`` (2N,) and what certifies it (``ipm_start``: see
-    :func:`_relax`).
-
-    Returns
-    -------
-    u : (2N,) float
-        Lowest-energy displacements found.
-    E : float
-        Their energy.
-    iterations : int
-        Newton iterations spent.
-    t_relaxed : (m,) float
-        Their tensions ``k (e0 + R u)`` (zero on slack one-sided elements).
-    t_balanced : (m,) float
-        The same moved onto an exact self-stress where they are close to one.
-    E_lower : float
-        Certified lower bound on E*, at most ``E``.
+    """The relaxation from ``u`` (2N,) (:func:`_relax`) and what certifies it: (u, E, iterations,
+    tensions ``k (e0 + R u)`` (m,), the same moved onto an exact self-stress where close to one,
+    a certified lower bound on E* at most E).
     """
     gap = opts.tolerances.energy_gap
     u, E, more = _relax(p, u, opts, ipm, ipm_start)
@@ -253,16 +219,9 @@ def _long_relaxation(
     u: np.ndarray,
     certificate: RigidCertificate | None,
 ) -> tuple[tuple | None, int]:
-    """The relaxation's long run (``Tolerances.relax_long_ipm``) from ``u`` (2N,), on a Newton
-    matrix shifted by ``Tolerances.relax_long_shift``, its interior point started cold.
-
-    Returns
-    -------
-    result : tuple or None
-        What :func:`_relaxed` returns, or None where a factorisation failed (the shift is
-        below the round-off of a pivot).
-    factorizations : int
-        Numeric factorisations spent.
+    """The long run (``Tolerances.relax_long_ipm``, Newton matrix shifted by
+    ``Tolerances.relax_long_shift``) from ``u`` (2N,): what :func:`_relaxed` returns (None where a
+    factorisation failed) and the factorisations spent.
     """
     tol = opts.tolerances
     pl = Problem(instance, tol.relax_long_shift, opts.factorization, unit_stiffness, tol)
@@ -273,23 +232,10 @@ def _long_relaxation(
 
 
 def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
-    """The minimiser's tensions, moved onto an exact self-stress when they are close to one,
-    and the lower bound on E* that self-stress gives.
-
-    Tensions read off displacements as ``k (e0 + R u)`` lose digits to cancellation when they
-    are small; purification (:func:`~.selfstress.purify`) balances them to round-off. Kept
-    only if it balances them to ``Tolerances.balanced_residual``, else the tensions are
-    returned as they were. Tensions that already balance the nodes that well (their round-off
-    entries dropped, as purification drops them), as a converged Newton minimiser's do, are
-    kept without purifying: one factorisation fewer per rigid ``solve()``.
-
-    Returns
-    -------
-    t_n : (m,) float or longdouble
-        The purified tensions where kept, else ``t``.
-    bound : float
-        :func:`_self_stress_bound` of the purified tensions with their exact force residual
-        (0 where purification fails); one purification serves both.
+    """The minimiser's tensions ``t`` (m,) moved onto an exact self-stress where purification
+    balances them to ``Tolerances.balanced_residual`` (else ``t``), and the lower bound on E* of
+    that self-stress (0 where purification fails). Tensions that already balance that well (their
+    round-off entries dropped) are kept without purifying.
     """
     if not np.any(t):
         return t, 0.0
@@ -309,21 +255,9 @@ def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
 
 
 def _support_optimal_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
-    """The minimiser's tensions ``t`` ((m,), zero on slack elements) moved onto the best
-    self-stress of their support for the energy's dual
-    (:func:`~.selfstress.optimal_on_support`), and the lower bound on E* it gives.
-
-    Near a sample's own threshold purification (weighted by ``t^2``) can land on a
-    self-stress far from the dual optimum although the engaged set is right; this one is the
-    optimum on that set. Where the engaged set is wrong, dropping the flipped elements empties
-    the self-stress of work and the bound is 0.
-
-    Returns
-    -------
-    t_opt : (m,) float
-        The self-stress (``t`` itself when there is none).
-    bound : float
-        :func:`_self_stress_bound` of it (0 when there is none).
+    """The minimiser's tensions ``t`` (m,) moved onto the best self-stress of their support for the
+    energy's dual (:func:`~.selfstress.optimal_on_support`; ``t`` when there is none), and the
+    lower bound on E* it gives (0 when there is none).
     """
     x = optimal_on_support(p, t)
     if x is None:
@@ -333,21 +267,17 @@ def _support_optimal_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, fl
 
 
 def _exact_residual(p: Problem, t: np.ndarray) -> float:
-    """Relative force residual ``|R^T t|_1 / |t|_1`` of tensions ``t`` ((m,) float or
-    longdouble), the forces in extended precision (0 for ``t = 0``). No floor on ``|t|_1``:
-    tensions that underflow to subnormal sizes get the large residual they have, so that
-    :func:`_self_stress_bound` rejects them instead of dividing by their underflowed norm."""
+    """``|R^T t|_1 / |t|_1`` of tensions ``t`` (m,), the forces in extended precision (0 for ``t =
+    0``; no floor on ``|t|_1``, so underflowed tensions get the large residual they have).
+    """
     size = float(np.abs(t).sum())
     return float(np.abs(p.exact.forces(t)).sum()) / size if size > 0 else 0.0
 
 
 def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
-    """Weak-duality lower bound on E* from an admissible self-stress ``t`` (m,) whose relative
-    force residual ``|R^T t|_1 / |t|_1`` is ``residual``.
-
-    Any self-stress gives ``E* >= max_a (a t.e0 - a^2/2 t.K^-1 t) = (t.e0)^2 / (2 t.K^-1 t)``.
-    The residual adds at most ``|R^T t|_1 |u*|_inf`` to the work, which we do not know, so the
-    bound is 0 unless the residual is at round-off (``Tolerances.bound_residual``).
+    """Weak-duality lower bound ``(t . e0)^2 / (2 t . K^-1 t)`` on E* from an admissible self-stress
+    ``t`` (m,) with relative force residual ``residual``; 0 unless the residual is at round-off
+    (``Tolerances.bound_residual``).
     """
     work = float(np.dot(t, p.e0))
     if residual > p.tol.bound_residual or work <= 0 or not np.all(np.isfinite(t)):
@@ -358,10 +288,9 @@ def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
 def _energy_lower(
     p: Problem, tensions_bound: float, certificate: RigidCertificate | None = None
 ) -> float:
-    """Lower bound on E*: the larger of ``tensions_bound`` (the bound from the minimiser's
-    tensions purified onto a self-stress, :func:`_balanced_tensions`) and the bound from the
-    rigid certificate's self-stress, which is what is left where the relaxation has not
-    converged."""
+    """Lower bound on E*: the larger of ``tensions_bound`` (:func:`_balanced_tensions`) and the
+    bound from the rigid certificate's self-stress.
+    """
     bound = 0.0
     if certificate is not None:
         tc = np.asarray(certificate.t, dtype=float)

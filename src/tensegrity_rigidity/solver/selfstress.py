@@ -1,17 +1,11 @@
 """Exact admissible self-stresses near approximate ones (the rigid side of a verdict).
 
-An interior point, a Newton iterate or an LP returns tensions ``t`` that balance the nodes only
-approximately. Near the transition the optimal tensions are tiny (``|t*|^2 = 2 E*``), and
-computing them from displacements as ``k (e0 + R u)`` cancels most digits. :func:`purify`
-works on the self-stress side instead: it moves ``t`` onto the null space of ``R^T`` by the
-weighted least-squares correction
-
-    t <- t - W R y,    (R^T W R + delta I) y = R^T t,    W = diag(t^2)
-
-(each element moves in proportion to its own size, so signs survive a small correction),
-refined a few times on one factorisation. One-sided elements whose sign flips are set to zero
-and the projection is repeated without them. The result is offered to
-:meth:`~.certificates.ExactGeometry.rigid`, which decides whether it is a certificate.
+Interior points, Newton iterates and LPs give tensions that balance the nodes only
+approximately, and near the transition tensions read off displacements lose most digits.
+:func:`purify` moves them onto the null space of ``R^T`` by a weighted least-squares correction
+that keeps signs, :func:`rebalance` continues where that stalls on near-mechanisms, and
+:func:`optimal_on_support` finds the best self-stress of a support for the energy's dual
+(derivations in docs/solver.md). The certificates (:mod:`.certificates`) judge the results.
 """
 
 from __future__ import annotations
@@ -27,66 +21,37 @@ def purify(
     support_tol: float | None = None,
     rounds: int = 8,
     refine: int = 6,
-    hopeless: float = 1e-3,
+    hopeless: float | None = None,
     extended: int = 4,
-    rod_weight: float = 1e-6,
-    shift: float = 1e-14,
+    rod_weight: float | None = None,
+    shift: float | None = None,
     stall: int = 2,
-    work_floor: float = 1e-9,
+    work_floor: float | None = None,
 ) -> np.ndarray:
-    """An admissible self-stress near ``t`` (shape (m,), non-empty sites), up to round-off.
+    """An admissible self-stress near ``t`` ((m,), non-empty sites), up to round-off.
 
-    Parameters
-    ----------
-    p : Problem
-        The problem (its pattern factorisation is reused).
-    t : (m,) float
-        Approximate tensions; entries below ``support_tol * max |t|`` and one-sided entries of
-        the wrong sign are dropped first.
-    rounds : int
-        Projections, each after dropping the one-sided elements whose sign flipped.
-    refine : int
-        Corrections per projection on its factorisation (iterative refinement); they stop
-        once the residual no longer halves.
-    hopeless : float
-        Stop after a projection whose relative residual stayed above this (no self-stress
-        near ``t`` on its support).
-    extended : int
-        Final refinement steps with residuals in extended precision (the result is then a
-        ``longdouble`` array whose residual can go below double-precision round-off).
-    rod_weight : float
-        Weight of every rod in the projection, relative to ``max t^2``: rods may take up
-        stress they did not carry in ``t`` (a one-sided element may not: its sign is not free).
-    shift : float
-        Regularisation of the projection's matrix ``R^T W R``, relative to ``max t^2``: keeps it
-        factorisable where the support has mechanisms, small enough not to limit the residual,
-        which the refinement steps reduce to round-off.
-    stall : int
-        Stop after this many consecutive rounds whose tensions, balanced but with one-sided
-        elements of the wrong sign left, do no positive work on the strain (see
-        ``work_floor``); the result then keeps those signs and is no certificate. 0 never
-        stops early. Such rounds almost never end in a certificate. Once a round is
-        hopeless, the extended-precision steps are skipped too: they
-        cannot bring a residual above ``hopeless`` near the certificates' margin.
-    work_floor : float
-        A round counts toward ``stall`` when its tensions' work is at most ``work_floor`` of
-        their size, ``t . e0 <= work_floor |t|_1``: work no rigid certificate accepts (it
-        needs ``t . e0 / |t|_1`` above the resolution's ``violation``, whose default this
-        is). Rounds that balance a self-stress of the rods alone do work at round-off,
-        ``1e-18`` to ``1e-16`` of their size, of either sign; counting only ``t . e0 <= 0``
-        let those of positive sign go on for up to 8 rounds.
-
-    Returns
-    -------
-    (m,) float or longdouble
-        Tensions with admissible signs; ``R^T t`` is at round-off when the support of the
-        input carries a self-stress near it, otherwise larger (the certificate test decides).
+    Entries below ``support_tol max |t|`` and wrong-signed ones are dropped; then up to ``rounds``
+    projections ``t <- t - W R y``, ``(R^T W R + shift I) y = R^T t``, ``W = diag(t^2)`` plus
+    ``rod_weight`` on rods, each refined ``refine`` times on its factorisation, the one-sided
+    elements whose sign flipped dropped before the next; ``extended`` final steps with residuals in
+    extended precision. It stops early after a projection whose relative residual stays above
+    ``hopeless``, or after ``stall`` rounds in a row whose work ``t . e0`` is at most ``work_floor
+    |t|_1`` (no rigid certificate accepts such work). Tolerances default to those of ``p.tol``
+    (``support_tol``, ``purify_hopeless``, ``rod_weight``, ``purify_shift``,
+    ``purify_work_floor``). Returns (m,) float or longdouble tensions with admissible signs; the
+    certificate test decides whether their residual is small enough.
     """
+    tol = p.tol
+    support_tol = tol.support_tol if support_tol is None else support_tol
+    hopeless = tol.purify_hopeless if hopeless is None else hopeless
+    rod_weight = tol.rod_weight if rod_weight is None else rod_weight
+    shift = tol.purify_shift if shift is None else shift
+    work_floor = tol.purify_work_floor if work_floor is None else work_floor
     t = np.array(t, dtype=float)
     t_max = float(np.abs(t).max(initial=0.0))
     if t_max == 0.0 or not np.isfinite(t_max):
         return np.zeros_like(t)
-    t[~kept(t, p.tol.support_tol if support_tol is None else support_tol)] = 0.0
+    t[~kept(t, support_tol)] = 0.0
     t[p.sigma * t < 0] = 0.0
     w = t * t
     w[p.rod] += rod_weight * t_max**2
@@ -124,37 +89,18 @@ def optimal_on_support(
     t: np.ndarray,
     rounds: int = 8,
     steps: int = 30,
-    shift: float = 1e-14,
+    shift: float | None = None,
 ) -> np.ndarray | None:
-    """The best self-stress for the energy's dual on the support of a minimiser's tensions.
+    """The best self-stress for the energy's dual on the support ``S`` of a minimiser's tensions.
 
-    Every admissible self-stress bounds ``E* >= D(t) = t . e0 - 1/2 t . K^-1 t``, with equality
-    at ``t*``. The stiffness-weighted correction ``t <- t - K_S R y``, ``(R^T K_S R) y = R^T t``
-    on the support ``S`` of ``t`` (residuals in extended precision) converges to the maximiser of
-    ``D`` over the self-stresses on ``S``, which is ``t*`` when ``S`` is the optimal engaged set;
-    :func:`purify` weighs by ``t^2`` instead, which keeps signs but not that optimality. One-sided
-    elements whose sign flips leave ``S`` and the projection is repeated (docs/model.md).
-
-    Parameters
-    ----------
-    p : Problem
-        The problem.
-    t : (m,) float
-        Tensions ``K (e0 + R u)`` of the engaged elements at some ``u`` (zero elsewhere).
-    rounds : int
-        Most projections (each one numeric factorisation), each after dropping the flipped
-        one-sided elements.
-    steps : int
-        Most corrections per projection (they stop once one does not cut the residual by 0.7).
-    shift : float
-        Regularisation of ``R^T K_S R`` relative to the mean stiffness.
-
-    Returns
-    -------
-    (m,) longdouble or None
-        Admissible tensions on ``S`` (their force residual is for the certificate test to
-        judge), or None when the support empties or nothing factorises.
+    The stiffness-weighted correction ``t <- t - K_S R y``, ``(R^T K_S R) y = R^T t`` (residuals in
+    extended precision, at most ``steps`` per projection while each cuts the residual by 0.7)
+    converges to the maximiser of ``D(t) = t . e0 - 1/2 t . K^-1 t`` over the self-stresses on
+    ``S``; one-sided elements whose sign flips leave ``S``, for at most ``rounds`` projections
+    (``shift``: default ``Tolerances.support_optimal_shift``). Returns admissible (m,) longdouble
+    tensions on ``S``, or None when the support empties or nothing factorises.
     """
+    shift = p.tol.support_optimal_shift if shift is None else shift
     x = np.asarray(t, dtype=np.longdouble)
     support = np.asarray(t, dtype=float) != 0
     for _ in range(rounds):
@@ -168,10 +114,7 @@ def optimal_on_support(
         r = p.exact.forces(x)
         r_norm = float(np.abs(r).sum())
         for _ in range(steps):
-            # the net force is zero in exact arithmetic (see :func:`rebalance`)
-            f = np.asarray(r, dtype=float).reshape(-1, p.dim)
-            f = (f - f.mean(axis=0)).ravel()
-            trial = x - w * (p.R @ solver.solve(f))
+            trial = x - w * (p.R @ solver.solve(_without_net_force(p, r)))
             r_trial = p.exact.forces(trial)
             r_trial_norm = float(np.abs(r_trial).sum())
             if not r_trial_norm < 0.7 * r_norm:
@@ -185,20 +128,19 @@ def optimal_on_support(
 
 
 def kept(t: np.ndarray, support_tol: float) -> np.ndarray:
-    """The entries of ``t`` ((m,) float) that :func:`purify` keeps at ``support_tol`` (before it
-    drops wrong signs, which does not depend on the tolerance): ``|t_b| >= support_tol max |t|``.
-    Two tolerances with the same mask give :func:`purify` the same input, hence the same
-    result."""
+    """The entries of ``t`` ((m,) float) that :func:`purify` keeps at ``support_tol``: ``|t_b| >=
+    support_tol max |t|`` ((m,) bool); two tolerances with the same mask purify alike.
+    """
     t = np.asarray(t, dtype=float)  # as purify sees it
     return ~(np.abs(t) < support_tol * float(np.abs(t).max(initial=0.0)))
 
 
 def _refine_extended(p: Problem, t: np.ndarray, w: np.ndarray, solver, steps: int):
-    """Mixed-precision refinement: residuals ``R^T t`` in extended precision (the problem's
-    exact geometry), corrections from the double-precision factorisation, the tensions kept in
-    extended precision. Each step removes most of the residual the last one left, down to the
-    extended round-off (~1e-19 relative) where double precision stalls at ~1e-16. Stops when
-    the residual no longer shrinks, or when a correction would flip a sign."""
+    """Mixed-precision refinement of ``t`` (m,): residuals ``R^T t`` in extended precision,
+    corrections from the double-precision factorisation ``solver`` (weights ``w``), the tensions
+    kept in extended precision; at most ``steps``, stopping when the residual no longer halves or
+    a correction would flip a sign.
+    """
     exact = p.exact
     t_ld = np.asarray(t, dtype=np.longdouble)
     r = exact.forces(t_ld)
@@ -220,43 +162,22 @@ def rebalance(
     p: Problem,
     t: np.ndarray,
     steps: int = 20,
-    shifts: tuple[float, ...] = (1e-18, 1e-16, 1e-14),
-    rod_weight: float = 1e-6,
+    shifts: tuple[float, ...] | None = None,
+    rod_weight: float | None = None,
 ) -> np.ndarray | None:
     """Balance nearly balanced admissible tensions to extended round-off, keeping their signs.
 
-    Purification stalls where the support of ``t`` has near-mechanisms: the residual lies
-    along directions in which ``R^T W R`` is of the order of its regularisation, and the
-    correction that would remove it flips the signs of a few small one-sided tensions, so the
-    refinement stops. This continues with a smaller regularisation (the first of ``shifts``,
-    relative to ``max t^2``, that factorises) and an active set: each correction
-    ``-W R (R^T W R)^{-1} R^T t`` (residual in extended precision) is cut at the first
-    one-sided element it would take through zero (a ratio test), that element is fixed at zero
-    and leaves the weights, and the matrix is factorised again. A full correction that does
-    not halve the residual ends it, unless it was the first on its factorisation: then the
-    shift was too small for the solve to be accurate, and the next one is tried. At most
-    ``steps`` corrections (and as many factorisations).
-
-    Parameters
-    ----------
-    p : Problem
-        The problem.
-    t : (m,) float or longdouble
-        Admissible tensions on the non-empty sites (a purified candidate).
-    steps : int
-        Most corrections.
-    shifts : tuple of float
-        Regularisations tried in turn, relative to ``max t^2``.
-    rod_weight : float
-        Weight of rods, relative to ``max t^2``, added to ``t^2``: rods may take up stress
-        they did not carry (one-sided elements at zero may not: their sign is not known).
-
-    Returns
-    -------
-    (m,) longdouble or None
-        The tensions with the least relative residual met (admissible signs; ``t`` itself
-        when nothing reduced it), or None when ``t`` is zero or not admissible.
+    Continues where :func:`purify` stalls on near-mechanisms of the support of ``t`` ((m,), a
+    purified candidate): weighted corrections with the first of ``shifts`` (relative to ``max t^2``,
+    default ``Tolerances.rebalance_shifts``) that factorises, each cut at the first one-sided
+    element it would take through zero (a ratio test), which is then fixed at zero; a full
+    correction that does not halve the residual ends it, unless it was the first on its
+    factorisation (then the next shift is tried). At most ``steps`` corrections. Returns the (m,)
+    longdouble tensions with the least relative residual met, or None when ``t`` is zero or not
+    admissible.
     """
+    shifts = p.tol.rebalance_shifts if shifts is None else shifts
+    rod_weight = p.tol.rod_weight if rod_weight is None else rod_weight
     exact = p.exact
     x = np.array(t, dtype=np.longdouble)
     tf = np.asarray(x, dtype=float)
@@ -277,11 +198,7 @@ def rebalance(
             if solver is None:
                 break
             fresh = True
-        # the net force is zero in exact arithmetic; its round-off would be amplified along
-        # the translations, which the small shift barely regularises
-        f = np.asarray(r, dtype=float).reshape(-1, p.dim)
-        f = (f - f.mean(axis=0)).ravel()
-        step = -(w * (p.R @ solver.solve(f)))
+        step = -(w * (p.R @ solver.solve(_without_net_force(p, r))))
         trial = x + step
         flips = p.sigma * trial < 0
         if flips.any():
@@ -305,3 +222,11 @@ def rebalance(
         if rel < best_rel:
             best, best_rel = x, rel
     return best
+
+
+def _without_net_force(p: Problem, r: np.ndarray) -> np.ndarray:
+    """Forces ``r`` ((2N,), any precision) as doubles less their mean per axis: the net force
+    of a self-stress is zero in exact arithmetic, and its round-off would be amplified along
+    the translations, which a small shift barely regularises."""
+    f = np.asarray(r, dtype=float).reshape(-1, p.dim)
+    return (f - f.mean(axis=0)).ravel()

@@ -1,34 +1,13 @@
 """The verdict search: strategies that propose candidates to one search state.
 
-A verdict is a certificate accepted by the resolution model of :mod:`.certificates`; nothing
-else decides. Strategies only propose candidates to a :class:`Search`: displacements ``u``
-(floppy candidates) and tensions ``t`` (rigid candidates). The search's :class:`Refiner`
-cleans each candidate before the certificate judges it: tensions are purified onto exact
-self-stresses (:func:`~.selfstress.purify`) at each of its support tolerances and, when that
-stalls with real work left, balanced (:func:`~.selfstress.rebalance`); displacements that fail
-narrowly are polished onto their tight set in extended precision.
-
-A strategy is a small frozen dataclass whose fields are its knobs, with a ``name`` and a
-``run(search)`` method; ``SolverOptions.stages`` holds them in order
-(:data:`DEFAULT_STRATEGIES`), and they run until a candidate is accepted. Every limit is a
-count of iterations or factorisations, never a time: the verdict is a function of the
-instance and the options only.
-
-:class:`Affine`
-    The tensions of the affine deformation: deeply rigid samples end here.
-:class:`Newton`
-    Semismooth Newton on the energy with exact line search; away from the transition samples
-    end here in 4 to 10 factorisations.
-:class:`Refine`
-    The minimum-norm displacements zeroing the engaged extensions, in extended precision:
-    near a rods-only threshold the energy's minimisers are too large to be resolved.
-:class:`Crossover`
-    The energy minimised exactly on a guessed near-tight set (:func:`~.newton.crossover`).
-:class:`InteriorPoint`
-    The interior point of :mod:`.ipm`, its checkpoints purified and crossed over.
-:class:`LinearProgram`
-    The verdict LP over self-stresses by HiGHS, refined, then the feasibility LP whose vertex
-    or dual ray (Farkas' lemma) is a candidate.
+Only a certificate accepted by the resolution model (:mod:`.certificates`) decides. Strategies
+propose displacements ``u`` (floppy candidates) and tensions ``t`` (rigid candidates) to a
+:class:`Search`, whose :class:`Refiner` cleans each one first: tensions are purified onto exact
+self-stresses and, where that stalls with real work left, balanced; displacements that fail
+narrowly are polished onto their tight set in extended precision. A strategy is a frozen
+dataclass (its fields are its knobs) with a ``name`` and a ``run(search)`` method; they run in
+order (:data:`DEFAULT_STRATEGIES`) until a candidate is accepted. Every limit is a count, never a
+time. docs/model.md ("How the verdict is found") describes each strategy.
 """
 
 from __future__ import annotations
@@ -47,49 +26,30 @@ from .selfstress import kept, purify, rebalance
 
 @dataclass
 class Search:
-    """State shared by the strategies of one verdict search (normalised units of the problem).
+    """State shared by the strategies of one verdict search (normalised units of the problem)."""
 
-    Attributes
-    ----------
-    p : Problem
-        The problem (unit stiffness for the verdict).
-    resolution : Resolution
-        Tolerances of the certificates.
-    refiner : Refiner
-        How candidates are cleaned before they are checked.
-    polish, balance : bool
-        Whether the refiner polishes floppy candidates, balances rigid ones.
-    u, E : (2N,) float, float
-        The lowest-energy point offered so far and its energy.
-    floppy : FloppyCertificate or None
-        The accepted floppy certificate, else the candidate with the smallest violation among
-        those within the displacement bound (or the smallest overall).
-    rigid : RigidCertificate or None
-        The accepted rigid certificate, else the candidate with the largest margin
-        ``work - U residual``.
-    stage : str
-        The strategy whose candidate was accepted ("" while undecided).
-    iterations : int
-        Newton iterations spent.
-    polished, balanced : int
-        Candidates polished, balanced so far.
-    ipm_end : IpmState or None
-        Where the interior point strategy ended, for the relaxation to go on from.
-    """
-
+    #: The problem (unit stiffness for the verdict).
     p: Problem
+    #: Tolerances of the certificates.
     resolution: Resolution
+    #: How candidates are cleaned; ``polish`` and ``balance`` switch its two steps.
     refiner: Refiner = field(default_factory=lambda: Refiner())
     polish: bool = False
     balance: bool = False
+    #: The lowest-energy point offered so far and its energy.
     u: np.ndarray = field(default_factory=lambda: np.zeros(0))
     E: float = np.inf
+    #: The accepted certificate, else the best candidate: the smallest violation (within the
+    #: displacement bound first), the largest margin ``work - U residual``.
     floppy: FloppyCertificate | None = None
     rigid: RigidCertificate | None = None
+    #: The strategy whose candidate was accepted ("" while undecided).
     stage: str = ""
+    #: Newton iterations spent; candidates polished and balanced so far.
     iterations: int = 0
     polished: int = 0
     balanced: int = 0
+    #: Where the interior point strategy ended, for the relaxation to go on from.
     ipm_end: IpmState | None = None
 
     def __post_init__(self):
@@ -108,22 +68,9 @@ class Search:
         return self.rigid is not None and self.rigid.accepted
 
     def offer_u(self, u: np.ndarray, stage: str, E: float | None = None) -> bool:
-        """Offer displacements as a floppy candidate (and as the lowest-energy point).
-
-        Parameters
-        ----------
-        u : (2N,) float or longdouble
-            Displacements (units of ``max |e0|``); the certificate keeps extended precision.
-        stage : str
-            The strategy offering them.
-        E : float, optional
-            Their energy, if known.
-
-        Returns
-        -------
-        bool
-            True once the search is decided.
-        """
+        """Offer displacements ``u`` ((2N,) float or longdouble, kept in their precision) with
+        their energy ``E`` if known, as a floppy candidate and as the lowest-energy point;
+        polished when they narrowly fail. True once the search is decided."""
         if self.decided:
             return True
         exact = np.asarray(u)
@@ -150,24 +97,10 @@ class Search:
         return cert
 
     def offer_t(self, t: np.ndarray, stage: str, as_is: bool = False) -> bool:
-        """Offer approximate tensions as a rigid candidate, purified first.
-
-        Parameters
-        ----------
-        t : (m,) float or longdouble
-            Approximate tensions on the non-empty sites.
-        stage : str
-            The strategy offering them.
-        as_is : bool
-            Check ``t`` itself first (in its own precision; wrong signs are rejected), and
-            purify only when that fails: for tensions already balanced to extended
-            round-off, which purification could only coarsen.
-
-        Returns
-        -------
-        bool
-            True once the search is decided.
-        """
+        """Offer approximate tensions ``t`` ((m,) on the non-empty sites) as a rigid candidate,
+        purified at each support tolerance and balanced when that narrowly fails. ``as_is``:
+        check ``t`` itself first, in its own precision (for tensions already balanced to
+        extended round-off, which purification could only coarsen). True once decided."""
         if self.decided:
             return True
         if as_is and self._offer_rigid(self.p.exact.rigid(t, self.resolution), stage):
@@ -229,55 +162,36 @@ def _rigid_key(c: RigidCertificate, res: Resolution) -> float:
 class Refiner:
     """How the search cleans candidates before the certificates judge them.
 
-    Tensions are purified at each support tolerance in turn (a tolerance dropping the same
-    entries as the one before is skipped: purification would return the same tensions); when
-    the best purified candidate is rejected with real work left, it is balanced by
-    :func:`~.selfstress.rebalance`, which continues where purification stalls on
-    near-mechanisms of its support. A floppy candidate within the displacement bound that fails
+    Tensions are purified at each support tolerance (one dropping the same entries as the one
+    before is skipped); a rejected best purification with real work left is balanced
+    (:func:`~.selfstress.rebalance`). A floppy candidate within the displacement bound failing
     by at most ``polish_below`` is polished: holding the rods and the one-sided elements within
-    a slack of their bound, the proximal iteration of :class:`Refine` moves it onto that affine
-    set in extended precision (a double-precision solver misses its constraints by its size
-    times the round-off). Polishing and balancing are bounded by counts per search.
-
-    Attributes
-    ----------
-    support_tols : tuple of float
-        Relative sizes below which approximate tensions are dropped before purification.
-    polish_below : float
-        Largest violation of a floppy candidate that is polished (units of ``max |e0|``).
-    polish_slacks : tuple of float
-        One-sided elements whose extension lies within the slack of their bound are held at
-        it; tried in turn until the end point is accepted.
-    polish_rounds : int
-        Most rounds (tight sets) per slack.
-    polish_attempts : int
-        Most candidates polished per search.
-    balance_below : float
-        Largest relative force residual of a rigid candidate that is balanced.
-    balance_reduction : float
-        A candidate is balanced only when ``U r <= balance_reduction (w - tau)``.
-    balance_attempts : int
-        Most candidates balanced per search.
-    balance_steps : int
-        Most corrections per balanced candidate (each at most one factorisation).
-    proximal : Refine
-        The proximal iteration's settings.
+    a slack of their bound, :class:`Refine`'s proximal iteration moves it onto that set in
+    extended precision. Both are bounded by counts per search (docs/model.md).
     """
 
+    #: Relative sizes below which approximate tensions are dropped before purification.
     support_tols: tuple[float, ...] = (1e-6, 1e-9)
+    #: Largest violation of a floppy candidate that is polished (units of ``max |e0|``).
     polish_below: float = 1e-6
+    #: Slacks within which one-sided elements are held at their bound, tried in turn.
     polish_slacks: tuple[float, ...] = (1e-6, 1e-9)
+    #: Most rounds (tight sets) per slack; most candidates polished per search.
     polish_rounds: int = 3
     polish_attempts: int = 4
+    #: Largest relative force residual of a rigid candidate that is balanced.
     balance_below: float = 1e-6
+    #: A candidate is balanced only when ``U r <= balance_reduction (w - tau)``.
     balance_reduction: float = 1e5
+    #: Most candidates balanced per search; most corrections (factorisations) per candidate.
     balance_attempts: int = 4
     balance_steps: int = 20
+    #: The proximal iteration's settings.
     proximal: Refine = field(default_factory=lambda: Refine())
 
     def purified(self, s: Search, t: np.ndarray):
-        """The purifications of tensions ``t`` (m,) at the support tolerances: yields each
-        (m,) float or longdouble array (a failed purification yields nothing)."""
+        """Yield the purifications ((m,) float or longdouble) of tensions ``t`` (m,) at the
+        support tolerances (nothing for a failed one)."""
         previous = None
         for support_tol in self.support_tols:
             support = kept(t, support_tol)
@@ -290,9 +204,8 @@ class Refiner:
                 continue
 
     def balances(self, cert: RigidCertificate, res: Resolution, done: int = 0) -> bool:
-        """Whether a rejected rigid candidate is worth balancing at resolution ``res`` after
-        ``done`` others: work above ``tau``, residual at most ``balance_below``,
-        ``U r <= balance_reduction (w - tau)``, attempts left."""
+        """Whether a rejected rigid candidate is worth balancing after ``done`` others: work
+        above ``tau``, residual at most ``balance_below``, within ``balance_reduction``."""
         margin = float(cert.work) - res.violation
         return (
             done < self.balance_attempts
@@ -302,9 +215,8 @@ class Refiner:
         )
 
     def polishes(self, cert: FloppyCertificate, res: Resolution, done: int = 0) -> bool:
-        """Whether a floppy candidate is worth polishing at resolution ``res`` after ``done``
-        others: rejected, violation at most ``polish_below``, within the displacement bound,
-        attempts left."""
+        """Whether a floppy candidate is worth polishing after ``done`` others: rejected,
+        violation at most ``polish_below``, within the displacement bound."""
         return (
             not cert.accepted
             and cert.violation <= self.polish_below
@@ -352,8 +264,7 @@ class Refiner:
 
 @dataclass(frozen=True)
 class Affine:
-    """The tensions of the affine deformation, purified: decides deeply rigid samples in a
-    few factorisations."""
+    """The tensions of the affine deformation: decides deeply rigid samples."""
 
     name: str = "affine"
 
@@ -363,8 +274,8 @@ class Affine:
 
 @dataclass(frozen=True)
 class Newton:
-    """Semismooth Newton from the search's point (see :func:`~.newton.newton`), stopped once
-    the energy alone would allow a violation of a tenth of ``tau``."""
+    """Semismooth Newton from the search's point (:func:`~.newton.newton`), stopped once the
+    energy alone would allow a violation of a tenth of ``tau``."""
 
     max_iter: int = 15
     max_truncated: int = 4
@@ -378,23 +289,10 @@ class Newton:
 
 
 @dataclass(frozen=True)
-class Crossover:
-    """Crossovers from the lowest-energy point so far."""
-
-    taus: tuple[float, ...] = (1e-7, 1e-5, 1e-3)
-    name: str = "crossover"
-
-    def run(self, s: Search) -> None:
-        s.crossovers(s.u, self.name, self.taus)
-
-
-@dataclass(frozen=True)
 class InteriorPoint:
-    """The energy interior point with purification and crossovers on the way.
-
-    At each checkpoint accuracy the multipliers are purified into a self-stress and the
-    displacements crossed over at ``checkpoint_taus``; at the end at every crossover tau.
-    """
+    """The energy interior point (:func:`~.ipm.interior_point`) to ``tol`` in ``max_iter``
+    iterations: at each of the ``checkpoints`` accuracies its point is offered and crossed over
+    at ``checkpoint_taus``, at its end at every crossover tau."""
 
     checkpoints: tuple[float, ...] = (1e-3, 1e-5, 1e-7)
     checkpoint_taus: tuple[float, ...] = (1e-7,)
@@ -436,48 +334,26 @@ class InteriorPoint:
 
 @dataclass(frozen=True)
 class Refine:
-    """The minimum-norm zero-violation displacements on a fixed engaged set: a proximal
-    iteration accelerated by extrapolation, with residuals in extended precision.
+    """The minimum-norm zero-violation displacements on the engaged set, in extended precision.
 
-    Near the threshold the energy's minimisers drift along floppy modes to ``1e6``-``1e8``
-    times the strain, and their violations stall at the size of ``u`` times the
-    double-precision round-off; the displacements that matter are far smaller. On the engaged
-    set ``A`` (rods and the one-sided elements engaged at the lowest-energy point) this solves
-    ``min |u|`` subject to ``e0_A + R_A u = 0`` by the proximal (iterated Tikhonov) step
-
-        u <- u - (R_A^T R_A + mu I)^{-1} R_A^T (e0_A + R_A u),    u_0 = 0,
-
-    which stays in the row space of ``R_A`` and converges to the minimum-norm solution when
-    the system is consistent. Every ``window`` steps the iterate is replaced by the affine
-    combination of the last ``window + 1`` iterates whose residual is least (reduced rank
-    extrapolation), which removes the few slow directions with ``s^2 << mu``. One
-    factorisation per round; a round ends when the violation on ``A`` is below ``tau / 10``,
-    when ``patience`` extrapolations in a row fail to halve it (a rigid sample: the residual
-    converges to the least-squares self-stress, then offered as a rigid candidate), or after
-    ``max_iter`` steps. One-sided elements outside ``A`` that the end point violates join ``A``
-    for the next round. See docs/model.md.
-
-    Attributes
-    ----------
-    shifts : tuple of float
-        ``mu`` relative to the unit stiffness, tried in turn until a factorisation succeeds.
-    window : int
-        Steps between extrapolations.
-    patience : int
-        Extrapolations in a row that may fail to halve the least violation so far.
-    max_iter : int
-        Most steps per round (each one back-substitution).
-    rounds : int
-        Most rounds (engaged sets).
-    name : str
-        The strategy's name.
+    Near a threshold the energy's minimisers drift to ``1e6``-``1e8`` times the strain and their
+    violations stall at that size times the double-precision round-off. On the engaged set ``A``
+    this solves ``min |u|`` s.t. ``e0_A + R_A u = 0`` by proximal steps on one factorisation per
+    round, with reduced rank extrapolation every ``window`` steps (docs/solver.md). A round that
+    stalls leaves the least-squares self-stress, offered as a rigid candidate; one-sided
+    elements the end point violates join ``A`` for the next round.
     """
 
+    #: ``mu`` relative to the unit stiffness, tried in turn until a factorisation succeeds.
     shifts: tuple[float, ...] = (1e-13, 1e-11, 1e-9)
+    #: Steps between extrapolations.
     window: int = 8
+    #: Extrapolations in a row that may fail to halve the least violation so far.
     patience: int = 2
+    #: Most steps per round (each one back-substitution); most rounds (engaged sets).
     max_iter: int = 200
     rounds: int = 3
+    #: The strategy's name.
     name: str = "refine"
 
     def run(self, s: Search) -> None:
@@ -550,52 +426,34 @@ def _extrapolate(us, rs, residual):
 class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
-    First the verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1`` by HiGHS's interior
-    point and crossover: its tensions are purified and offered, its dual displacements offered and
-    crossed over (when the clean-up after the crossover runs out of iterations HiGHS returns no
-    solution, and the LP is solved again without it: ``interior_fallback``). A vertex misses its
-    bounds by HiGHS's tolerance, so it is refined as in LP iterative refinement (Gleixner, Steffy &
-    Wolter, INFORMS J. Comput. 28, 449 (2016); docs/model.md), accumulated in extended precision.
-    Then, below ``feasibility_sites_max`` non-empty sites, the feasibility LP for a zero-energy
-    displacement (:func:`_feasibility_lp`): a vertex is a floppy candidate, a dual ray (Farkas'
-    lemma) a rigid one. A HiGHS failure leaves the search as it was.
-
-    Attributes
-    ----------
-    max_iter : int
-        Interior-point iterations of the verdict LP.
-    simplex_iterations_per_site : float
-        Simplex iterations per non-empty site of the feasibility LP (0: not run).
-    simplex_iterations_max : int
-        Most simplex iterations of the feasibility LP, whatever the size (an iteration costs
-        about ``n^2``, so a budget per site alone grows as ``n^4``).
-    refine : int
-        Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
-    refine_iterations_per_site : float
-        Simplex iterations per non-empty site of each refinement round, and of the clean-up
-        HiGHS runs after the verdict LP's crossover.
-    interior_fallback : bool
-        Solve the verdict LP again without the crossover when its clean-up hits its limit.
-    feasibility_simplex : str
-        ``"dual"``, ``"primal"`` or ``"dual+primal"``: the dual simplex, then the primal when
-        the dual stops with status "Unknown" before its iteration limit.
-    feasibility_sites_max : int
-        Above this many non-empty sites the feasibility LP is not run.
-    feasibility_tolerance : float
-        HiGHS's primal feasibility tolerance in the feasibility LP (units of ``max |e0|``).
-    name : str
-        The strategy's name.
+    The verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1`` (interior point and
+    crossover; again without the crossover when its clean-up runs out): its tensions are offered,
+    its row duals offered as displacements and crossed over, its vertex refined in extended
+    precision (LP iterative refinement, docs/model.md). Then, up to ``feasibility_sites_max``
+    sites, the feasibility LP (:func:`_feasibility_lp`): a vertex is a floppy candidate, a dual
+    ray a rigid one. A HiGHS failure leaves the search as it was.
     """
 
+    #: Interior-point iterations of the verdict LP.
     max_iter: int = 100
+    #: Simplex iterations per non-empty site of the feasibility LP (0: not run).
     simplex_iterations_per_site: float = 2.0
+    #: Most simplex iterations of the feasibility LP (an iteration costs about ``n^2``).
     simplex_iterations_max: int = 25_000
+    #: Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
     refine: int = 1
+    #: Simplex iterations per non-empty site of each refinement round and of the clean-up after the
+    #: verdict LP's crossover.
     refine_iterations_per_site: float = 0.25
+    #: Solve the verdict LP again without the crossover when its clean-up hits its limit.
     interior_fallback: bool = True
+    #: ``"dual"``, ``"primal"`` or ``"dual+primal"`` (the primal after a dual "Unknown").
     feasibility_simplex: str = "dual+primal"
+    #: Above this many non-empty sites the feasibility LP is not run.
     feasibility_sites_max: int = 24_576
+    #: HiGHS's primal feasibility tolerance in the feasibility LP (units of ``max |e0|``).
     feasibility_tolerance: float = 1e-9
+    #: The strategy's name.
     name: str = "lp"
 
     def __post_init__(self):
@@ -603,23 +461,10 @@ class LinearProgram:
 
     def verdict_lp(self, p: Problem, crossover: bool | None = None):
         """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``,
-        solved as the stage solves it.
+        solved as the strategy solves it (``crossover``: default when ``refine`` is set).
 
-        Parameters
-        ----------
-        p : Problem
-            The problem (normalised units).
-        crossover : bool, optional
-            Run HiGHS's crossover after the interior point (default: when ``refine`` is set).
-
-        Returns
-        -------
-        h : highspy.Highs
-            The solved model (columns: the tensions (m,); rows: the nodes' forces (2N,)).
-        A : sparse (2N, m), CSC
-            ``R^T``, its constraint matrix.
-        lo, hi : (m,) float
-            The tensions' bounds.
+        Returns the solved ``highspy.Highs`` (columns the tensions (m,), rows the forces (2N,)),
+        its constraint matrix ``R^T`` (2N, m) CSC and the tensions' bounds ``lo, hi`` (m,).
         """
         A = p.RT.tocsc()
         lo = np.where(p.sigma > 0, 0.0, -1.0)
@@ -670,8 +515,7 @@ class LinearProgram:
             s.offer_t(ray, self.name)
 
     def _feasibility_budget(self, p: Problem) -> int:
-        """Simplex iterations of the feasibility LP (0 above ``feasibility_sites_max``
-        sites)."""
+        """Simplex iterations of the feasibility LP (0 above ``feasibility_sites_max``)."""
         if p.sites.size > self.feasibility_sites_max:
             return 0
         per_site = int(self.simplex_iterations_per_site * p.sites.size)
@@ -726,12 +570,9 @@ def _highs(A, cost, col_lower, col_upper, row_lower, row_upper, basis=None, **op
 
 def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
     """One round of LP iterative refinement of the verdict LP at tensions ``t`` ((m,)
-    longdouble), warm-started from ``basis`` (:class:`LinearProgram`).
-
-    Returns (refined tensions (m,) longdouble, the correction LP's row duals (2N,) float as
-    displacements, its basis), or None when ``t`` is already exact or the primal simplex did
-    not reach an optimum within ``max_iter`` iterations.
-    """
+    longdouble), warm-started from ``basis``: (refined tensions (m,) longdouble, the correction
+    LP's row duals (2N,) as displacements, its basis), or None when ``t`` is exact or the primal
+    simplex does not reach an optimum within ``max_iter`` iterations."""
     import highspy
 
     f = p.exact.forces(t)
@@ -763,8 +604,7 @@ def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
 
 
 def _simplex_variants(name: str) -> tuple[str, ...]:
-    """HiGHS's simplex variants named by ``LinearProgram.feasibility_simplex``, tried in turn
-    (the next one only after status "Unknown")."""
+    """HiGHS's simplex variants named by ``LinearProgram.feasibility_simplex``, in turn."""
     table = {"dual": ("dual",), "primal": ("primal",), "dual+primal": ("dual", "primal")}
     if name not in table:
         raise InputError(
@@ -775,36 +615,19 @@ def _simplex_variants(name: str) -> tuple[str, ...]:
 
 
 def _feasibility_lp(
-    p: Problem, max_iter: int, simplex: str = "dual", tolerance: float = 1e-9
+    p: Problem,
+    max_iter: int,
+    simplex: str = "dual",
+    tolerance: float = LinearProgram.feasibility_tolerance,
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's simplex.
+    """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's simplex, one thread.
 
-    Rows in site order: rods ``R u = -e0``, cables ``R u <= -e0``, struts ``R u >= -e0``; the
-    columns are free. One thread.
-
-    Parameters
-    ----------
-    p : Problem
-        The problem (normalised units).
-    max_iter : int
-        Most simplex iterations of each variant run.
-    simplex : str
-        The variants tried in turn (:func:`_simplex_variants`), each after the last one
-        stopped with status "Unknown" (neither an answer nor its iteration limit).
-    tolerance : float
-        HiGHS's primal feasibility tolerance.
-
-    Returns
-    -------
-    vertex : (2N,) float or None
-        A vertex, when HiGHS finds the LP feasible.
-    ray : (m,) float or None
-        When HiGHS proves it infeasible: minus its dual ray ``y`` (Farkas' lemma: row
-        multipliers with ``R^T y = 0`` whose bounds cannot be met; ``y <= 0`` on rows at their
-        upper bound, ``>= 0`` at their lower one), tensions with ``R^T t = 0`` up to
-        round-off, ``t >= 0`` on cables, ``<= 0`` on struts and ``t . e0 > 0``: a rigid
-        candidate. Nothing is trusted: the caller purifies it and the certificate checks its
-        signs, work and residual.
+    Rows in site order (rods ``R u = -e0``, cables ``<=``, struts ``>=``), free columns; each
+    variant of ``simplex`` runs at most ``max_iter`` iterations, the next only after status
+    "Unknown"; ``tolerance`` is HiGHS's primal feasibility tolerance. Returns ``(vertex, ray)``:
+    a vertex (2N,) when HiGHS finds the LP feasible; when it proves it infeasible, minus its
+    dual ray (m,), tensions with ``R^T t = 0`` up to round-off, admissible signs and positive
+    work by Farkas' lemma (the caller purifies it; the certificate checks it).
     """
     import highspy
 
@@ -837,7 +660,7 @@ def _feasibility_lp(
 
 
 #: The default strategies of the verdict search, in order.
-DEFAULT_STRATEGIES = (Affine(), Newton(), Refine(), Crossover(), InteriorPoint(), LinearProgram())
+DEFAULT_STRATEGIES = (Affine(), Newton(), Refine(), InteriorPoint(), LinearProgram())
 
 
 def search(
@@ -850,31 +673,11 @@ def search(
     polish: bool = True,
     balance: bool = True,
 ) -> Search:
-    """Run ``strategies`` in order until a certificate is accepted.
-
-    Parameters
-    ----------
-    p : Problem
-        The problem.
-    resolution : Resolution
-        Tolerances of the certificates.
-    strategies : sequence
-        Objects with a ``name`` and a ``run(search)`` method (:data:`DEFAULT_STRATEGIES`).
-    start : (2N,) float, optional
-        Starting displacements (units of ``max |e0|``): offered, crossed over, and used as
-        Newton's start.
-    start_tensions : (m,) float, optional
-        Starting tensions on the non-empty sites, purified and offered first.
-    refiner : Refiner, optional
-        How candidates are cleaned (default ``Refiner()``).
-    polish, balance : bool
-        Whether the refiner polishes floppy candidates, balances rigid ones.
-
-    Returns
-    -------
-    Search
-        The final state: the accepted certificate (or the best candidates) and the strategy.
-    """
+    """Run ``strategies`` (objects with a ``name`` and ``run(search)``) in order until a
+    certificate is accepted, after the starting points: ``start`` ((2N,) displacements, units
+    of ``max |e0|``) offered and crossed over, ``start_tensions`` ((m,) on the non-empty sites)
+    purified and offered. ``refiner`` (default ``Refiner()``) cleans the candidates, polishing
+    and balancing where ``polish``, ``balance``. Returns the final :class:`Search`."""
     s = Search(p, resolution, Refiner() if refiner is None else refiner, polish, balance)
     if not np.any(p.e0):  # nothing is strained: u = 0 is exact
         s.offer_u(np.zeros(p.n2), "trivial")
