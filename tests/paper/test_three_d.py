@@ -18,6 +18,7 @@ from tensegrity_rigidity.paper.figures import fig_3d
 from tensegrity_rigidity.paper.registry import STUDIES, SWEEPS
 from tensegrity_rigidity.paper.report import sections_of, tables_of
 from tensegrity_rigidity.paper.report_3d import three_d_tables
+from tensegrity_rigidity.paper.reproduce import EXPECTED
 from tensegrity_rigidity.paper.studies import SCALES, three_d
 
 from .conftest import SERIAL
@@ -82,7 +83,7 @@ def test_analysis_gives_every_quantity_at_every_size(tiny_3d):
         assert sorted(rows.n) == [2, 3, 4], key
         assert np.isfinite(rows.value).all() and (rows.err >= 0).all(), key
     lam = r.by_size[r.by_size.key != "rods_only_pc"]
-    assert lam.value.between(0.0, 1.5).all()
+    assert lam.value.between(0.0, 1.5).all() and lam.contour.between(0.0, 1.5).all()
     # the collapse pairs each one-sided sweep with the same samples' rods-only thresholds
     assert (lam.samples == lam.n.map(TINY_3D.samples_3d_at)).all()
     pc = r.by_size[r.by_size.key == "rods_only_pc"]
@@ -103,6 +104,11 @@ def test_measurements_are_not_the_papers_claims(tiny_3d):
     assert len(ours) == len(three_d.KEYS_3D)
     sizes = [m for m in tiny_3d.measured if m.size is not None]
     assert len(sizes) == len(tiny_3d.by_size)
+
+
+def test_stated_run_time_is_the_estimate():
+    minutes = round(budget.estimate("3d", workers=2).wall_seconds / 60)
+    assert f"estimated {minutes} minutes" in EXPECTED["3d"]
 
 
 def test_two_d_values_are_those_of_the_committed_finite_size_report():

@@ -40,7 +40,7 @@ import pandas as pd
 from ...analysis import estimators as an
 from ..claims import CLAIMS, REFERENCES, TWO_D_OURS, Measurement
 from .fig1c import FIG1C_PT
-from .rows import Rows, interval_straddles, load_sweeps
+from .rows import Rows, interval_straddles, load_sweeps, threshold_matrix
 from .scales import Scale
 
 #: seed of the 3D sweeps (sample k's disorder derives from (seed, n, delta, k))
@@ -134,6 +134,8 @@ class ThreeDResult:
     ----------
     by_size : DataFrame
         Per (n, key): ``value``, ``err``, ``samples`` (key: the 2D claim's key, :data:`KEYS_3D`);
+        the S_t/S_r rows also ``contour``, ``contour_err`` (the slope of the P = 1/2 contour,
+        :func:`~tensegrity_rigidity.analysis.fits.contour_slope`, the model-free estimator);
         the rods-only rows also ``width`` (standard deviation of the thresholds) and
         ``intervals`` (thresholds left as intervals by undecided probes).
     extrapolated : DataFrame
@@ -191,9 +193,15 @@ def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
             y, pr, pt = an.outcomes_from_thresholds(sub, FIT_P_R_3D)
             fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=rng("collapse"))
             units = len(an.common_samples(sub))
+            # the model-free alternative: the slope of the P = 1/2 contour
+            c = an.contour_slope(
+                threshold_matrix(sub, [0.0, FIG1C_PT]), np.array([0.0, FIG1C_PT]),
+                n_boot=scale.bootstrap, rng=rng("contour"),
+            )  # fmt: skip
             by_size.append(
-                {"n": n, "key": key, "value": fit.lam, "err": fit.lam_err, "samples": units}
-            )
+                {"n": n, "key": key, "value": fit.lam, "err": fit.lam_err, "samples": units,
+                 "contour": c.value, "contour_err": c.err}
+            )  # fmt: skip
     pc_sizes = sorted(set(scale.sizes_3d) | {m for m, _ in scale.pc_3d})
     per_size = []
     for n in pc_sizes:
