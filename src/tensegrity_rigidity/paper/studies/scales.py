@@ -238,20 +238,20 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #: search they take 53 s on average (median 12 s), and n = 128 has 64 samples (error 0.00045;
 #: 57 min of CPU). n = 128 stays out of the fss scale, which stays within its budget without
 #: it, and is in pc and fss-cluster.
-#: 3d (studies.three_d, the FCC lattice; 34 min on 2 workers by the estimate): per size 5
+#: 3d (studies.three_d, the FCC lattice; 29 min on 2 workers by the estimate): per size 5
 #:   threshold searches at p_t = 0.3 and 2 rods-only ones per sample, priced by a run of a few
 #:   samples (paper.budget: 0.34, 2.2, 8.4 s at p_t = 0.3 and n = 4, 6, 8, ~24 s at 10
-#:   extrapolated). Counts fall with n so that each size costs about the same (7 to 23 CPU
-#:   min). It was first set at 32 samples at n = 8, 16 at n = 10 and 48 rods-only at n = 12
-#:   (43 min estimated); on a machine shared with other runs its n = 4 took 2.5 times the
-#:   estimate, and the counts were cut to finish within the session. S_t/S_r's error at
-#:   n = 10 with 10 samples is about 0.016 if one 3D sample scatters as one 2D sample of as
-#:   many nodes (0.05 at 2D n = 32; FCC n = 10 has 1000 nodes). The rods-only thresholds cost
-#:   little: 4 x the count per size and more, and n = 12 (32 samples) for the p_c
-#:   extrapolation only.
+#:   extrapolated). Counts fall with n so that the sizes cost about the same (7 to 20 CPU min
+#:   up to n = 8). It was first set at 32 samples at n = 8, 16 at n = 10 and 48 rods-only
+#:   at n = 12 (43 min estimated); on a machine shared with other runs (load 10 to 20 on 2
+#:   cores) every row took 2.2 to 3 times its estimate, and the counts were cut twice to
+#:   finish within the session: n = 8 to 24 samples, n = 10 to 6 (rods-only: 48) and n = 12
+#:   to 16 rods-only thresholds. S_t/S_r's error at n = 10 with 6 samples is about 0.02 if one
+#:   3D sample scatters as one 2D sample of as many nodes (0.05 at 2D n = 32; FCC n = 10 has
+#:   1000 nodes).
 SIZES_3D = (4, 6, 8, 10)
-SAMPLES_3D = (160, 64, 24, 10)
-PC_3D = ((4, 640), (6, 320), (8, 160), (10, 96), (12, 32))
+SAMPLES_3D = (160, 64, 24, 6)
+PC_3D = ((4, 640), (6, 320), (8, 160), (10, 48), (12, 16))
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 FSS_PC_NO_128 = FSS_PC[:-1]
 SCALES = {
