@@ -89,7 +89,7 @@ def test_analysis_gives_every_quantity_at_every_size(tiny_3d):
     pc = r.by_size[r.by_size.key == "rods_only_pc"]
     assert pc.value.between(0.3, 0.7).all() and (pc.width > 0).all()
     assert list(r.extrapolated.key) == list(three_d.KEYS_3D)
-    assert 0.0 <= r.strain_free <= 1.0
+    assert 0.0 <= r.strain_free <= 1.0 and 0.0 <= r.half_strain_free <= 1.0
     assert sum(r.excluded.values()) >= 0 and set(r.excluded) == set(three_d.sweeps(TINY_3D))
 
 

@@ -623,16 +623,18 @@ def fig_3d(r: ThreeDResult, figdir: Path):
                 ax.errorbar([n_inf * dx], [y_inf], yerr=[err], fmt=mark, color=colour,
                             capsize=3, mfc="none" if mark == "D" else colour)  # fmt: skip
             two = TWO_D_OURS[key]
-            ax.axhline(two.value, color=colour, ls="-.", lw=0.9, alpha=0.8)
-            ax.axhspan(two.value - (two.error or 0), two.value + (two.error or 0),
-                       color="grey", alpha=0.12, lw=0)  # fmt: skip
+            if key != "rods_only_pc":  # the 2D threshold (0.66) would flatten the 3D points
+                ax.axhline(two.value, color=colour, ls="-.", lw=0.9, alpha=0.8)
+                ax.axhspan(two.value - (two.error or 0), two.value + (two.error or 0),
+                           color="grey", alpha=0.12, lw=0)  # fmt: skip
             if key != "rods_only_pc" and CLAIMS[key].value is not None:
                 ax.plot([n_inf * dx * 1.12], [CLAIMS[key].value], color=colour, **PAPER_MARKER)
         if keys[0] == "rods_only_pc":
             ax.axhline(PC_3D_CHECK.value, color="grey", ls="--", lw=0.8)
             ax.axhline(PC_3D_MAXWELL.value, color="grey", ls=":", lw=0.8)
-            ax.plot([n_inf * 1.12], [REFERENCES["pc_jacobs_thorpe"].value], color="k",
-                    **PAPER_MARKER)  # fmt: skip
+            ax.text(0.02, 0.02, f"2D: ours {two.value:.4f}, Jacobs & Thorpe "
+                    f"{REFERENCES['pc_jacobs_thorpe'].value:g} (off this axis)",
+                    transform=ax.transAxes, fontsize=7)  # fmt: skip
         ax.set_xscale("log")
         ax.set_xticks([*sizes, n_inf], [*(f"{v:g}" for v in sizes), "inf"])
         ax.xaxis.set_minor_locator(NullLocator())
@@ -640,7 +642,7 @@ def fig_3d(r: ThreeDResult, figdir: Path):
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7)
     flat[0].set_title(
-        "3D  dash-dot: ours in 2D (n -> inf); stars: the paper / literature in 2D; grey: "
+        "3D  dash-dot: ours in 2D (n -> inf); stars: the paper in 2D; grey: "
         f"{PC_3D_CHECK.value:g} (lit., 3D), 1/2 (Maxwell)",
         fontsize=8,
         loc="left",

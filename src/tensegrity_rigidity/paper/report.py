@@ -63,8 +63,8 @@ FIGURE_CAPTIONS = {
     "the rods-only thresholds against n with its fitted n^(-1/nu), and p_c from the P = 1/2 "
     "point against that width.",
     "3D": "Not in the paper: the FCC lattice in 3D against n (log axis). The rods-only P = 1/2 "
-    "point (grey: the literature's 3D value, dashed, and Maxwell's 1/2, dotted; star: 2D "
-    "literature), S_t/S_r at f_c = 0.5 per strain, and S_t/S_r of rods + cables under "
+    "point (grey: the literature's 3D value, dashed, and Maxwell's 1/2, dotted; the 2D values "
+    "written in the panel), S_t/S_r at f_c = 0.5 per strain, and S_t/S_r of rods + cables under "
     "compression and dilation; fits y_inf + a n^(-1/nu) with nu fitted to the rods-only "
     "points (dashed, squares at 'inf') and with 1/nu = 3 (dotted, open diamonds); dash-dot "
     "lines with grey bands: ours in 2D extrapolated (reports/fss); open stars: the paper's 2D "

@@ -15,6 +15,7 @@ from ..analysis import estimators as an
 from ..model.lattice import DEFAULT_DELTA
 from .claims import REFERENCES, TWO_D_OURS
 from .comparison import fmt
+from .finite_size import misfit
 from .studies.three_d import (
     FIG1C_PT,
     KEYS_3D,
@@ -32,6 +33,10 @@ QUANTITY_TEXT = {
     "st_sr_cables_compression": "rods + cables, compression: S_t/S_r",
     "st_sr_cables_dilation": "rods + cables, dilation: S_t/S_r",
 }
+#: the scales' floor (paper.studies.scales): at least 24 samples wherever an error bar is
+#: compared, so that the bootstrap's own error of the error bar, 1 / sqrt(2 (S - 1)), stays below
+#: 15 %; a size with fewer is flagged
+ERROR_FLOOR_SAMPLES = 24
 #: |z| below which two values are called consistent (two standard errors of the difference)
 CONSISTENT_Z = 2.0
 
@@ -40,7 +45,7 @@ def _z_text(z: float) -> str:
     if not np.isfinite(z):
         return "no error to compare with"
     word = "consistent with" if z < CONSISTENT_Z else "different from"
-    return f"{word} it (z = {z:.1f})"
+    return f"{word} it (z = {z:.2f})"
 
 
 def _two_d_text(key: str) -> str:
@@ -78,7 +83,8 @@ def three_d_tables(r) -> tuple[pd.DataFrame, pd.DataFrame]:
             ],
             "2D ours, n -> inf (reports/fss)": [_two_d_text(k) for k in b.key],
             "2D paper": list(b.paper_2d),
-            "z: 3D largest n vs 2D ours": [f"{z:.1f}" for z in b.z_2d],
+            "z: 3D largest n vs 2D ours": [f"{z:.2f}" for z in b.z_2d],
+            "z: 3D n -> inf vs 2D ours": [f"{z:.2f}" for z in b.z_2d_inf],
         }
     )
     return wide, side
@@ -125,13 +131,16 @@ def three_d_section(r):
             if r.widths is not None and np.isfinite(r.widths.p_c)
             else ""
         )
+        + misfit(pc.chi2_first_order, pc.dof_first_order)
         + f". The literature's {PC_3D_CHECK.value:g} (Chubynsky & Thorpe 2007; quoted, not "
-        "read in their text, so approximate): the first-order extrapolation is "
+        "read in their text, so its precision is not known here): the first-order "
+        f"extrapolation lies {PC_3D_CHECK.value - pc.y_inf_first_order:+.4f} from it, "
         + _z_text(
             an.agreement_z(
                 pc.y_inf_first_order, pc.y_inf_first_order_err**2, PC_3D_CHECK.value, 0.0
             )
-        )  # fmt: skip
+        )
+        + " with the quoted value taken as exact"  # fmt: skip
         + f"; Maxwell's count gives {PC_3D_MAXWELL.value:g}. In 2D the threshold lies below "
         f"Maxwell's 2/3 (ours {_two_d_text('rods_only_pc')}, "
         f"Jacobs & Thorpe {REFERENCES['pc_jacobs_thorpe'].value:g}). The rods-only threshold "
@@ -139,6 +148,14 @@ def three_d_section(r):
         "samples (a rods-only threshold depends on the strain only through finite-size "
         "coincidences).",
     ]
+    few = [n for n, s in zip(r.sizes, r.samples, strict=True) if s < ERROR_FLOOR_SAMPLES]
+    if few:
+        paragraphs.append(
+            f"Caution: n = {', '.join(map(str, few))} has fewer than {ERROR_FLOOR_SAMPLES} "
+            "samples per point, so its bootstrap errors are themselves uncertain by 1 / "
+            "sqrt(2 (S - 1)) or more and can come out implausibly small; a z that rests on "
+            "such a size is marked below, and the extrapolations weigh it by that error."
+        )
     for keys, what in (
         (("st_sr_half_dilation", "st_sr_half_shear", "st_sr_half_compression"),
          "With cables and struts in equal numbers (f_c = 0.5)"),
@@ -151,14 +168,27 @@ def three_d_section(r):
             n_top = max(r.sizes)
             v, e = r.at(key, n_top)
             two = TWO_D_OURS[key]
+            mark = " (few samples)" if n_top in few else ""
             parts.append(
                 f"{QUANTITY_TEXT[key].split(', ')[-1].split(':')[0]}: {fmt(v, e)} at n = {n_top}, "
-                f"{fmt(f.y_inf, f.y_inf_err)} extrapolated (1/nu = 3: "
-                f"{fmt(f.y_inf_first_order, f.y_inf_first_order_err)}); ours in 2D "
-                f"{fmt(two.value, two.error)}, the n = {n_top} value "
+                f"{fmt(f.y_inf, f.y_inf_err)} extrapolated"
+                f"{misfit(f.chi2, f.dof)} (1/nu = 3: "
+                f"{fmt(f.y_inf_first_order, f.y_inf_first_order_err)}"
+                f"{misfit(f.chi2_first_order, f.dof_first_order)}); ours in 2D "
+                f"{fmt(two.value, two.error)}: the n = {n_top} value is "
                 + _z_text(an.agreement_z(v, e**2, two.value, two.error or np.nan))
+                + mark
+                + ", the extrapolation "
+                + _z_text(an.agreement_z(f.y_inf, f.y_inf_err**2, two.value, two.error or np.nan))
             )
-        paragraphs.append(f"{what}: " + "; ".join(parts) + ".")
+        text = f"{what}: " + "; ".join(parts) + "."
+        if keys[0] == "st_sr_half_dilation" and np.isfinite(r.half_strain_free):
+            text += (
+                f" At f_c = 0.5 the threshold at p_t = {FIG1C_PT:g} is the same under the "
+                f"three strains for {100 * r.half_strain_free:.1f} % of the samples: the "
+                "three values are not independent measurements."
+            )
+        paragraphs.append(text)
     lam = r.by_size[r.by_size.key != "rods_only_pc"]
     dz = np.abs(lam.value - lam.contour) / np.hypot(lam.err, lam.contour_err)
     if len(lam) and np.isfinite(dz).any():
@@ -173,6 +203,7 @@ def three_d_section(r):
     paragraphs.append(
         "Tables: each quantity per size (value ± bootstrap error, samples in brackets), then "
         "each beside 2D (ours from reports/fss, extrapolated with nu fitted; the paper's as "
-        "printed; z of the largest 3D size against ours in 2D)."
+        "printed; z of the largest 3D size and of the extrapolation with nu fitted against "
+        "ours in 2D)."
     )
     return Section("Beyond the paper: three dimensions (FCC)", tuple(paragraphs), (wide, side))

@@ -34,7 +34,8 @@ EXPECTED = {
     "pc": "the rods-only p_c extrapolation alone (n = 8 to 128, 64 samples at n = 128): 34 "
     "minutes measured (estimated 33 minutes)",
     "3d": "beyond the paper, the disordered FCC lattice in 3D (n = 4 to 10, rods-only "
-    "thresholds to 12): estimated 29 minutes",
+    "thresholds to 12): 74 minutes measured in three invocations beside other runs (load 10 to "
+    "20 on 2 cores; estimated 29 minutes)",
     "tiny-3d": "the 3D study at n = 2, 3, 4 with a few samples: about 15 seconds",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 62 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",

@@ -147,6 +147,9 @@ class ThreeDResult:
     strain_free : float
         Fraction of the samples whose rods-only threshold is the same under shear as under
         dilation (a rods-only threshold should not depend on the strain).
+    half_strain_free : float
+        Fraction of the samples whose threshold at f_c = 0.5, p_t = 0.3 is the same under
+        dilation, shear and compression.
     """
 
     by_size: pd.DataFrame
@@ -158,6 +161,7 @@ class ThreeDResult:
     excluded: dict[str, int]
     widths: object = None
     strain_free: float = float("nan")
+    half_strain_free: float = float("nan")
     straddling: int | None = None
     measured: tuple[Measurement, ...] = ()
 
@@ -234,6 +238,17 @@ def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
         common = a.index.intersection(b.index)
         same += int(np.sum(np.isclose(a[common], b[common], rtol=0, atol=1e-12)))
         total += len(common)
+    # f_c = 0.5: the fraction of samples whose threshold is the same under the three strains
+    alike, count = 0, 0
+    for n in scale.sizes_3d:
+        half = (
+            parts[f"fcc_half_n{n}"]
+            .pivot_table(index="sample", columns="phi", values="threshold_p_r")
+            .dropna()
+        )
+        if half.shape[1] == len(MIXED_3D["half"][1]):
+            alike += int(np.sum(np.ptp(half.to_numpy(float), axis=1) <= 1e-12))
+            count += len(half)
     extrapolated = extrapolate(by, rng)
     result = ThreeDResult(
         by_size=by,
@@ -245,6 +260,7 @@ def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
         excluded=excluded,
         widths=widths,
         strain_free=same / total if total else float("nan"),
+        half_strain_free=alike / count if count else float("nan"),
         straddling=interval_straddles(pd.concat(straddle, ignore_index=True), FIT_P_R_3D)
         if straddle
         else None,
