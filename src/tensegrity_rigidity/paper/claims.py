@@ -71,7 +71,7 @@ REFERENCES = {
     ),
     "pc_fcc_maxwell": Reference(
         0.5,
-        0.0,
+        None,
         "Maxwell's count for bond-diluted FCC: z = 12 neighbours, rigidity needs a mean "
         "coordination 2d = 6, so p = 6/12 (mean field; exact for the count, not the threshold)",
     ),
