@@ -78,6 +78,22 @@ LITERATURE = {
         "C. Moukarzel and P. M. Duxbury, Phys. Rev. E 59, 2614 (1999), arXiv:cond-mat/9702249",
         "generic rigidity algorithm on lattices up to L = 4096",
     ),
+    "pc_fcc_chubynsky_thorpe": LiteratureValue(
+        "rigidity threshold p_c of the bond-diluted FCC lattice (central forces)",
+        0.495,
+        None,
+        "M. V. Chubynsky and M. F. Thorpe, Phys. Rev. E 76, 041135 (2007), arXiv:cond-mat/0702635",
+        "a 3D pebble game, argued to be essentially exact for bond-diluted FCC; a first-order "
+        "transition. The value as quoted by a secondary source (not read in the paper's text)",
+    ),
+    "pc_fcc_maxwell": LiteratureValue(
+        "mean-field (Maxwell counting) rigidity threshold of the FCC lattice",
+        0.5,
+        None,
+        "J. C. Maxwell, Phil. Mag. 27, 294 (1864); constraint counting z = 2d = 6 of z_max = 12",
+        "a node has 3 degrees of freedom and each bond, shared by two nodes, removes one: "
+        "rigid when 12 p / 2 >= 3",
+    ),
     "pc_maxwell": LiteratureValue(
         "mean-field (Maxwell counting) rigidity threshold of the triangular lattice",
         2 / 3,

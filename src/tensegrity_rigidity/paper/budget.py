@@ -125,6 +125,16 @@ SWEEP_OVERHEAD_SECONDS = 1.2
 #   fig1c rate (9 s for 20 fits and 20 contour slopes): 2.7 s.
 ANALYSIS_SECONDS = {"fig1b": 1.0, "fig1c": 9.0, "fig2": 1.0, "fig3": 0.0, "fig4": 2.0}
 ANALYSIS_SECONDS |= {"method": 14.0, "fss": 2.7, "delta": 2.7}
+# THRESHOLD_SECONDS_3D, RODS_THRESHOLD_SECONDS_3D: one threshold search along p_r on the FCC
+#   lattice (delta = 0.2, principal axes from the SO(3) sequence) at p_t = 0.3 (f_c = 0.5 under
+#   dilation, shear, compression; f_c = 1 under compression, dilation) and at p_t = 0 (dilation,
+#   shear), means of one run of 3, 2 and 1 samples at n = 4, 6, 8 (15, 10, 5 searches at p_t =
+#   0.3; 6, 4, 2 rods only) on one process each, two at a time beside other jobs on the 2-core
+#   machine. Beyond n = 8: the power law of n = 6 and 8 (n^4.7 at p_t = 0.3, n^2.5 rods only).
+THRESHOLD_SECONDS_3D = {4: 0.338, 6: 2.16, 8: 8.37}
+RODS_THRESHOLD_SECONDS_3D = {4: 0.148, 6: 0.485, 8: 0.99}
+#: the 3D study's analysis: per size 5 collapse fits and one critical point (fss's rate per size)
+ANALYSIS_SECONDS |= {"three_d": 2.7}
 
 # --------------------------------------------------------------------------- error bars
 #
@@ -230,6 +240,21 @@ def row_seconds(mode: str, n: int, p_t: float) -> tuple[float, bool]:
     raise InputError(
         f"unknown sweep mode {mode!r}; use 'threshold', 'pebble', 'grid', 'energy' or 'paper'"
     )
+
+
+def row_seconds_3d(mode: str, n: int, p_t: float) -> tuple[float, bool]:
+    """(mean seconds of one threshold row on the FCC lattice at size n and p_t, extrapolated?).
+
+    Rods only (``p_t = 0``) from :data:`RODS_THRESHOLD_SECONDS_3D`, otherwise
+    :data:`THRESHOLD_SECONDS_3D` scaled by the 2D :data:`THRESHOLD_PT_FACTOR` (1 at p_t = 0.3,
+    the only one-sided p_t the 3D study runs). Only threshold sweeps are priced in 3D.
+    """
+    if mode != "threshold":
+        raise InputError(f"no 3D cost model for {mode!r} sweeps; only 'threshold' is priced")
+    if p_t == 0.0:
+        return _power_law(RODS_THRESHOLD_SECONDS_3D, n)
+    t, ext = _power_law(THRESHOLD_SECONDS_3D, n)
+    return t * _factor(THRESHOLD_PT_FACTOR, p_t), ext
 
 
 def sigma_1(estimator: str, n: int) -> tuple[float, bool]:
@@ -419,7 +444,8 @@ def estimate(
                 mode = "energy"
             costs, ext = [], False
             for point, ks in chunks:
-                sec, e = row_seconds(mode, point.n, point.p_t)
+                price = row_seconds_3d if spec.lattice == "fcc" else row_seconds
+                sec, e = price(mode, point.n, point.p_t)
                 ext |= e
                 costs.append(sec * len(ks))
                 pk = spec.point_key(point)
@@ -456,6 +482,7 @@ def estimate(
 def _serial_seconds(study: str, scale: Scale) -> float:
     """In-process seconds of a study: its analysis, Fig. 3's trials, the two drawn samples."""
     per = {"fss": len(scale.fss_sizes), "delta": len(scale.deltas)}.get(study, 1)
+    per = len(scale.sizes_3d) if study == "three_d" else per
     sec = ANALYSIS_SECONDS[study] * per * scale.bootstrap / 100
     if study == "fig3":
         sec += 36 * scale.node_trials * NODE_TRIAL_SECONDS

@@ -86,12 +86,46 @@ REFERENCES = {
     "nu_jacobs_thorpe": Reference(
         1.21, 0.06, "Jacobs & Thorpe, Phys. Rev. Lett. 75, 4051 (1995): correlation-length exponent"
     ),
+    "pc_fcc_chubynsky_thorpe": Reference(
+        0.495,
+        None,
+        "Chubynsky & Thorpe, Phys. Rev. E 76, 041135 (2007), arXiv:cond-mat/0702635, "
+        "'Algorithms for three-dimensional rigidity analysis and a first-order percolation "
+        "transition': bond-diluted central-force FCC, a 3D pebble game they argue is "
+        "essentially exact there, and a first-order rigidity transition (the largest rigid "
+        "cluster jumps on a single bond). The abstract was read here; the value 0.495 is as "
+        "quoted from that paper by a secondary source (a public prior-art memo), not read in "
+        "its text: treat it as approximate, no error quoted",
+    ),
+    "pc_fcc_maxwell": Reference(
+        0.5,
+        None,
+        "Maxwell's count for bond-diluted FCC: z = 12 neighbours, rigidity needs a mean "
+        "coordination 2d = 6, so p = 6/12 (mean field; exact for the count, not the threshold)",
+    ),
     "nu_moukarzel_duxbury": Reference(
         1.16,
         0.03,
         "Moukarzel & Duxbury, Phys. Rev. E 59, 2614 (1999), arXiv:cond-mat/9702249: generic "
         "rigidity percolation on lattices up to L = 4096",
     ),
+}
+
+
+#: our own 2D values of the quantities the 3D study measures (paper.studies.three_d), set
+#: beside the 3D ones in the report: the n -> infinity extrapolations of the committed
+#: finite-size report, reports/fss/tables/fss_extrapolated.csv (commit 258fea6; n = 8 to 64,
+#: rods-only p_c from n = 8 to 64 with 4000 to 100 samples), column y_inf (nu fitted, 0.58)
+TWO_D_OURS = {
+    key: Reference(value, error, "reports/fss/tables/fss_extrapolated.csv (258fea6), y_inf")
+    for key, value, error in (
+        ("rods_only_pc", 0.657684, 0.001369),
+        ("st_sr_half_dilation", 0.499619, 0.002437),
+        ("st_sr_half_shear", 0.499855, 0.002387),
+        ("st_sr_half_compression", 0.499686, 0.002364),
+        ("st_sr_cables_compression", 0.466844, 0.004954),
+        ("st_sr_cables_dilation", 0.539143, 0.011472),
+    )
 }
 
 

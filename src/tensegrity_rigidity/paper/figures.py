@@ -38,6 +38,7 @@ if TYPE_CHECKING:
         Fig3Result,
         Fig4Result,
     )
+    from .studies.three_d import ThreeDResult
 
 #: one style for every figure: sizes a journal column takes, the palette, no top and right spines
 STYLE: dict[Any, Any] = {
@@ -600,6 +601,99 @@ def fig_clusters(r: FiniteSizeResult, figdir: Path):
     return _save(fig, figdir, "RC")
 
 
+#: the panels of Fig. 3D: (2D claim keys, legend labels, y label)
+PANELS_3D = (
+    (("rods_only_pc",), ("rods only",), "rods-only P = 1/2 point"),
+    (
+        ("st_sr_half_dilation", "st_sr_half_shear", "st_sr_half_compression"),
+        ("dilation", "shear", "compression"),
+        "S_t / S_r at f_c = 0.5",
+    ),
+    (
+        ("st_sr_cables_compression", "st_sr_cables_dilation"),
+        ("compression", "dilation"),
+        "S_t / S_r of rods + cables",
+    ),
+)
+
+
+def fig_3d(r: ThreeDResult, figdir: Path):
+    """Beyond the paper, the FCC lattice: the rods-only P = 1/2 point, S_t/S_r at f_c = 0.5
+    per strain and of rods + cables under compression and dilation against n (log axis), with
+    the two extrapolations (dashed: y_inf + a n^(-1/nu), nu fitted to the rods-only points;
+    dotted: 1/nu = 3, a first-order shift; squares and diamonds at "inf"), our 2D values
+    extrapolated (dash-dot, grey band: one error) and the paper's 2D values (open stars at
+    "inf"; for the rods-only point the literature's 3D value and Maxwell's 1/2, grey lines);
+    last, where measured, the widths of the rods-only threshold distributions (log-log)."""
+    from .claims import REFERENCES, TWO_D_OURS
+    from .studies.three_d import KEYS_3D, NU_FIRST_ORDER, PC_3D_CHECK, PC_3D_MAXWELL
+
+    ex = r.extrapolated.set_index("key")
+    w = r.widths
+    widths = w is not None and np.isfinite(getattr(w, "nu", np.nan))
+    count = len(PANELS_3D) + widths
+    fig, axes = plt.subplots(1, count, figsize=(4.6 * count, 4.0), squeeze=False)
+    flat = list(axes.ravel())
+    fig.subplots_adjust(wspace=0.32)
+    sizes = np.unique(r.by_size.n.to_numpy(float))
+    n_inf = 2.5 * sizes.max()
+    nu = ex.loc["rods_only_pc"].nu if "rods_only_pc" in ex.index else np.nan
+    for ax, (keys, labels, ylabel) in zip(flat, PANELS_3D, strict=False):
+        for i, (key, label) in enumerate(zip(keys, labels, strict=True)):
+            if key not in KEYS_3D or key not in ex.index:
+                continue
+            s = r.by_size[r.by_size.key == key].sort_values("n")
+            n = s.n.to_numpy(float)
+            dx = 1.0 + 0.03 * (i - (len(keys) - 1) / 2)  # side by side on the log axis
+            strain = label if label in STRAIN_COLOURS else None
+            colour = STRAIN_COLOURS[strain] if strain else CYCLE[i]
+            ax.errorbar(n * dx, s.value, yerr=s.err, marker="o", capsize=3, color=colour,
+                        label=f"{label} (3D)")  # fmt: skip
+            f = ex.loc[key]
+            ns = np.geomspace(n.min(), n_inf, 60)
+            for y_inf, err, nu_, ls, mark in (
+                (f.y_inf, f.y_inf_err, nu, "--", "s"),
+                (f.y_inf_first_order, f.y_inf_first_order_err, NU_FIRST_ORDER, ":", "D"),
+            ):
+                if not (np.isfinite(y_inf) and np.isfinite(nu_)):
+                    continue
+                # the fit's amplitude from its points (display only: the study fits it)
+                wts = 1 / s.err.to_numpy(float) ** 2
+                x = n ** (-1 / nu_)
+                a = np.sum(wts * x * (s.value.to_numpy(float) - y_inf)) / np.sum(wts * x * x)
+                ax.plot(ns, y_inf + a * ns ** (-1 / nu_), ls, color=colour, lw=1)
+                ax.errorbar([n_inf * dx], [y_inf], yerr=[err], fmt=mark, color=colour,
+                            capsize=3, mfc="none" if mark == "D" else colour)  # fmt: skip
+            two = TWO_D_OURS[key]
+            if key != "rods_only_pc":  # the 2D threshold (0.66) would flatten the 3D points
+                ax.axhline(two.value, color=colour, ls="-.", lw=0.9, alpha=0.8)
+                ax.axhspan(two.value - (two.error or 0), two.value + (two.error or 0),
+                           color="grey", alpha=0.12, lw=0)  # fmt: skip
+            if key != "rods_only_pc" and CLAIMS[key].value is not None:
+                ax.plot([n_inf * dx * 1.12], [CLAIMS[key].value], color=colour, **PAPER_MARKER)
+        if keys[0] == "rods_only_pc":
+            ax.axhline(PC_3D_CHECK.value, color="grey", ls="--", lw=0.8)
+            ax.axhline(PC_3D_MAXWELL.value, color="grey", ls=":", lw=0.8)
+            ax.text(0.02, 0.02, f"2D: ours {two.value:.4f}, Jacobs & Thorpe "
+                    f"{REFERENCES['pc_jacobs_thorpe'].value:g} (off this axis)",
+                    transform=ax.transAxes, fontsize=7)  # fmt: skip
+        ax.set_xscale("log")
+        ax.set_xticks([*sizes, n_inf], [*(f"{v:g}" for v in sizes), "inf"])
+        ax.xaxis.set_minor_locator(NullLocator())
+        ax.set_xlabel("FCC n")
+        ax.set_ylabel(ylabel)
+        ax.legend(fontsize=7)
+    flat[0].set_title(
+        "3D  dash-dot: ours in 2D (n -> inf); stars: the paper in 2D; grey: "
+        f"{PC_3D_CHECK.value:g} (lit., 3D), 1/2 (Maxwell)",
+        fontsize=8,
+        loc="left",
+    )
+    if widths:
+        _width_panel(flat[count - 1], w)
+    return _save(fig, figdir, "3D")
+
+
 def all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
     """Draw every figure in :data:`STYLE`; returns {figure id: [png, svg]}."""
     with plt.rc_context(STYLE):
@@ -630,4 +724,6 @@ def _all_figures(results: dict, figdir: Path) -> dict[str, list[Path]]:
         out["FS"] = fig_fss(results["fss"], figdir)
         if results["fss"].fractal is not None:
             out["RC"] = fig_clusters(results["fss"], figdir)
+    if "three_d" in results:
+        out["3D"] = fig_3d(results["three_d"], figdir)
     return out

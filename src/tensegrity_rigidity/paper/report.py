@@ -32,6 +32,7 @@ from .comparison import (
 )
 from .finite_size import NU_CHECK, PC_CHECK, nu_dependent
 from .render import to_html, to_markdown
+from .report_3d import three_d_section
 from .studies import ENERGY_BRACKETED
 from .studies.rows import undecided_by_kind
 
@@ -68,6 +69,13 @@ FIGURE_CAPTIONS = {
     "of taut cables at p_crit. Beside the rods-only point, log-log, the standard deviation of "
     "the rods-only thresholds against n with its fitted n^(-1/nu), and p_c from the P = 1/2 "
     "point against that width.",
+    "3D": "Not in the paper: the FCC lattice in 3D against n (log axis). The rods-only P = 1/2 "
+    "point (grey: the literature's 3D value, dashed, and Maxwell's 1/2, dotted; the 2D values "
+    "written in the panel), S_t/S_r at f_c = 0.5 per strain, and S_t/S_r of rods + cables under "
+    "compression and dilation; fits y_inf + a n^(-1/nu) with nu fitted to the rods-only "
+    "points (dashed, squares at 'inf') and with 1/nu = 3 (dotted, open diamonds); dash-dot "
+    "lines with grey bands: ours in 2D extrapolated (reports/fss); open stars: the paper's 2D "
+    "values. Last panel: the widths of the rods-only threshold distributions, log-log.",
 }
 
 
@@ -127,6 +135,12 @@ def tables_of(results: dict) -> dict[str, pd.DataFrame]:
             extra["pc_cluster_masses"] = results["fss"].fractal_by_size
     if "delta" in results:
         extra["delta_by_delta"] = results["delta"].by_delta
+    if "three_d" in results:
+        from .studies.three_d import beside_2d
+
+        extra["three_d_by_size"] = results["three_d"].by_size
+        extra["three_d_extrapolated"] = results["three_d"].extrapolated
+        extra["three_d_beside_2d"] = beside_2d(results["three_d"])
     if "method" in results:
         extra["method_disagreement"] = results["method"].disagreement
         extra["method_claims"] = results["method"].claims
@@ -577,6 +591,8 @@ def sections_of(results: dict) -> list[Section]:
             out.append(clusters_section(results["fss"]))
     if "delta" in results:
         out.append(delta_section(results["delta"]))
+    if "three_d" in results:
+        out.append(three_d_section(results["three_d"]))
     return out
 
 
@@ -726,6 +742,11 @@ def report_blocks(
             f"{n_agree} claims agree, {n_dis} do not"
             + (f", {n_inc} are inconclusive at this precision" if n_inc else "")
             + f" ({len(rows) - shared} independent comparisons of {len(rows)})."
+        )
+    elif set(results) == {"three_d"}:
+        intro += (
+            "This scale runs the 3D study beyond the paper only: the paper's questions asked "
+            "of the FCC lattice, beside the 2D values, in its section below."
         )
     else:
         intro += (

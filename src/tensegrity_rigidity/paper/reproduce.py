@@ -34,6 +34,10 @@ EXPECTED = {
     "pc": "the rods-only study by the pebble game (n = 32 to 512; p_c, nu, fractal dimensions): "
     "53 minutes measured on 2 cores shared with other jobs (load average 15 to 20), 48 samples "
     "at n = 512 (estimated 8 minutes on idle cores)",
+    "3d": "beyond the paper, the disordered FCC lattice in 3D (n = 4 to 10, rods-only "
+    "thresholds to 12): 74 minutes measured in three invocations beside other runs (load 10 to "
+    "20 on 2 cores; estimated 29 minutes)",
+    "tiny-3d": "the 3D study at n = 2, 3, 4 with a few samples: about 15 seconds",
     "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 62 CPU hours "
     "(--estimate --workers N gives the wall time on N workers)",
 }

@@ -92,6 +92,11 @@ class Scale:
     # (None: the first ENERGY_SAMPLES of the size's samples_fss at most)
     samples_energy: int | tuple[int, ...] | None = None
     budget_minutes: float | None = None  # the estimated wall time on 2 workers stays below
+    # the 3D study (studies.three_d): sizes of the FCC lattice and samples per point at each
+    # (one count per size), and (n, samples) of its rods-only thresholds (sizes may go beyond)
+    sizes_3d: tuple[int, ...] = ()
+    samples_3d: tuple[int, ...] = ()
+    pc_3d: tuple[tuple[int, int], ...] = ()
 
     def __post_init__(self):
         if isinstance(self.samples_fss, tuple) and len(self.samples_fss) != len(self.fss_sizes):
@@ -106,6 +111,10 @@ class Scale:
                 f"scale {self.name}: samples_energy has {len(self.samples_energy)} counts for "
                 f"{len(self.fss_sizes)} sizes"
             )
+
+    def samples_3d_at(self, n: int) -> int:
+        """Samples per point of the 3D study at size ``n`` (0 for a size it has not)."""
+        return dict(zip(self.sizes_3d, self.samples_3d, strict=True)).get(n, 0)
 
     @property
     def pc_sizes(self) -> tuple[int, ...]:
@@ -233,6 +242,20 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #: search they take 53 s on average (median 12 s), and n = 128 has 64 samples (error 0.00045;
 #: 57 min of CPU). n = 128 stays out of the fss scale, which stays within its budget without
 #: it, and is in pc and fss-cluster.
+#: 3d (studies.three_d, the FCC lattice; 29 min on 2 workers by the estimate): per size 5
+#:   threshold searches at p_t = 0.3 and 2 rods-only ones per sample, priced by a run of a few
+#:   samples (paper.budget: 0.34, 2.2, 8.4 s at p_t = 0.3 and n = 4, 6, 8, ~24 s at 10
+#:   extrapolated). Counts fall with n so that the sizes cost about the same (7 to 20 CPU min
+#:   up to n = 8). It was first set at 32 samples at n = 8, 16 at n = 10 and 48 rods-only
+#:   at n = 12 (43 min estimated); on a machine shared with other runs (load 10 to 20 on 2
+#:   cores) every row took 2.2 to 3 times its estimate, and the counts were cut twice to
+#:   finish within the session: n = 8 to 24 samples, n = 10 to 6 (rods-only: 48) and n = 12
+#:   to 16 rods-only thresholds. S_t/S_r's error at n = 10 with 6 samples is about 0.02 if one
+#:   3D sample scatters as one 2D sample of as many nodes (0.05 at 2D n = 32; FCC n = 10 has
+#:   1000 nodes).
+SIZES_3D = (4, 6, 8, 10)
+SAMPLES_3D = (160, 64, 24, 6)
+PC_3D = ((4, 640), (6, 320), (8, 160), (10, 48), (12, 16))
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 FSS_PC_NO_128 = FSS_PC[:-1]
 #: (n, samples) of the pc scale's pebble-game thresholds (one pass each, priced by
@@ -273,6 +296,16 @@ SCALES = {
     "pc": Scale(
         name="pc", bootstrap=200, fss_sizes=(), samples_fss=(), fss_pc=PC_PEBBLE,
         pc_method="pebble", studies=("fss",), budget_minutes=60,
+    ),
+    "3d": Scale(
+        name="3d", bootstrap=200, fss_sizes=(), samples_fss=(),
+        sizes_3d=SIZES_3D, samples_3d=SAMPLES_3D, pc_3d=PC_3D,
+        studies=("three_d",), budget_minutes=60,
+    ),
+    "tiny-3d": Scale(
+        name="tiny-3d", bootstrap=10, fss_sizes=(), samples_fss=(),
+        sizes_3d=(2, 3, 4), samples_3d=(4, 3, 2), pc_3d=((2, 8), (3, 6), (4, 3)),
+        studies=("three_d",), budget_minutes=1,
     ),
     "fss-cluster": Scale(
         name="fss-cluster", bootstrap=200,

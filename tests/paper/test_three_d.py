@@ -1,0 +1,144 @@
+"""The 3D study beyond the paper (FCC): its sweeps, its analysis on a tiny run, its report."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tensegrity_rigidity.ensemble.spec import parse_spec
+from tensegrity_rigidity.errors import InputError
+from tensegrity_rigidity.paper import budget
+from tensegrity_rigidity.paper.claims import CLAIMS, REFERENCES, TWO_D_OURS
+from tensegrity_rigidity.paper.comparison import compare
+from tensegrity_rigidity.paper.figures import fig_3d
+from tensegrity_rigidity.paper.registry import STUDIES, SWEEPS
+from tensegrity_rigidity.paper.report import sections_of, tables_of
+from tensegrity_rigidity.paper.report_3d import three_d_tables
+from tensegrity_rigidity.paper.reproduce import EXPECTED
+from tensegrity_rigidity.paper.studies import SCALES, three_d
+
+from .conftest import SERIAL
+
+TINY_3D = SCALES["tiny-3d"]
+REPORTS = Path(__file__).parents[2] / "reports"
+
+
+@pytest.fixture(scope="module")
+def tiny_3d(tmp_path_factory):
+    """The 3D study at the tiny-3d scale (n = 2, 3, 4; a few samples), run once, serially."""
+    out = tmp_path_factory.mktemp("three_d")
+    return three_d.study(out, TINY_3D, **SERIAL)
+
+
+def test_the_study_is_registered_and_runs_at_its_scales():
+    assert STUDIES["three_d"] is three_d.study and SWEEPS["three_d"] is three_d.sweeps
+    assert SCALES["3d"].studies == ("three_d",)
+    assert SCALES["3d"].sizes_3d == (4, 6, 8, 10)
+
+
+def test_sweeps_share_samples_per_size_and_read_rods_under_compression_from_dilation():
+    specs = three_d.sweeps(SCALES["3d"])
+    # per size: rods (dilation), rods (shear), f_c = 0.5 (3 strains), cables (2 strains)
+    for n in SCALES["3d"].sizes_3d:
+        names = [k for k in specs if k.endswith(f"_n{n}")]
+        assert names == [f"fcc_rods_n{n}", f"fcc_rods_shear_n{n}", f"fcc_half_n{n}",
+                         f"fcc_cables_n{n}"]  # fmt: skip
+        for name in names:
+            spec = parse_spec(specs[name])
+            assert spec.lattice == "fcc" and specs[name]["seed"] == three_d.SEED_3D
+        assert specs[f"fcc_rods_n{n}"]["phi"] == [three_d.DILATION]
+        assert specs[f"fcc_half_n{n}"]["samples"] == SCALES["3d"].samples_3d_at(n)
+        assert specs[f"fcc_rods_n{n}"]["samples"] >= specs[f"fcc_half_n{n}"]["samples"]
+    # a size only in pc_3d gets the rods-only sweep only, last
+    assert list(specs)[-1] == "fcc_rods_n12"
+    assert not any(k.endswith("_n12") for k in list(specs)[:-1])
+
+
+def test_the_3d_budget_prices_thresholds_only_and_the_scale_fits():
+    t8, ext = budget.row_seconds_3d("threshold", 8, 0.3)
+    assert t8 == budget.THRESHOLD_SECONDS_3D[8] and not ext
+    r8, _ = budget.row_seconds_3d("threshold", 8, 0.0)
+    assert r8 == budget.RODS_THRESHOLD_SECONDS_3D[8] < t8
+    assert budget.row_seconds_3d("threshold", 10, 0.3)[1]  # extrapolated
+    with pytest.raises(InputError):
+        budget.row_seconds_3d("grid", 8, 0.3)
+    est = budget.estimate("3d", workers=2)
+    assert {s.n for s in est.sweeps} == {4, 6, 8, 10, 12}
+    assert 0 < est.wall_seconds <= 60 * SCALES["3d"].budget_minutes
+    # the 3D rows cost more than 2D rows of the same n would
+    twod = budget.row_seconds("threshold", 8, 0.3)[0]
+    assert sum(s.cpu_seconds for s in est.sweeps if s.n == 8) > 100 * twod
+
+
+def test_analysis_gives_every_quantity_at_every_size(tiny_3d):
+    r = tiny_3d
+    assert r.sizes == (2, 3, 4) and r.pc_sizes == (2, 3, 4)
+    assert r.pc_samples == (8, 6, 3)
+    for key in three_d.KEYS_3D:
+        rows = r.by_size[r.by_size.key == key]
+        assert sorted(rows.n) == [2, 3, 4], key
+        assert np.isfinite(rows.value).all() and (rows.err >= 0).all(), key
+    lam = r.by_size[r.by_size.key != "rods_only_pc"]
+    assert lam.value.between(0.0, 1.5).all() and lam.contour.between(0.0, 1.5).all()
+    # the collapse pairs each one-sided sweep with the same samples' rods-only thresholds
+    assert (lam.samples == lam.n.map(TINY_3D.samples_3d_at)).all()
+    pc = r.by_size[r.by_size.key == "rods_only_pc"]
+    assert pc.value.between(0.3, 0.7).all() and (pc.width > 0).all()
+    assert list(r.extrapolated.key) == list(three_d.KEYS_3D)
+    assert 0.0 <= r.strain_free <= 1.0 and 0.0 <= r.half_strain_free <= 1.0
+    assert sum(r.excluded.values()) >= 0 and set(r.excluded) == set(three_d.sweeps(TINY_3D))
+
+
+def test_measurements_are_not_the_papers_claims(tiny_3d):
+    """The 3D quantities carry keys of their own, so the comparison with the paper (2D) does not
+    list them; each extrapolation and each size is a measurement."""
+    keys = {m.claim for m in tiny_3d.measured}
+    assert keys == {three_d.key_3d(k) for k in three_d.KEYS_3D}
+    assert not keys & set(CLAIMS)
+    assert compare({"three_d": tiny_3d}) == []
+    ours = [m for m in tiny_3d.measured if m.factor == "ours"]
+    assert len(ours) == len(three_d.KEYS_3D)
+    sizes = [m for m in tiny_3d.measured if m.size is not None]
+    assert len(sizes) == len(tiny_3d.by_size)
+
+
+def test_stated_run_time_is_the_estimate():
+    minutes = round(budget.estimate("3d", workers=2).wall_seconds / 60)
+    assert f"estimated {minutes} minutes" in EXPECTED["3d"]
+
+
+def test_two_d_values_are_those_of_the_committed_finite_size_report():
+    """TWO_D_OURS restates reports/fss's extrapolations: a new report must update them."""
+    table = pd.read_csv(REPORTS / "fss" / "tables" / "fss_extrapolated.csv").set_index("key")
+    for key, ref in TWO_D_OURS.items():
+        assert ref.value == pytest.approx(table.loc[key].y_inf, abs=5e-7), key
+        assert ref.error == pytest.approx(table.loc[key].y_inf_err, abs=5e-7), key
+    assert set(three_d.KEYS_3D) <= set(TWO_D_OURS)
+
+
+def test_beside_2d_and_the_report_section(tiny_3d, tmp_path):
+    b = three_d.beside_2d(tiny_3d)
+    assert list(b.key) == list(three_d.KEYS_3D)
+    assert (b.n_max == 4).all()
+    row = b.set_index("key").loc["st_sr_cables_compression"]
+    assert row.paper_2d == CLAIMS["st_sr_cables_compression"].paper
+    assert row.ours_2d == TWO_D_OURS["st_sr_cables_compression"].value
+    z = abs(row.largest - row.ours_2d) / math.hypot(row.largest_err, row.ours_2d_err)
+    assert row.z_2d == pytest.approx(z)
+    (section,) = sections_of({"three_d": tiny_3d})
+    text = " ".join(section.paragraphs)
+    literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
+    assert "Chubynsky & Thorpe" in text and f"{literature:g}" in text
+    assert "37 %" in text and "1/nu = 3" in text
+    wide, side = three_d_tables(tiny_3d)
+    assert list(wide.columns) == ["quantity", "n = 2", "n = 3", "n = 4"]
+    assert len(wide) == len(side) == len(three_d.KEYS_3D)
+    assert {"three_d_by_size", "three_d_extrapolated", "three_d_beside_2d"} <= set(
+        tables_of({"three_d": tiny_3d})
+    )
+    png, svg = fig_3d(tiny_3d, tmp_path)
+    assert png.stat().st_size > 0 and svg.exists()
