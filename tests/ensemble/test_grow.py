@@ -187,3 +187,22 @@ def test_every_field_of_the_solver_options_is_part_of_the_digest():
         changed = _changed(opts, path)
         assert isinstance(changed, SolverOptions)
         assert _digest(solver_settings(changed)) != before, path
+
+
+def test_a_pebble_sweep_does_not_depend_on_the_solver_options():
+    """The pebble game uses no solver option, so a change to one leaves a pebble sweep's
+    digest (and its stored rows) as they were, while an LP threshold sweep's changes."""
+    import tomllib
+
+    from tensegrity_rigidity.ensemble.spec import parse_spec
+
+    base = 'n = 8\np_t = 0.0\nf_c = 0.5\nphi = "dilation"\nsamples = 2\n'
+    pebble = base + '[threshold]\npath = "p_r"\nmethod = "pebble"\n'
+    lp = base + '[threshold]\npath = "p_r"\n'
+    looser = "[solver]\nviolation_tol = 2e-9\n"
+
+    def digest(text):
+        return parse_spec(tomllib.loads(text)).settings_digest()
+
+    assert digest(pebble) == digest(pebble + looser)
+    assert digest(lp) != digest(lp + looser)

@@ -323,9 +323,11 @@ class Spec:
         -------
         dict
             ``mode``, ``threshold_path``, ``lattice``, ``gamma``, ``angles``, ``verdict``,
-            ``solver``, ``search`` (and ``threshold_method`` when it is not ``"lp"``).
+            ``solver`` (and ``threshold_method`` when it is not ``"lp"``). A
+            pebble-game sweep records ``solver`` as ``None``: no solver option can change its
+            rows, so a change to the solver leaves them current.
         """
-        opts = self.solver_options()
+        pebble = self.threshold is not None and self.threshold.get("method") == "pebble"
         return {
             "mode": self.mode,
             "threshold_path": None if self.threshold is None else self.threshold["path"],
@@ -339,7 +341,7 @@ class Spec:
             "angles": self.angles,
             "verdict": self.verdict,
             # the options as a whole: any field, however deep, is part of the digest
-            "solver": solver_settings(opts),
+            "solver": None if pebble else solver_settings(self.solver_options()),
         }
 
     def settings_digest(self) -> str:
