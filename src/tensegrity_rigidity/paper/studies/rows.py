@@ -241,11 +241,11 @@ def undecided_by_kind(studies: Path) -> pd.DataFrame:
             continue
         if "threshold_undecided" in rows:
             counted, undecided = "probes", int(rows.threshold_undecided.sum())
-            if "threshold_not_resolved" in rows:
-                not_resolved = int(rows.threshold_not_resolved.fillna(0).sum())
-                within = undecided - not_resolved
-            else:
-                within = not_resolved = 0
+            # rows stored before the kinds were recorded have no count: neither kind
+            recorded = rows.get("threshold_not_resolved", pd.Series(np.nan, index=rows.index))
+            known = recorded.notna()
+            not_resolved = int(recorded[known].sum())
+            within = int(rows.threshold_undecided[known].sum()) - not_resolved
         else:
             counted, undecided = "rows", int((~rows.decided.astype(bool)).sum())
             reason = rows.get("undecided_reason", pd.Series("", index=rows.index))
