@@ -11,25 +11,29 @@ import pandas as pd
 import pytest
 
 from tensegrity_rigidity.ensemble.sweep import load_results
-from tensegrity_rigidity.paper import finite_size as fs
+from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
 from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS, REPLICATION, Measurement
 from tensegrity_rigidity.paper.comparison import _evidence
 from tensegrity_rigidity.paper.figures import fig_fss, fss_panels
-from tensegrity_rigidity.paper.report import _pc_smallest, fss_section
+from tensegrity_rigidity.paper.report_fss import _pc_smallest, fss_section
 from tensegrity_rigidity.paper.reproduce import reproduce
 from tensegrity_rigidity.paper.studies import SCALES
+from tensegrity_rigidity.paper.studies import delta as dm
+from tensegrity_rigidity.paper.studies import fss as fsm
+from tensegrity_rigidity.paper.studies import headline as hl
+from tensegrity_rigidity.paper.studies.rows import load_sweeps
 
 from .conftest import SERIAL, TINY
 
 KEYS = (
     {"rods_only_pc", "taut_cables_transition"}
-    | {k for k, _, _ in fs.LAMBDA_CLAIMS}
+    | {k for k, _, _ in hl.LAMBDA_CLAIMS}
     | {
         f"{c}_{s}_{p}"
         for c in ("p_crit", "alpha")
         for s in ("compression", "dilation")
-        for p in fs.PT4
+        for p in hl.PT4
     }
 )
 
@@ -38,8 +42,8 @@ KEYS = (
 def runs(tiny_out):
     """Both studies on the session's tiny reproduction (their sweeps resume)."""
     return (
-        fs.study_fss(tiny_out, TINY, **SERIAL),
-        fs.study_delta(tiny_out, TINY, **SERIAL),
+        fsm.study(tiny_out, TINY, **SERIAL),
+        dm.study(tiny_out, TINY, **SERIAL),
         tiny_out,
     )
 
@@ -69,9 +73,9 @@ def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     assert {m.factor for m in fss.measured} == {"finite size", REPLICATION}
     # the second reading: nu fixed at the literature's value, reported beside the free fit
     check = fss.pc_at_check_nu
-    assert check is not None and check.nu_fixed and check.nu == fs.NU_CHECK.value
+    assert check is not None and check.nu_fixed and check.nu == hl.NU_CHECK.value
     assert check.dof == len(TINY.pc_sizes) - 2
-    assert fss.nu_at_bound == bool(np.any(np.isclose(1 / pc.nu, fs.an.THETA)))
+    assert fss.nu_at_bound == bool(np.any(np.isclose(1 / pc.nu, hl.an.THETA)))
     # the third: the threshold distributions' widths, no exponent fitted
     w = fss.pc_widths
     assert w is not None and list(w.n) == list(TINY.pc_sizes)
@@ -84,7 +88,7 @@ def test_the_fixed_nu_reading_recovers_a_known_threshold():
     n = np.array([8.0, 16.0, 32.0, 64.0])
     err = np.full(4, 1e-3)
     y = 0.66027 - 0.1 * n ** (-1 / 1.16) + err * np.array([0.5, -0.8, 0.3, 0.9])
-    fit = fs.an.fit_finite_size(n, y, err, nu=fs.NU_CHECK.value, nu_err=fs.NU_CHECK.error)
+    fit = hl.an.fit_finite_size(n, y, err, nu=hl.NU_CHECK.value, nu_err=hl.NU_CHECK.error)
     assert abs(fit.y_inf - 0.66027) < 2 * fit.y_inf_err < 0.01
 
 
@@ -110,7 +114,7 @@ def test_dropping_a_size_with_a_large_correction_recovers_the_threshold():
     n = np.array([8.0, 16.0, 32.0, 64.0, 128.0])
     err = np.full(5, 1e-4)
     y = 0.66027 - 0.06 * n ** (-1 / 1.16) - 2.0 * n**-3.0
-    t = fs.pc_by_smallest_size(n, y, err).set_index("n_min")
+    t = fsm.pc_by_smallest_size(n, y, err, TINY).set_index("n_min")
     assert t.z_fixed.loc[8] > 3 and t.chi2_fixed.loc[8] > 10 * t.dof_fixed.loc[8]
     assert t.z_fixed.loc[8] > t.z_fixed.loc[16] > t.z_fixed.loc[32]
     assert t.z_fixed.loc[32] < 1
@@ -121,13 +125,17 @@ def test_rods_only_threshold_error_counts_samples_not_strains(runs):
     bootstrap draws samples (all their strains at once), not (sample, strain) rows."""
     _, _, out = runs
     n = TINY.fss_sizes[-1]
-    frame, _, _ = fs.headline(
-        out, n, fs.DEFAULT_DELTA, TINY.fss_samples(n), TINY.fss_energy_samples(n), 20, **SERIAL
-    )
-    rods = load_results(out / "studies" / f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods")
+    specs = hl.headline_sweeps(n, DEFAULT_DELTA, TINY.fss_samples(n))
+    specs |= hl.energy_sweeps(n, DEFAULT_DELTA, count=TINY.fss_energy_samples(n))
+    rows = load_sweeps(out, specs, energy=hl.energy_names(specs), **SERIAL)
+    frame, _, _ = hl.headline(
+        rows, n, DEFAULT_DELTA, replace(TINY, bootstrap=20),
+        samples=TINY.fss_samples(n), energy=TINY.fss_energy_samples(n),
+    )  # fmt: skip
+    rods = load_results(out / "studies" / f"headline_n{n}_delta{DEFAULT_DELTA:g}_rods")
     assert rods.phi.nunique() == 3
     got = frame.set_index("key").loc["rods_only_pc"]
-    value, err = fs.an.critical_point(
+    value, err = hl.an.critical_point(
         rods.threshold_p_r.to_numpy(), groups=rods["sample"].to_numpy()
     )
     assert (got.value, got.err) == (value, err)
@@ -138,9 +146,9 @@ def test_rods_only_sweeps_share_the_headline_samples(runs):
     threshold under the same strain."""
     _, _, out = runs
     n = TINY.fss_sizes[-1]
-    (name,) = fs.rods_pc_sweep(n, fs.DEFAULT_DELTA, 1)
+    (name,) = hl.rods_pc_sweep(n, DEFAULT_DELTA, 1)
     own = load_results(out / "studies" / name).set_index("sample")
-    rods = load_results(out / "studies" / f"headline_n{n}_delta{fs.DEFAULT_DELTA:g}_rods")
+    rods = load_results(out / "studies" / f"headline_n{n}_delta{DEFAULT_DELTA:g}_rods")
     head = rods[np.isclose(rods.phi, 0.0)].set_index("sample")
     common = own.index.intersection(head.index)
     assert len(common) == min(len(own), len(head)) > 0
@@ -168,7 +176,7 @@ def test_same_samples_across_the_sweeps_of_one_size(runs):
     rods = rods[["phi", "sample", "threshold_p_r"]]
     pcrit = load_results(out / "studies" / "headline_n8_delta0.2_pcrit")
     mixed = load_results(out / "studies" / "headline_n8_delta0.2_mixed")
-    assert set(np.round(mixed.p_t, 9)) == {fs.FIG1C_PT} and set(pcrit.f_c) == {1.0}
+    assert set(np.round(mixed.p_t, 9)) == {hl.FIG1C_PT} and set(pcrit.f_c) == {1.0}
     one_sided = pd.concat([pcrit[np.isclose(pcrit.p_t, 0.1)], mixed])
     for (f_c, p_t), sub in one_sided.groupby(["f_c", "p_t"]):
         joined = sub.merge(rods, on=["phi", "sample"], suffixes=("", "_rods"))
@@ -184,9 +192,9 @@ def test_the_two_studies_share_their_sweeps_where_they_meet():
     """n_delta among the sizes at the default delta: the same sweep names, so the delta study
     reads the first samples of the finite-size study's sweeps."""
     scale = studies.SCALES["fss"]
-    shared = set(fs.fss_sweeps(scale)) & set(fs.delta_sweeps(scale))
-    assert shared == set(fs.headline_sweeps(scale.n_delta, 0.2, 1)) | set(
-        fs.energy_sweeps(scale.n_delta, 0.2, count=1)
+    shared = set(fsm.sweeps(scale)) & set(dm.sweeps(scale))
+    assert shared == set(hl.headline_sweeps(scale.n_delta, 0.2, 1)) | set(
+        hl.energy_sweeps(scale.n_delta, 0.2, count=1)
     )
     assert scale.samples_delta <= scale.fss_samples(scale.n_delta)
 
@@ -194,8 +202,8 @@ def test_the_two_studies_share_their_sweeps_where_they_meet():
 def test_large_sizes_resume_in_small_chunks():
     """At n = 64 a threshold search takes about 48 s: chunks of 2 samples (1 at n = 128) keep
     an interruption's loss small; rows do not depend on the chunk size."""
-    assert fs.chunk_size(32) == 32 and fs.chunk_size(64) == 2 and fs.chunk_size(128) == 1
-    spec = fs.headline_sweeps(64, 0.2, 12)["headline_n64_delta0.2_rods"]
+    assert hl.chunk_size(32) == 32 and hl.chunk_size(64) == 2 and hl.chunk_size(128) == 1
+    spec = hl.headline_sweeps(64, 0.2, 12)["headline_n64_delta0.2_rods"]
     assert spec["output"]["chunk_size"] == 2
 
 
@@ -218,7 +226,7 @@ def test_the_rods_only_extrapolation_alone(runs, tmp_path):
         name="pc-tiny", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10, fss_sizes=(),
         samples_fss=(), fss_pc=TINY.fss_pc, studies=("fss",),
     )  # fmt: skip
-    r = fs.study_fss(tmp_path, pc_only, workers=studies.STORED, scheduler=None, progress=False)
+    r = fsm.study(tmp_path, pc_only, workers=studies.STORED, scheduler=None, progress=False)
     assert set(r.by_size.key) == {"rods_only_pc"}
     assert list(r.by_size.n) == [n for n, _ in TINY.fss_pc]
     assert list(r.by_size.samples) == [s for _, s in TINY.fss_pc]
@@ -237,11 +245,11 @@ def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():
     under compression, leaving out a rigid row whose energy is not certified."""
     crit, alpha, rows = {}, {}, []
     for phi, strain in ((np.pi, "compression"), (0.0, "dilation")):
-        for p_t in fs.PT4:
+        for p_t in hl.PT4:
             pc = 0.6 - p_t / 4
             crit[strain, p_t] = pd.DataFrame({"sample": range(3), "threshold_p_r": pc})
             alpha[strain, p_t] = 1.0 + p_t + (phi > 0) * 0.2
-            for p_r in fs.ENERGY_P_R:
+            for p_r in hl.ENERGY_P_R:
                 for k in range(3):
                     e = 2 * (p_r - pc) ** alpha[strain, p_t] if p_r > pc else 0.0
                     taut = 0.3 + 0.1 * p_t if k < 2 else 0.9  # the third is not certified
@@ -250,7 +258,9 @@ def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():
                          "energy": e, "energy_lower": e if k < 2 else 0.0,
                          "frac_cables_taut": taut if e > 0 else np.nan}
                     )  # fmt: skip
-    got = {r["key"]: r for r in fs.energy_claims(pd.DataFrame(rows), crit, 20)}
+    got = {
+        r["key"]: r for r in hl.energy_claims(pd.DataFrame(rows), crit, replace(TINY, bootstrap=20))
+    }
     for (strain, p_t), a in alpha.items():
         r = got[f"alpha_{strain}_{p_t}"]
         assert abs(r["value"] - a) < 1e-9 and r["err"] < 1e-6  # an exact power law
@@ -260,10 +270,10 @@ def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():
 
 
 def test_energy_sweeps_share_the_threshold_samples_without_displacements():
-    sweeps = fs.energy_sweeps(64, 0.2, count=24)
-    head = fs.headline_sweeps(64, 0.2, 400)["headline_n64_delta0.2_pcrit"]
-    assert len(sweeps) == len(fs.PT4)
-    for p_t, spec in zip(fs.PT4, sweeps.values(), strict=True):
+    sweeps = hl.energy_sweeps(64, 0.2, count=24)
+    head = hl.headline_sweeps(64, 0.2, 400)["headline_n64_delta0.2_pcrit"]
+    assert len(sweeps) == len(hl.PT4)
+    for p_t, spec in zip(hl.PT4, sweeps.values(), strict=True):
         assert (spec["seed"], spec["n"], spec["delta"]) == (head["seed"], 64, 0.2)
         assert spec["solver"] == {"min_norm": False} and spec["f_c"] == 1.0
         assert spec["samples"] == 24 and spec["p_t"] == p_t
@@ -283,7 +293,7 @@ def test_figure_fs_has_a_panel_per_kind_of_claim(runs, tmp_path):
         "energy exponent alpha, dilation",
         "taut cables at p_crit",
     ]
-    assert panels[2][0] == tuple(f"alpha_compression_{p_t}" for p_t in fs.PT4)
+    assert panels[2][0] == tuple(f"alpha_compression_{p_t}" for p_t in hl.PT4)
     assert all(p.exists() for p in fig_fss(fss, tmp_path))
     rods_only = SimpleNamespace(
         extrapolated=fss.extrapolated[fss.extrapolated.key == "rods_only_pc"]
@@ -326,7 +336,7 @@ def test_energy_grids_have_their_own_sample_count():
     grids read the first ENERGY_SAMPLES of its threshold samples at most."""
     fss = SCALES["fss"]
     assert fss.fss_samples(64) == 8 and fss.fss_energy_samples(64) == 24
-    sweeps = fs.fss_sweeps(fss)
+    sweeps = fsm.sweeps(fss)
     assert sweeps["energy_n64_delta0.2_pt0.2"]["samples"] == 24
     assert sweeps["headline_n64_delta0.2_pcrit"]["samples"] == 8
     assert [TINY.fss_energy_samples(n) for n in TINY.fss_sizes] == [
@@ -349,7 +359,7 @@ def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
     assert systems["alpha_dilation_0.2"].startswith(
         str(energy[0]) if len(set(energy)) == 1 else ", ".join(map(str, energy))
     )
-    assert fs.ENERGY_KEYS == {k for k in KEYS if k.startswith(("alpha", "taut"))}
+    assert hl.ENERGY_KEYS == {k for k in KEYS if k.startswith(("alpha", "taut"))}
     assert {m.claim for m in delta.measured} >= {"alpha_dilation_0.3"}
     # the rods-only p_c extrapolation quotes the counts of its own sweeps (fss_pc)
     pc = [TINY.pc_samples(n) for n in TINY.pc_sizes]
@@ -370,7 +380,7 @@ def test_every_claim_at_every_size_is_a_replication_of_that_size(runs):
         assert len(row) == 1 and m.value[0] == row.value.iloc[0] and m.err[0] == row.err.iloc[0]
         if m.claim == "rods_only_pc":
             count = dict(TINY.fss_pc)[m.size]
-        elif m.claim in fs.ENERGY_KEYS:
+        elif m.claim in hl.ENERGY_KEYS:
             count = TINY.fss_energy_samples(m.size)
         else:
             count = TINY.fss_samples(m.size)
@@ -431,10 +441,10 @@ def test_energy_exponent_lines_up_thresholds_and_energies_by_sample():
 
 
 def test_an_extrapolation_whose_form_does_not_fit_says_so():
-    assert fs.misfit(1.2, 2) == "" and fs.misfit(np.nan, 2) == "" and fs.misfit(30.0, 0) == ""
-    assert fs.misfit(92.6, 2) == " [chi-square 93 with 2 dof: the form does not fit these sizes]"
-    assert fs.misfit(9.0, 2) == ""  # p = 0.011
-    assert fs.misfit(9.3, 2) != ""  # p = 0.0096
+    assert fsm.misfit(1.2, 2) == "" and fsm.misfit(np.nan, 2) == "" and fsm.misfit(30.0, 0) == ""
+    assert fsm.misfit(92.6, 2) == " [chi-square 93 with 2 dof: the form does not fit these sizes]"
+    assert fsm.misfit(9.0, 2) == ""  # p = 0.011
+    assert fsm.misfit(9.3, 2) != ""  # p = 0.0096
 
 
 # ------------------------------------------------------- the extrapolations' dependence on nu
@@ -442,8 +452,8 @@ def test_an_extrapolation_whose_form_does_not_fit_says_so():
 SIZES = (8, 16, 32, 64)
 
 
-def _synthetic_fss(monkeypatch) -> tuple[fs.FiniteSizeResult, dict]:
-    """study_fss on synthetic per-size values (no sweeps): the rods-only point follows
+def _synthetic_fss() -> tuple[fsm.FiniteSizeResult, dict]:
+    """The extrapolations of synthetic per-size values (no sweeps): the rods-only point follows
     0.6602 - 0.3 n^(-1/0.6), so the free fit's nu is 0.6, far from the literature's 1.16;
     p_crit (compression, p_t = 0.1) follows 0.6 - 0.5 n^(-1/1.16), the paper's value reached
     only with the literature's nu."""
@@ -452,34 +462,34 @@ def _synthetic_fss(monkeypatch) -> tuple[fs.FiniteSizeResult, dict]:
         "rods_only_pc": (0.6602 - 0.3 * n ** (-1 / 0.6), np.full(n.size, 1e-4)),
         "p_crit_compression_0.1": (0.6 - 0.5 * n ** (-1 / 1.16), np.full(n.size, 1e-3)),
     }
-
-    def headline(out, size, delta, samples, energy, n_boot, **kw):
-        k = SIZES.index(size)
-        rows = [{"key": key, "value": y[k], "err": e[k]} for key, (y, e) in series.items()]
-        return pd.DataFrame(rows), {}, {}
-
-    monkeypatch.setattr(fs, "headline", headline)
+    by_size = pd.DataFrame(
+        [
+            {"key": key, "value": y[k], "err": e[k], "n": size}
+            for k, size in enumerate(SIZES)
+            for key, (y, e) in series.items()
+        ]
+    )
     scale = studies.Scale(
         name="synthetic", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10,
         fss_sizes=SIZES, samples_fss=10, studies=("fss",),
     )  # fmt: skip
-    return fs.study_fss(None, scale), series
+    return fsm.extrapolate(by_size, scale), series
 
 
-def test_every_claim_is_extrapolated_with_the_literature_nu_too(monkeypatch):
+def test_every_claim_is_extrapolated_with_the_literature_nu_too():
     """Beside the free fit's nu (0.6 here), each claim gets a second "finite size" measurement
     with nu fixed at 1.16 ± 0.03, labelled so: the fit with that nu, and its own columns."""
-    r, series = _synthetic_fss(monkeypatch)
+    r, series = _synthetic_fss()
     n = np.asarray(SIZES, float)
     ex = r.extrapolated.set_index("key")
     nu_free = ex.loc["rods_only_pc"].nu
     assert abs(nu_free - 0.6) < 0.01  # far from the literature's
     for key, (y, e) in series.items():
-        check = fs.an.fit_finite_size(n, y, e, nu=fs.NU_CHECK.value, nu_err=fs.NU_CHECK.error)
+        check = hl.an.fit_finite_size(n, y, e, nu=hl.NU_CHECK.value, nu_err=hl.NU_CHECK.error)
         row = ex.loc[key]
         assert (row.y_inf_nu_check, row.y_inf_nu_check_err) == (check.y_inf, check.y_inf_err)
         assert (row.chi2_nu_check, row.dof_nu_check) == (check.chi2, check.dof)
-        assert row.z_paper_nu_check == fs._z(key, check.y_inf, check.y_inf_err)
+        assert row.z_paper_nu_check == hl.z_paper(key, check.y_inf, check.y_inf_err)
         assert abs(row.y_inf - check.y_inf) > 5 * max(row.y_inf_err, check.y_inf_err)
         ms = [m for m in r.measured if m.claim == key and m.factor != REPLICATION]
         assert [m.factor for m in ms] == ["finite size", "finite size"]
@@ -493,16 +503,16 @@ def test_every_claim_is_extrapolated_with_the_literature_nu_too(monkeypatch):
     assert r.pc_at_check_nu.y_inf == ex.loc["rods_only_pc"].y_inf_nu_check
 
 
-def test_the_report_counts_the_claims_whose_verdict_depends_on_nu(monkeypatch):
+def test_the_report_counts_the_claims_whose_verdict_depends_on_nu():
     """p_crit agrees with the paper only with the literature's nu, the rods-only point only
     with the free one: both verdicts change, and the finite-size section says so."""
-    r, _ = _synthetic_fss(monkeypatch)
+    r, _ = _synthetic_fss()
     ex = r.extrapolated.set_index("key")
     assert ex.loc["p_crit_compression_0.1"].verdict_paper == "disagree"
     assert ex.loc["p_crit_compression_0.1"].verdict_paper_nu_check == "agree"
     assert ex.loc["rods_only_pc"].verdict_paper == "agree"
     assert ex.loc["rods_only_pc"].verdict_paper_nu_check == "disagree"
-    assert fs.nu_dependent(r.extrapolated) == (["rods_only_pc", "p_crit_compression_0.1"], 2)
+    assert fsm.nu_dependent(r.extrapolated) == (["rods_only_pc", "p_crit_compression_0.1"], 2)
     section = fss_section(r)
     text = " ".join(section.paragraphs)
     assert (
@@ -526,13 +536,13 @@ def test_free_fits_at_the_bound_of_nu_are_flagged():
     free fit ends at 1/nu = 1/3 (nu = 3); a well-determined series (nu = 1.16) is not flagged.
     The fit of two sizes is NaN, not at the bound."""
     n = np.array([8.0, 16.0, 32.0, 64.0])
-    t = fs.pc_by_smallest_size(n, 0.66 - 0.05 * n**-0.1, np.full(4, 1e-4))
+    t = fsm.pc_by_smallest_size(n, 0.66 - 0.05 * n**-0.1, np.full(4, 1e-4), TINY)
     assert list(t.nu_at_bound) == [True, True, False]
     assert np.allclose(t.nu.iloc[:2], 3.0) and np.isnan(t.nu.iloc[2])
     n5 = np.array([8.0, 16.0, 32.0, 64.0, 128.0])
     err = np.full(5, 1e-4)
     y = 0.66027 - 0.1 * n5 ** (-1 / 1.16) + err * np.array([0.5, -0.8, 0.3, 0.9, -0.4])
-    good = fs.pc_by_smallest_size(n5, y, err)
+    good = fsm.pc_by_smallest_size(n5, y, err, TINY)
     assert not good.nu_at_bound.any()
     assert abs(good.nu.iloc[0] - 1.16) < 0.1
 
@@ -543,7 +553,7 @@ def test_the_quoted_free_range_leaves_out_fits_at_the_bound_or_without_dof():
     n5 = np.array([8.0, 16.0, 32.0, 64.0, 128.0])
     err = np.full(5, 1e-4)
     y = 0.66027 - 0.1 * n5 ** (-1 / 1.16) + err * np.array([0.5, -0.8, 0.3, 0.9, -0.4])
-    t = fs.pc_by_smallest_size(n5, y, err)
+    t = fsm.pc_by_smallest_size(n5, y, err, TINY)
     assert list(t.dof.iloc[:3]) == [2, 1, 0]  # n >= 32: three sizes, three parameters
     kept = t.iloc[:2]
     text, _ = _pc_smallest(SimpleNamespace(pc_by_smallest=t))
@@ -551,7 +561,7 @@ def test_the_quoted_free_range_leaves_out_fits_at_the_bound_or_without_dof():
     assert f"{t.p_c.iloc[2]:.4f}" not in text  # the 0-dof fit's p_c, outside that range
     assert "(1 of the 3 free fits left out: 1 with 0 degrees of freedom" in text
     n = np.array([8.0, 16.0, 32.0, 64.0])
-    bound = fs.pc_by_smallest_size(n, 0.66 - 0.05 * n**-0.1, np.full(4, 1e-4))
+    bound = fsm.pc_by_smallest_size(n, 0.66 - 0.05 * n**-0.1, np.full(4, 1e-4), TINY)
     text, (table,) = _pc_smallest(SimpleNamespace(pc_by_smallest=bound))
     assert "ranges from" not in text
     assert "no range of p_c is quoted: 2 of the 2 free fits left out: 2 with nu at the bound" in (
@@ -570,12 +580,12 @@ PC_PEBBLE_TINY = studies.Scale(
 @pytest.fixture(scope="module")
 def pebble_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("pc-pebble")
-    return out, fs.study_fss(out, PC_PEBBLE_TINY, **SERIAL)
+    return out, fsm.study(out, PC_PEBBLE_TINY, **SERIAL)
 
 
 def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run, tmp_path):
     from tensegrity_rigidity.paper.figures import fig_clusters
-    from tensegrity_rigidity.paper.report import clusters_section
+    from tensegrity_rigidity.paper.report_fss import clusters_section
 
     out, r = pebble_run
     names = sorted(p.name for p in (out / "studies").iterdir())
@@ -593,7 +603,7 @@ def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run,
     pic = r.picture
     assert pic.n == 10 and pic.clusters.wraps  # the size nearest 64, just after its threshold
     assert pic.p_r == rows[rows["sample"] == 1].threshold_p_r.item()
-    assert fs.PICTURE_SAMPLE == 1 and pic.spanning.sites.size == rows.cluster_sites.iloc[0]
+    assert fsm.PICTURE_SAMPLE == 1 and pic.spanning.sites.size == rows.cluster_sites.iloc[0]
     assert all(p.exists() for p in fig_clusters(r, tmp_path))
     sec = clusters_section(r)
     text = " ".join(sec.paragraphs)
@@ -609,9 +619,9 @@ def test_the_fss_scale_keeps_its_bisection_thresholds():
     assert SCALES["pc"].pc_method == "pebble"
     for name in ("fss", "fss-cluster", "tiny"):
         assert SCALES[name].pc_method == "lp"
-    lp = fs.fss_sweeps(SCALES["fss"])
+    lp = fsm.sweeps(SCALES["fss"])
     assert all("pebble" not in k and "method" not in v.get("threshold", {}) for k, v in lp.items())
-    pc = fs.fss_sweeps(SCALES["pc"])
+    pc = fsm.sweeps(SCALES["pc"])
     assert all(k.startswith("rods_pc_pebble_n") for k in pc)
     assert all(v["threshold"]["method"] == "pebble" for v in pc.values())
     pc_sizes = dict(SCALES["pc"].fss_pc)

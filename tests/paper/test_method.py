@@ -7,9 +7,9 @@ import pandas as pd
 import pytest
 
 from tensegrity_rigidity.analysis import estimators as an
-from tensegrity_rigidity.paper import method
 from tensegrity_rigidity.paper.claims import CLAIMS
 from tensegrity_rigidity.paper.comparison import compare
+from tensegrity_rigidity.paper.studies import method
 
 from .conftest import SERIAL, TINY
 
@@ -17,7 +17,7 @@ from .conftest import SERIAL, TINY
 @pytest.fixture(scope="module")
 def result(tiny_out):
     """The method study on the session's tiny reproduction (its sweeps resume)."""
-    return method.study_method(tiny_out, TINY, **SERIAL)
+    return method.study(tiny_out, TINY, **SERIAL)
 
 
 def test_both_verdicts_on_every_sample(result):
@@ -50,7 +50,7 @@ def test_disagreement_on_a_constructed_frame():
             "affine_energy": [1.0] * 4,
         }
     )
-    d = method._disagreement(rows).set_index(["threshold", "region"])
+    d = method._disagreement(rows, 1000, TINY).set_index(["threshold", "region"])
     # at 1e-8: sample 3 (floppy, stopped at 1e-7) is called rigid, sample 4 (rigid) floppy
     row = d.loc[(1e-8, "all")]
     assert (row.differ, row.exact_floppy_paper_rigid, row.exact_rigid_paper_floppy) == (2, 1, 1)
@@ -89,7 +89,7 @@ def test_disagreement_interval_resamples_whole_samples():
     # 2 of 10 samples disagree at all their 50 points, the others never: 100 of 500 rows, but
     # only 10 independent samples; the row-wise Wilson interval is far too narrow
     rows = _frame(10, 50, lambda i: i in (1, 4))
-    d = method._disagreement(rows, n_boot=400)
+    d = method._disagreement(rows, 400, TINY)
     _, w_lo, w_hi = an.wilson(100, 500)
     for region in ("all", "0.1 <= P <= 0.9"):
         row = _main(d, region)
@@ -103,7 +103,7 @@ def test_disagreement_interval_resamples_whole_samples():
 def test_disagreement_interval_of_independent_rows_is_close_to_wilson():
     # one row per sample: the cluster bootstrap is the ordinary one, close to Wilson
     rows = _frame(400, 1, lambda i: i % 5 == 0)
-    row = _main(method._disagreement(rows, n_boot=1000))
+    row = _main(method._disagreement(rows, 1000, TINY))
     assert row.units == 400 and row.fraction == pytest.approx(0.2)
     ratio = (row.hi - row.lo) / (row.wilson_hi - row.wilson_lo)
     assert 0.7 < ratio < 1.3
@@ -113,29 +113,29 @@ def test_disagreement_interval_of_independent_rows_is_close_to_wilson():
 
 def test_disagreement_interval_is_reproducible():
     rows = _frame(12, 7, lambda i: i in (0, 3, 5))
-    a, b = method._disagreement(rows, n_boot=200), method._disagreement(rows, n_boot=200)
+    a, b = method._disagreement(rows, 200, TINY), method._disagreement(rows, 200, TINY)
     pd.testing.assert_frame_equal(a, b)
 
 
 def test_disagreement_interval_without_any_difference_bounds_over_samples():
     # the percentiles would collapse to [0, 0]: the bound counts samples, not rows
-    d = method._disagreement(_frame(20, 30, lambda i: False), n_boot=100)
+    d = method._disagreement(_frame(20, 30, lambda i: False), 100, TINY)
     row = _main(d)
     assert (row.differ, row.units, row.lo) == (0, 20, 0.0)
     assert row.hi == pytest.approx(1 - 0.05 ** (1 / 20))  # 0.139, against Wilson's 0.006
     assert row.hi > 10 * row.wilson_hi
     assert "no verdict differs" in row.interval_note
     # every verdict differs: the mirror image
-    row = _main(method._disagreement(_frame(20, 30, lambda i: True), n_boot=100))
+    row = _main(method._disagreement(_frame(20, 30, lambda i: True), 100, TINY))
     assert (row.lo, row.hi) == (pytest.approx(0.05 ** (1 / 20)), 1.0)
 
 
 def test_disagreement_interval_of_one_sample_or_none():
-    row = _main(method._disagreement(_frame(1, 40, lambda i: False), n_boot=100))
+    row = _main(method._disagreement(_frame(1, 40, lambda i: False), 100, TINY))
     assert (row.units, row.lo, row.hi) == (1, 0.0, 1.0)
     assert "one sample" in row.interval_note
     # one sample, P is 0 or 1 at every point: the near-transition region is empty
-    row = _main(method._disagreement(_frame(1, 40, lambda i: True), n_boot=100), "0.1 <= P <= 0.9")
+    row = _main(method._disagreement(_frame(1, 40, lambda i: True), 100, TINY), "0.1 <= P <= 0.9")
     assert row.units == 0 and np.isnan(row.lo) and np.isnan(row.hi)
     assert row.interval_note == "no samples in the region"
 

@@ -210,6 +210,12 @@ def critical_point(
     """
     t = np.asarray(thresholds, float)
     rng = rng or np.random.default_rng(1)
+    if groups is None and t.size >= 2:  # scipy draws the replicas ours would
+        res = stats.bootstrap(
+            (t,), median_threshold, n_resamples=n_boot, rng=rng, vectorized=False,
+            method="percentile",
+        )  # fmt: skip
+        return median_threshold(t), float(res.standard_error)
     boots = replicas(lambda idx: median_threshold(t[idx]), t.size, n_boot, rng, groups)
     return median_threshold(t), float(np.std(boots, ddof=1))
 

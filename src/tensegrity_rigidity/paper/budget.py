@@ -529,8 +529,8 @@ def expected_errors(scale: Scale | str) -> pd.DataFrame:
             }
         )
 
-    from .finite_size import LAMBDA_CLAIMS
     from .studies import FIG1C_PHI
+    from .studies.headline import LAMBDA_CLAIMS
 
     if "fig1c" in scale.studies:
         for key, _, _ in LAMBDA_CLAIMS:

@@ -29,7 +29,6 @@ from .plotting import OKABE_ITO as OKABE_ITO  # noqa: E402  (the palette, re-exp
 from .studies import PT4  # noqa: E402
 
 if TYPE_CHECKING:
-    from .finite_size import FiniteSizeResult
     from .studies import (
         DisplacementField,
         Fig1bResult,
@@ -38,6 +37,7 @@ if TYPE_CHECKING:
         Fig3Result,
         Fig4Result,
     )
+    from .studies.fss import FiniteSizeResult
     from .studies.three_d import ThreeDResult
 
 #: one style for every figure: sizes a journal column takes, the palette, no top and right spines
@@ -565,7 +565,7 @@ def fig_clusters(r: FiniteSizeResult, figdir: Path):
     just after its threshold event, its spanning rigid cluster and that cluster's stressed
     (overconstrained) sites coloured (:func:`~tensegrity_rigidity.paper.plotting.draw_clusters`);
     beside it, log-log, the mean masses (nodes) of both at the threshold against n with their
-    fitted ``n^d`` (:func:`~tensegrity_rigidity.paper.finite_size.fractal_dimensions`)."""
+    fitted ``n^d`` (:func:`~tensegrity_rigidity.paper.studies.fss.fractal_dimensions`)."""
     pic, fits, by = r.picture, r.fractal, r.fractal_by_size
     assert fits is not None and by is not None, "fig_clusters needs the pebble-game sweeps"
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 5.2))

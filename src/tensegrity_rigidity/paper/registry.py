@@ -1,9 +1,7 @@
 """Every study a reproduction can run, by name, and the sweeps each runs at a scale.
 
-The paper's figures (:mod:`~tensegrity_rigidity.paper.studies`), the paper's method beside ours
-(:mod:`~tensegrity_rigidity.paper.method`), finite size and node disorder
-(:mod:`~tensegrity_rigidity.paper.finite_size`), the 3D study beyond the paper
-(:mod:`~tensegrity_rigidity.paper.studies.three_d`). A
+The paper's figures, the paper's method beside ours, finite size and node disorder, and the 3D
+study beyond the paper: one module each in :mod:`~tensegrity_rigidity.paper.studies`. A
 :class:`~tensegrity_rigidity.paper.studies.Scale` names the studies it runs. :data:`SWEEPS`
 gives, per study, the function that returns its sweep specs at a scale (sweep name -> spec):
 the studies run exactly these, and :mod:`~tensegrity_rigidity.paper.budget` counts them.
@@ -11,14 +9,12 @@ the studies run exactly these, and :mod:`~tensegrity_rigidity.paper.budget` coun
 
 from __future__ import annotations
 
-from .finite_size import delta_sweeps, fss_sweeps, study_delta, study_fss
-from .method import method_sweeps, study_method
-from .studies import STUDIES as FIGURE_STUDIES
-from .studies import SWEEPS as FIGURE_SWEEPS
-from .studies import three_d
+from .studies import MODULES as FIGURE_MODULES
+from .studies import delta, fss, method, three_d
 
-STUDIES = {**FIGURE_STUDIES, "method": study_method, "fss": study_fss, "delta": study_delta}
-SWEEPS = {**FIGURE_SWEEPS, "method": method_sweeps, "fss": fss_sweeps, "delta": delta_sweeps}
-# beyond the paper: the disordered FCC lattice in 3D
-STUDIES["three_d"] = three_d.study
-SWEEPS["three_d"] = three_d.sweeps
+#: study name -> its module (``sweeps``, ``analyse``, ``claims``, ``study``)
+MODULES = {**FIGURE_MODULES, "method": method, "fss": fss, "delta": delta, "three_d": three_d}
+#: study name -> ``study(out, scale, **kw)``: run its sweeps and analyse them
+STUDIES = {name: module.study for name, module in MODULES.items()}
+#: study name -> the sweeps it runs at a scale (name -> spec)
+SWEEPS = {name: module.sweeps for name, module in MODULES.items()}

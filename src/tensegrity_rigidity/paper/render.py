@@ -13,6 +13,7 @@ from __future__ import annotations
 import base64
 import html
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
@@ -29,6 +30,16 @@ STYLE = (
     "nav{background:#f4f4f4;padding:0.4em 1em;font-size:14px}nav ol{columns:3;margin:0.3em 0}"
     "figure{display:inline-block;width:48%;margin:0.5%;vertical-align:top}img{width:100%}"
 )
+
+
+@dataclass(frozen=True)
+class Section:
+    """A section of the report: a title, paragraphs and tables, rendered to Markdown and HTML."""
+
+    title: str
+    paragraphs: tuple[str, ...]
+    tables: tuple[pd.DataFrame, ...] = ()
+
 
 _SENTENCE_END = re.compile(r"(?<=[.!?;])\s+(?=[A-Z0-9(*`'\"])")
 

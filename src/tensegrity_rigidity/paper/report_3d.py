@@ -15,7 +15,8 @@ from ..analysis import estimators as an
 from ..model.lattice import DEFAULT_DELTA
 from .claims import REFERENCES, TWO_D_OURS
 from .comparison import fmt
-from .finite_size import misfit
+from .render import Section
+from .studies.fss import misfit
 from .studies.three_d import (
     FIG1C_PT,
     KEYS_3D,
@@ -93,8 +94,6 @@ def three_d_tables(r) -> tuple[pd.DataFrame, pd.DataFrame]:
 def three_d_section(r):
     """The 3D study's section: what was run, the rods-only threshold against the literature,
     the efficacies against 2D, and the tables."""
-    from .report import Section
-
     ex = r.extrapolated.set_index("key")
     counts = ", ".join(f"{s} at n = {n}" for n, s in zip(r.sizes, r.samples, strict=True))
     pc_counts = ", ".join(f"{s} at n = {n}" for n, s in zip(r.pc_sizes, r.pc_samples, strict=True))
@@ -162,26 +161,23 @@ def three_d_section(r):
         (("st_sr_cables_compression", "st_sr_cables_dilation"),
          "Rods + cables (the paper's 37 % under compression and 67 % under dilation, in 3D)"),
     ):  # fmt: skip
-        parts = []
+        n_top = max(r.sizes)
+        parts, z_top, z_inf, misfits = [], [], [], ""
         for key in keys:
             f = ex.loc[key]
-            n_top = max(r.sizes)
             v, e = r.at(key, n_top)
             two = TWO_D_OURS[key]
-            mark = " (few samples)" if n_top in few else ""
-            parts.append(
-                f"{QUANTITY_TEXT[key].split(', ')[-1].split(':')[0]}: {fmt(v, e)} at n = {n_top}, "
-                f"{fmt(f.y_inf, f.y_inf_err)} extrapolated"
-                f"{misfit(f.chi2, f.dof)} (1/nu = 3: "
-                f"{fmt(f.y_inf_first_order, f.y_inf_first_order_err)}"
-                f"{misfit(f.chi2_first_order, f.dof_first_order)}); ours in 2D "
-                f"{fmt(two.value, two.error)}: the n = {n_top} value is "
-                + _z_text(an.agreement_z(v, e**2, two.value, two.error or np.nan))
-                + mark
-                + ", the extrapolation "
-                + _z_text(an.agreement_z(f.y_inf, f.y_inf_err**2, two.value, two.error or np.nan))
-            )
-        text = f"{what}: " + "; ".join(parts) + "."
+            label = QUANTITY_TEXT[key].split(', ')[-1].split(':')[0]
+            parts.append(f"{label} {fmt(f.y_inf, f.y_inf_err)}")
+            z_top.append(an.agreement_z(v, e**2, two.value, two.error or np.nan))
+            z_inf.append(an.agreement_z(f.y_inf, f.y_inf_err**2, two.value, two.error or np.nan))
+            misfits += misfit(f.chi2, f.dof)
+        mark = " (few samples)" if n_top in few else ""
+        text = (
+            f"{what}, extrapolated: " + ", ".join(parts) + f"{misfits}. Against ours in 2D "
+            f"the largest z is {np.nanmax(z_inf):.2f} for the extrapolations and "
+            f"{np.nanmax(z_top):.2f} at n = {n_top}{mark} (table below)."
+        )
         if keys[0] == "st_sr_half_dilation" and np.isfinite(r.half_strain_free):
             text += (
                 f" At f_c = 0.5 the threshold at p_t = {FIG1C_PT:g} is the same under the "

@@ -1,35 +1,22 @@
-"""Finite size and node disorder: the headline claims at several n and several delta.
+"""Finite size: the headline claims at several n and their extrapolation to n -> infinity.
 
-Two studies, defined here and tested at tiny sizes; at the ``fss`` scale they run at
-n = 8, 16, 32, 64 and delta = 0.1, 0.2, 0.3 (n = 32).
+At the ``fss`` scale the study runs n = 8, 16, 32, 64 (:mod:`.headline` gives the sweeps
+and the claims at one size). Where the scale gives ``fss_pc``, the rods-only point comes
+from one-strain sweeps of its own (:func:`~.headline.rods_pc_sweep`) with more samples and
+sizes: a rods-only threshold does not depend on the strain, and it is the one extrapolation
+with a literature value precise to 3e-4; by the pebble game (the ``pc`` scale) they also give
+the fractal dimensions of the spanning rigid cluster. Each claim is extrapolated with
+``y(n) = y_inf + a n^(-1/nu)``
+(:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`): the rods-only point with nu
+fitted (the literature's nu is a check, not an input), the others with nu fixed at that
+value, and every claim a second time with nu fixed at the literature's :data:`NU_CHECK`.
+The widths of the rods-only threshold distributions give a reading with no fitted exponent
+(:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`). The results are the
+comparison's evidence for the factor "finite size", and every claim at every size is a
+replication.
 
-* :func:`study_fss`: per size, exact per-sample thresholds along p_r (rods only; rods +
-  one-sided elements at p_t = 0.3 with f_c = 0, 0.5, 1; rods + cables at p_t = 0.1, 0.2; see
-  :func:`headline_sweeps`) under dilation, shear and compression, giving the headline claims
-  at that size: the rods-only P = 1/2 point, S_t/S_r for f_c = 0.5 per strain and for the
-  one-sided systems, and p_crit of rods + cables per p_t. On the first 24 of the same
-  samples (more than the thresholds have at n = 64), grid sweeps of rods + cables
-  (:func:`energy_sweeps`) give the energy exponents alpha per strain and p_t
-  and the fraction of taut cables at the transition, as Fig. 2 measures them at n = 32.
-  Where the scale gives ``fss_pc``, the rods-only point comes instead from one-strain sweeps
-  of its own (:func:`rods_pc_sweep`) with more samples and sizes up to 128: a rods-only
-  threshold does not depend on the strain, and it is the one extrapolation with a literature
-  value precise to 3e-4. Estimates pooled over strains bootstrap samples, not rows.
-  Each is extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
-  (:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`): for the rods-only
-  threshold with nu fitted (the literature's nu = 1.16 to 1.21 is a check, not an input), for
-  the other claims with nu fixed at that fitted value (its error widens theirs). Every claim
-  is extrapolated a second time with nu fixed at the literature's :data:`NU_CHECK`: with four
-  sizes the free fit barely determines nu, and where the two readings' verdicts differ the
-  extrapolation depends on nu. The widths of the rods-only threshold distributions give a
-  further reading with no fitted exponent
-  (:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`).
-* :func:`study_delta`: the same claims at one size for each delta.
-
-Both hand their values to the comparison as evidence for the factors "finite size" (the
-extrapolations) and "delta" (the values at each delta, the default one as a control); the
-finite-size study also hands over each claim at each size as a replication, which the
-comparison sets beside our own measurement of the same size.
+Like the figure modules: ``sweeps(scale)``, ``analyse(rows, scale)``, ``claims(result)`` and
+``study(out, scale, **kw)``.
 """
 
 from __future__ import annotations
@@ -42,243 +29,22 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ..analysis import estimators as an
-from ..model.lattice import DEFAULT_DELTA
-from .claims import CLAIMS, REFERENCES, REPLICATION, Measurement
-from .comparison import verdict, z_score
-from .studies import (
-    FIG1C_PT,
-    PT4,
-    Scale,
-    energy_exponent,
-    mask_uncertified_tensions,
-    p_r_grid,
-    strain_name,
-    stream,
-    sweep_rows,
-    taut_with_error,
+from ...analysis import estimators as an
+from ...model.lattice import DEFAULT_DELTA
+from ..claims import CLAIMS, REFERENCES, REPLICATION, Measurement
+from .headline import (
+    ENERGY_KEYS,
+    NU_CHECK,
+    PC_CHECK,
+    energy_names,
+    energy_sweeps,
+    headline,
+    headline_sweeps,
+    judged,
+    rods_pc_sweep,
 )
-
-STRAINS3 = [0.0, math.pi / 2, math.pi]
-FC3 = [0.0, 0.5, 1.0]
-#: (claim key, f_c, strain) of the S_t/S_r claims measured here
-LAMBDA_CLAIMS = [
-    ("st_sr_half_dilation", 0.5, "dilation"),
-    ("st_sr_half_shear", 0.5, "shear"),
-    ("st_sr_half_compression", 0.5, "compression"),
-    ("st_sr_cables_compression", 1.0, "compression"),
-    ("st_sr_struts_dilation", 0.0, "dilation"),
-    ("st_sr_cables_dilation", 1.0, "dilation"),
-]
-#: the check on the fitted exponent and the extrapolated threshold
-NU_CHECK = REFERENCES["nu_moukarzel_duxbury"]
-PC_CHECK = REFERENCES["pc_javerzat_notarmuzi"]
-
-
-def chunk_size(n: int) -> int:
-    """Samples per chunk of the threshold sweeps at size ``n`` (the unit of resumption).
-
-    One threshold search takes about 1.6 s at n = 32, 48 s at n = 64 and, extrapolated, 25 min
-    at n = 128 (:data:`~tensegrity_rigidity.paper.budget.THRESHOLD_SECONDS`): chunks of 2
-    samples at n = 64 and 1 beyond keep what an interruption loses to a few minutes per worker
-    and let two workers share the last chunks of a sweep. Rows do not depend on it.
-    """
-    return 32 if n < 64 else max(1, 128 // n)
-
-
-def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
-    """Sweep name -> spec of the headline claims at one (n, delta); seed 61, threshold mode.
-
-    ``_rods``: p_t = 0 (f_c does not matter there) under dilation, shear and compression;
-    ``_mixed``: p_t = :data:`~tensegrity_rigidity.paper.studies.FIG1C_PT` at f_c = 0, 0.5, 1
-    under the three strains (S_t/S_r from the collapse over p_t = 0 and 0.3, as Fig. 1C);
-    ``_pcrit``: p_t = 0.1, 0.2 for rods + cables (f_c = 1) under dilation and compression, for
-    p_crit at every p_t. The names carry (n, delta) only, so the two studies share a sweep where
-    they meet (n_delta among the sizes, delta the default), the smaller reading the first
-    samples of the larger.
-    """
-    name = f"headline_n{n}_delta{delta:g}"
-    base = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": STRAINS3}
-    base |= {"threshold": {"path": "p_r"}, "output": {"chunk_size": chunk_size(n)}}
-    return {
-        f"{name}_rods": base | {"p_t": 0.0, "f_c": 0.5},
-        f"{name}_mixed": base | {"p_t": FIG1C_PT, "f_c": FC3},
-        f"{name}_pcrit": base | {"p_t": PT4[1:-1], "f_c": 1.0, "phi": [0.0, math.pi]},
-    }
-
-
-#: samples per chunk of the pebble-game sweeps of the p_c extrapolation: about a minute of one
-#: worker at n = 512 (about 6 s a sample), proportionally more samples below
-PEBBLE_CHUNK_SITES = 8 * 512**2
-
-
-def rods_pc_sweep(n: int, delta: float, samples: int, method: str = "lp") -> dict[str, dict]:
-    """Sweep name -> spec of the rods-only thresholds of the p_c extrapolation at (n, delta).
-
-    One strain (dilation): a rods-only threshold does not depend on the strain (identical under
-    dilation, shear and compression for all 400 samples at n = 8 and 96 % at n = 32 of the fss
-    run), so a second strain would cost a full search for no new information. Seed 61, so
-    sample k is the disorder of sample k of :func:`headline_sweeps` (common random numbers).
-    ``method`` is the threshold method: ``"lp"`` (certified bisection) or ``"pebble"`` (one
-    pebble-game pass, which also records the spanning rigid cluster at the threshold; its sweeps
-    are named ``rods_pc_pebble_...``, so they never meet the bisection's).
-    """
-    spec = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": [0.0]}
-    spec |= {"p_t": 0.0, "f_c": 0.5, "threshold": {"path": "p_r"}}
-    if method == "pebble":
-        spec["threshold"] = {"path": "p_r", "method": "pebble"}
-        chunk = max(1, min(256, PEBBLE_CHUNK_SITES // n**2))
-        return {f"rods_pc_pebble_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk}}}
-    return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
-
-
-#: p_r grid of the energy sweeps: every p_crit of rods + cables lies above 0.45 and the power
-#: law is fitted within 0.25 above it (``fit_energy_power_law``)
-ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
-
-
-def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
-    """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
-
-    Per p_t of :data:`~tensegrity_rigidity.paper.studies.PT4`, f_c = 1 under dilation and
-    compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
-    fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
-    The same seed as :func:`headline_sweeps`, so sample k is the disorder of threshold sample k
-    (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
-    others have none). ``count`` samples per point
-    (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`), keyword-only (until
-    earlier releases the third argument was the thresholds' count, capped at 24); no minimum-norm
-    displacements (the energy and the tensions do not need them).
-    """
-    base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
-    base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
-    base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
-    return {
-        f"energy_n{n}_delta{delta:g}_pt{p_t:.1f}": base
-        | {"p_t": p_t, "p_r": [p for p in ENERGY_P_R if p + p_t <= 1 + 1e-12]}
-        for p_t in PT4
-    }
-
-
-#: the claims :func:`energy_claims` measures
-ENERGY_KEYS = frozenset(
-    [f"alpha_{s}_{p_t}" for s in ("compression", "dilation") for p_t in PT4]
-    + ["taut_cables_transition"]
-)
-
-
-def energy_claims(
-    rows: pd.DataFrame, thresholds: dict[tuple[str, float], pd.DataFrame], n_boot: int
-) -> list[dict]:
-    """alpha per (strain, p_t) and the taut-cable fraction at the transition from grid rows.
-
-    Parameters
-    ----------
-    rows : DataFrame
-        Grid rows of :func:`energy_sweeps` (every p_t, both strains): the decided ones and the
-        undecided ones whose E* is bracketed
-        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`), which enter the mean
-        energies and, not being rigid, not the taut fraction.
-    thresholds : dict
-        (strain name, p_t) -> threshold rows (``sample``, ``threshold_p_r``) of the same
-        samples at the same size and delta; their median is p_crit.
-    n_boot : int
-        Bootstrap replicas of the errors.
-
-    Returns
-    -------
-    list of dict
-        Rows ``key``, ``value``, ``err``: ``alpha_<strain>_<p_t>`` (the power law of the mean
-        energy above p_crit, as in Fig. 2:
-        :func:`~tensegrity_rigidity.paper.studies.energy_exponent`) and
-        ``taut_cables_transition`` (mean over p_t = 0.1, 0.2, 0.3 under compression of the taut
-        fraction of rigid samples with certified tensions at the grid p_r nearest p_crit,
-        :func:`~tensegrity_rigidity.paper.studies.taut_with_error`). Both errors are
-        bootstraps over samples that re-estimate p_crit in every replica.
-    """
-    rows, _ = mask_uncertified_tensions(rows)
-    out, th = [], []
-    empty = pd.DataFrame({"sample": pd.Series(dtype=int), "threshold_p_r": pd.Series(dtype=float)})
-    for phi in (math.pi, 0.0):
-        strain = strain_name(phi)
-        for p_t in PT4:
-            t = thresholds.get((strain, p_t), empty)
-            th.append(t[["sample", "threshold_p_r"]].assign(phi=phi, p_t=p_t))
-            sub = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
-            fit = energy_exponent(sub, t, n_boot, rng=stream("energy_exponent"))
-            out.append({"key": f"alpha_{strain}_{p_t}", "value": fit.alpha, "err": fit.alpha_err})
-    tr = taut_with_error(rows, pd.concat(th, ignore_index=True), n_boot, rng=stream("taut"))
-    if tr is not None:
-        out.append({"key": "taut_cables_transition", "value": tr[0], "err": tr[1]})
-    return out
-
-
-def headline(out, n: int, delta: float, samples: int, energy: int, n_boot: int, **kw):
-    """The headline claims at one (n, delta) from the sweeps of :func:`headline_sweeps`
-    (``samples`` per point), and the energy claims from those of :func:`energy_sweeps`
-    (``energy`` per point; :func:`energy_claims`).
-
-    Returns (frame with columns key, value, err; counts of the undecided rows per sweep; of
-    those, the counts that still enter the energy analyses,
-    :func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
-    """
-    frames, excluded, bracketed = {}, {}, {}
-    for name, spec in headline_sweeps(n, delta, samples).items():
-        part = name.rsplit("_", 1)[1]
-        frames[part], excluded[name] = sweep_rows(out, name, spec, **kw)
-    rods, mixed, pcrit = frames["rods"], frames["mixed"], frames["pcrit"]
-    rows = []
-    # rods-only thresholds do not depend on the strain: a sample is one unit, not three
-    pc, pc_err = an.critical_point(
-        rods.threshold_p_r.to_numpy(),
-        groups=rods["sample"].to_numpy(),
-        rng=stream("critical_point"),
-    )
-    rows.append({"key": "rods_only_pc", "value": pc, "err": pc_err})
-    grid = np.arange(0.3, 0.9001, 0.01)
-    for key, f_c, strain in LAMBDA_CLAIMS:
-        phi = next(p for p in STRAINS3 if strain_name(p) == strain)
-        sub = pd.concat(
-            [
-                rods[np.isclose(rods.phi, phi)].assign(f_c=f_c),
-                mixed[np.isclose(mixed.phi, phi) & np.isclose(mixed.f_c, f_c)],
-            ]
-        )
-        y, pr, pt = an.outcomes_from_thresholds(sub, grid)
-        fit = an.fit_collapse(y, pr, pt, n_boot=n_boot, rng=stream("collapse"))
-        rows.append({"key": key, "value": fit.lam, "err": fit.lam_err})
-    cables = pd.concat([pcrit, mixed[np.isclose(mixed.f_c, 1.0)]], ignore_index=True)
-    crit = {}
-    for phi in (math.pi, 0.0):
-        strain = strain_name(phi)
-        for p_t in PT4:
-            src = rods if p_t == 0 else cables
-            crit[strain, p_t] = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)]
-            v, e = an.critical_point(
-                crit[strain, p_t].threshold_p_r.to_numpy(), rng=stream("critical_point")
-            )
-            rows.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
-    grids = []
-    for name, spec in energy_sweeps(n, delta, count=energy).items():
-        grid, excluded[name] = sweep_rows(out, name, spec, energy=True, **kw)
-        bracketed[name] = int((~grid.decided.astype(bool)).sum())
-        grids.append(grid)
-    rows += energy_claims(pd.concat(grids, ignore_index=True), crit, n_boot)
-    return pd.DataFrame(rows), excluded, bracketed
-
-
-def _z(key: str, value: float, err: float) -> float:
-    """The comparison's agreement statistic of one value against the paper's claim."""
-    return z_score(CLAIMS[key], Measurement.scalar(key, value, err, ""))
-
-
-def _judged(key: str, value: float, err: float) -> tuple[float, str]:
-    """The comparison's z and verdict on one value of a claim ("agree", "disagree",
-    "inconclusive", "n/a"; :func:`~tensegrity_rigidity.paper.comparison.verdict`)."""
-    return verdict(CLAIMS[key], Measurement.scalar(key, value, err, ""))
-
-
-# --------------------------------------------------------------------------- finite size
+from .rows import Rows, load_sweeps
+from .scales import Scale
 
 
 @dataclass(frozen=True, eq=False)
@@ -408,11 +174,11 @@ def cluster_picture(sizes: tuple[int, ...], delta: float = DEFAULT_DELTA) -> Clu
     Rebuilt from its seed, as the sweep built it (a second pass of the pebble game, then the
     full labelling of that one network).
     """
-    from ..combinatorics.clusters import rigid_clusters
-    from ..ensemble.runner import sample_geometry
-    from ..ensemble.spec import parse_spec
-    from ..ensemble.thresholds import pebble_pass
-    from ..model.elements import place_elements
+    from ...combinatorics.clusters import rigid_clusters
+    from ...ensemble.runner import sample_geometry
+    from ...ensemble.spec import parse_spec
+    from ...ensemble.thresholds import pebble_pass
+    from ...model.elements import place_elements
 
     n = min(sizes, key=lambda k: (abs(math.log(k / PICTURE_N)), k))
     ((_, raw),) = rods_pc_sweep(n, delta, PICTURE_SAMPLE, "pebble").items()
@@ -438,7 +204,7 @@ FRACTAL_SITES = {"rigid": "cluster_sites", "stressed": "stressed_sites"}
 
 
 def fractal_dimensions(
-    sizes: tuple[int, ...], rows: list[pd.DataFrame], n_boot: int
+    sizes: tuple[int, ...], rows: list[pd.DataFrame], scale: Scale
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Fractal dimensions of the spanning rigid cluster and its stressed part at threshold.
 
@@ -449,8 +215,8 @@ def fractal_dimensions(
     rows : list of DataFrame
         Their pebble-game rows, one frame per size (columns of
         :data:`FRACTAL_CLUSTERS` and :data:`FRACTAL_SITES`; samples never rigid are left out).
-    n_boot : int
-        Bootstrap replicas.
+    scale : Scale
+        Bootstrap replicas and generators.
 
     Returns
     -------
@@ -472,7 +238,9 @@ def fractal_dimensions(
         for mass, col in (("nodes", nodes_col), ("sites", FRACTAL_SITES[name])):
             masses = [r[col].to_numpy(float) for r in rigid]
             for k, n_min in enumerate(n[: max(1, n.size - 2)]):
-                fit = an.fractal_dimension(n[k:], masses[k:], n_boot, rng=stream("fractal", k))
+                fit = an.fractal_dimension(
+                    n[k:], masses[k:], scale.bootstrap, rng=scale.rng("fractal", k)
+                )
                 if k == 0:
                     by_size[f"{name}_{mass}"] = fit.mass
                     by_size[f"{name}_{mass}_err"] = fit.mass_err
@@ -500,7 +268,9 @@ def _at_bound(nu: float) -> bool:
     return bool(np.any(np.isclose(1.0 / nu, an.THETA, rtol=1e-6)))
 
 
-def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.DataFrame:
+def pc_by_smallest_size(
+    n: np.ndarray, y: np.ndarray, err: np.ndarray, scale: Scale
+) -> pd.DataFrame:
     """The rods-only extrapolation refitted without the smallest sizes.
 
     ``p_c(n) = p_c + a n^(-1/nu)`` holds only asymptotically: corrections to scaling, largest
@@ -512,6 +282,8 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
     ----------
     n, y, err : (K,) float
         Sizes (ascending), P = 1/2 points and their standard errors.
+    scale : Scale
+        The bootstrap generators of the fits.
 
     Returns
     -------
@@ -528,10 +300,10 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
     rows = []
     for n_min in n[:-1]:
         keep = n >= n_min
-        free = an.fit_finite_size(n[keep], y[keep], err[keep], rng=stream("finite_size"))
+        free = an.fit_finite_size(n[keep], y[keep], err[keep], rng=scale.rng("finite_size"))
         fixed = an.fit_finite_size(
             n[keep], y[keep], err[keep], nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0,
-            rng=stream("finite_size"),
+            rng=scale.rng("finite_size"),
         )  # fmt: skip
         rows.append(
             {
@@ -555,21 +327,18 @@ def pc_by_smallest_size(n: np.ndarray, y: np.ndarray, err: np.ndarray) -> pd.Dat
     return pd.DataFrame(rows)
 
 
-def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
-    """The headline claims at each of ``scale.fss_sizes`` and their n -> infinity limits."""
+def analyse(rows: Rows, scale: Scale) -> FiniteSizeResult:
+    """The headline claims at each of ``scale.fss_sizes`` from the rows of :func:`sweeps`
+    (:func:`~.headline.headline`), the rods-only point at its own sizes where the scale gives
+    ``fss_pc``, and their n -> infinity limits (:func:`extrapolate`)."""
     frames: list[pd.DataFrame] = []
     excluded: dict[str, int] = {}
     bracketed: dict[str, int] = {}
     for n in scale.fss_sizes:
         f, ex, br = headline(
-            out,
-            n,
-            DEFAULT_DELTA,
-            scale.fss_samples(n),
-            scale.fss_energy_samples(n),
-            scale.bootstrap,
-            **kw,
-        )
+            rows, n, DEFAULT_DELTA, scale,
+            samples=scale.fss_samples(n), energy=scale.fss_energy_samples(n),
+        )  # fmt: skip
         frames.append(f.assign(n=n))
         excluded |= ex
         bracketed |= br
@@ -583,21 +352,19 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
     if scale.fss_pc:  # the rods-only point from its own sweeps, at its own sizes
         pc_rows, per_size, pc_frames = [], [], []
         for n in scale.pc_sizes:
-            ((name, spec),) = rods_pc_sweep(
-                n, DEFAULT_DELTA, scale.pc_samples(n), scale.pc_method
-            ).items()
-            rows, excluded[name] = sweep_rows(out, name, spec, **kw)
-            pc_frames.append(rows)
-            per_size.append(rows.threshold_p_r.to_numpy(float))
-            value, err = an.critical_point(per_size[-1], rng=stream("critical_point"))
-            width = (rows.threshold_p_r_high - rows.threshold_p_r_low).to_numpy(float)
+            (name,) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n), scale.pc_method)
+            pc, excluded[name] = rows[name]
+            pc_frames.append(pc)
+            per_size.append(pc.threshold_p_r.to_numpy(float))
+            value, err = an.critical_point(per_size[-1], rng=scale.rng("critical_point"))
+            width = (pc.threshold_p_r_high - pc.threshold_p_r_low).to_numpy(float)
             pc_rows.append(
                 {
                     "key": "rods_only_pc",
                     "value": value,
                     "err": err,
                     "n": n,
-                    "samples": len(rows),
+                    "samples": len(pc),
                     # thresholds left as intervals by undecided probes, and their mean width
                     "intervals": int(np.sum(width > 0)),
                     "width": float(np.nanmean(width)) if width.size else np.nan,
@@ -606,41 +373,70 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         by_size = pd.concat(
             [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
         )
-        widths = an.width_scaling(np.asarray(scale.pc_sizes, float), per_size, rng=stream("widths"))
+        widths = an.width_scaling(
+            np.asarray(scale.pc_sizes, float), per_size, rng=scale.rng("widths")
+        )
         if scale.pc_method == "pebble" and len(scale.pc_sizes) >= 2:
-            fractal, fractal_by_size = fractal_dimensions(
-                scale.pc_sizes, pc_frames, scale.bootstrap
-            )
+            fractal, fractal_by_size = fractal_dimensions(scale.pc_sizes, pc_frames, scale)
             picture = cluster_picture(scale.pc_sizes)
+
+    return extrapolate(
+        by_size, scale, excluded=excluded, bracketed=bracketed, pc_widths=widths,
+        fractal=fractal, fractal_by_size=fractal_by_size, picture=picture,
+    )  # fmt: skip
+
+
+def extrapolate(by_size: pd.DataFrame, scale: Scale, **extra) -> FiniteSizeResult:
+    """Every claim of ``by_size`` extrapolated to n -> infinity, twice.
+
+    The rods-only point with nu fitted; the other claims with nu fixed at that fit's value
+    (its error widens theirs); every claim again with nu fixed at :data:`NU_CHECK`.
+
+    Parameters
+    ----------
+    by_size : DataFrame
+        Per (n, key): ``value`` and ``err`` (``samples`` where a row's count is not the
+        scale's); a ``rods_only_pc`` row at two sizes at least.
+    scale : Scale
+        The study's scale (its sizes, sample counts and bootstrap generators).
+    **extra
+        Further fields of :class:`FiniteSizeResult` (``excluded``, ``pc_widths``, ...).
+
+    Returns
+    -------
+    FiniteSizeResult
+    """
+    widths = extra.pop("pc_widths", None)
+    extra.setdefault("excluded", {})
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
         return s.n.to_numpy(float), s.value.to_numpy(float), s.err.to_numpy(float)
 
-    pc_fit = an.fit_finite_size(*series("rods_only_pc"), rng=stream("finite_size"))
+    pc_fit = an.fit_finite_size(*series("rods_only_pc"), rng=scale.rng("finite_size"))
     fits = {"rods_only_pc": pc_fit}
     for key in by_size.key.unique():
         if key != "rods_only_pc":
             fits[key] = an.fit_finite_size(
-                *series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err, rng=stream("finite_size")
+                *series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err, rng=scale.rng("finite_size")
             )
     # the second reading of every claim: nu fixed at the literature's value, not the free fit's
     nu_check, nu_check_err = NU_CHECK.value, NU_CHECK.error or 0.0
     checks = {
         key: an.fit_finite_size(
-            *series(key), nu=nu_check, nu_err=nu_check_err, rng=stream("finite_size")
+            *series(key), nu=nu_check, nu_err=nu_check_err, rng=scale.rng("finite_size")
         )
         for key in fits
     }
     extrapolated = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
-    free = [_judged(r.key, r.y_inf, r.y_inf_err) for r in extrapolated.itertuples()]
+    free = [judged(r.key, r.y_inf, r.y_inf_err) for r in extrapolated.itertuples()]
     extrapolated["z_paper"] = [z for z, _ in free]
     extrapolated["verdict_paper"] = [v for _, v in free]
     extrapolated["y_inf_nu_check"] = [checks[k].y_inf for k in extrapolated.key]
     extrapolated["y_inf_nu_check_err"] = [checks[k].y_inf_err for k in extrapolated.key]
     extrapolated["chi2_nu_check"] = [checks[k].chi2 for k in extrapolated.key]
     extrapolated["dof_nu_check"] = [checks[k].dof for k in extrapolated.key]
-    fixed = [_judged(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key]
+    fixed = [judged(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key]
     extrapolated["z_paper_nu_check"] = [z for z, _ in fixed]
     extrapolated["verdict_paper_nu_check"] = [v for _, v in fixed]
     nu_z = an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, nu_check, nu_check_err)
@@ -698,8 +494,6 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         energy_samples=tuple(scale.fss_energy_samples(n) for n in scale.fss_sizes),
         pc_sizes=scale.pc_sizes,
         pc_samples=tuple(scale.pc_samples(n) for n in scale.pc_sizes),
-        excluded=excluded,
-        bracketed=bracketed,
         measured=measured,
         pc_at_check_nu=at_check,
         pc_at_check_nu_z=at_check_z,
@@ -707,10 +501,8 @@ def study_fss(out, scale: Scale, **kw) -> FiniteSizeResult:
         pc_widths=widths,
         pc_widths_z=widths_z,
         pc_widths_nu_z=widths_nu_z,
-        pc_by_smallest=pc_by_smallest_size(*series("rods_only_pc")),
-        fractal=fractal,
-        fractal_by_size=fractal_by_size,
-        picture=picture,
+        pc_by_smallest=pc_by_smallest_size(*series("rods_only_pc"), scale),
+        **extra,
     )
 
 
@@ -818,7 +610,7 @@ def _samples_text(scale: Scale, energy: bool = False, pc: bool = False) -> str:
     return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, sizes))})"
 
 
-def fss_sweeps(scale: Scale) -> dict[str, dict]:
+def sweeps(scale: Scale) -> dict[str, dict]:
     """Sweep name -> spec of the finite-size study (every size at the default delta)."""
     out: dict[str, dict] = {}
     for n in scale.fss_sizes:
@@ -829,84 +621,13 @@ def fss_sweeps(scale: Scale) -> dict[str, dict]:
     return out
 
 
-def delta_sweeps(scale: Scale) -> dict[str, dict]:
-    """Sweep name -> spec of the node-disorder study (every delta at n_delta)."""
-    out: dict[str, dict] = {}
-    for delta in scale.deltas:
-        out |= headline_sweeps(scale.n_delta, delta, scale.samples_delta)
-        out |= energy_sweeps(scale.n_delta, delta, count=scale.delta_energy_samples)
-    return out
+def claims(result: FiniteSizeResult) -> tuple[Measurement, ...]:
+    """The evidence for the factor "finite size" and the replications
+    (:attr:`FiniteSizeResult.measured`)."""
+    return result.measured
 
 
-# --------------------------------------------------------------------------- delta
-
-
-@dataclass(frozen=True, eq=False)
-class DeltaResult:
-    """The headline claims at each node disorder delta (one size).
-
-    Attributes
-    ----------
-    by_delta : DataFrame
-        Per (delta, key): value, err and ``z_paper`` (against the paper's claim).
-    """
-
-    by_delta: pd.DataFrame
-    deltas: tuple[float, ...]
-    n: int
-    samples: int
-    excluded: dict[str, int]
-    measured: tuple[Measurement, ...] = ()
-    bracketed: dict[str, int] = field(default_factory=dict)  # as FiniteSizeResult's
-
-
-def delta_label(delta: float) -> str:
-    """The label of a node-disorder measurement in the comparison's explanations.
-
-    The study's own default delta is listed too, as the control: its samples are not the
-    ones of our headline value (another seed and size of study), so a claim that "then
-    agrees" at another delta and also at the default one on these samples agrees through the
-    sample set, not through delta.
-    """
-    if math.isclose(delta, DEFAULT_DELTA):
-        return f"delta = {delta:g} (control: our delta on this study's samples)"
-    return f"delta = {delta:g}"
-
-
-def study_delta(out, scale: Scale, **kw) -> DeltaResult:
-    """The headline claims at n = ``scale.n_delta`` for each delta of ``scale.deltas``."""
-    frames: list[pd.DataFrame] = []
-    excluded: dict[str, int] = {}
-    bracketed: dict[str, int] = {}
-    for delta in scale.deltas:
-        f, ex, br = headline(
-            out,
-            scale.n_delta,
-            delta,
-            scale.samples_delta,
-            scale.delta_energy_samples,
-            scale.bootstrap,
-            **kw,
-        )
-        frames.append(f.assign(delta=delta))
-        excluded |= ex
-        bracketed |= br
-    by_delta = pd.concat(frames, ignore_index=True)
-    by_delta["z_paper"] = [_z(row.key, row.value, row.err) for row in by_delta.itertuples()]
-    system = f"n = {scale.n_delta}, {scale.samples_delta} samples per point"
-    measured = tuple(
-        Measurement.scalar(
-            row.key, row.value, row.err, system, factor="delta", label=delta_label(row.delta)
-        )
-        for row in by_delta.itertuples()
-        if row.key in CLAIMS
-    )
-    return DeltaResult(
-        by_delta=by_delta,
-        deltas=tuple(scale.deltas),
-        n=scale.n_delta,
-        samples=scale.samples_delta,
-        excluded=excluded,
-        measured=measured,
-        bracketed=bracketed,
-    )
+def study(out, scale: Scale, **kw) -> FiniteSizeResult:
+    """Run (or resume) the finite-size sweeps into ``out`` and analyse them."""
+    specs = sweeps(scale)
+    return analyse(load_sweeps(out, specs, energy=energy_names(specs), **kw), scale)

@@ -19,6 +19,9 @@ a sample's disorder depends only on ``(seed, n, delta, sample)``), and reports
 Grid: rods + cables (f_c = 1), compression and dilation, p_t in {0, 0.1, 0.2, 0.3}, p_r from
 0.40 to 0.80 (the transition region at every p_t) at the scale's ``method_step``; lattice
 ``n_method`` with ``samples_method`` samples per point.
+
+Like the figure modules: ``sweeps(scale)``, ``analyse(rows, scale)``, ``claims(result)`` and
+``study(out, scale, **kw)``.
 """
 
 from __future__ import annotations
@@ -28,11 +31,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
-from ..analysis import estimators as an
-from ..solver.inexact import PAPER_THRESHOLD
-from .claims import Measurement
-from .studies import PT4, Scale, p_r_grid, strain_name, stream, sweep_rows
+from ...analysis import estimators as an
+from ...solver.inexact import PAPER_THRESHOLD
+from ..claims import Measurement
+from .rows import PT4, Rows, load_sweeps, p_r_grid, strain_name
+from .scales import Scale
 
 #: thresholds (relative to the affine energy) at which the paper's verdict is also read
 THRESHOLDS = (1e-6, PAPER_THRESHOLD, 1e-10)
@@ -75,7 +80,7 @@ class MethodResult:
     measured: tuple[Measurement, ...] = ()
 
 
-def method_sweeps(scale: Scale) -> dict[str, dict]:
+def sweeps(scale: Scale) -> dict[str, dict]:
     """Sweep name -> spec: per p_t the same grid with the exact and with the paper's verdict."""
     p_r = p_r_grid(scale.method_step, *P_R_RANGE)
     out = {}
@@ -94,15 +99,13 @@ def method_sweeps(scale: Scale) -> dict[str, dict]:
     return out
 
 
-def study_method(out, scale: Scale, **kw) -> MethodResult:
-    """Run the grid with both verdicts and compare them sample by sample."""
-    sweeps = method_sweeps(scale)
+def analyse(rows: Rows, scale: Scale) -> MethodResult:
+    """Both verdicts of the rows of :func:`sweeps`, compared sample by sample."""
     excluded, parts = {}, []
     for p_t in PT4:
         name = f"method_exact_pt{p_t:.1f}"
-        exact, excluded[name] = sweep_rows(out, name, sweeps[name], **kw)
-        name = f"method_paper_pt{p_t:.1f}"
-        paper, _ = sweep_rows(out, name, sweeps[name], **kw)
+        exact, excluded[name] = rows[name]
+        paper, _ = rows[f"method_paper_pt{p_t:.1f}"]
         merged = exact[[*KEYS, "rigid", "energy", "affine_energy"]].merge(
             paper[[*KEYS, "rigid", "energy", "iterations", "converged"]].rename(
                 columns={"rigid": "paper_rigid", "energy": "paper_energy"}
@@ -110,29 +113,39 @@ def study_method(out, scale: Scale, **kw) -> MethodResult:
             on=KEYS,
         )
         parts.append(merged)
-    rows = pd.concat(parts, ignore_index=True)
-    rows["rigid"] = rows.rigid.astype(bool)
-    rows["paper_rigid"] = rows.paper_rigid.astype(bool)
-    claims = _claims(rows, scale.bootstrap)
+    both = pd.concat(parts, ignore_index=True)
+    both["rigid"] = both.rigid.astype(bool)
+    both["paper_rigid"] = both.paper_rigid.astype(bool)
+    shifts = _claims(both, scale)
     return MethodResult(
-        rows=rows,
+        rows=both,
         # percentiles need many replicas, and these cost microseconds: at least 1000
-        disagreement=_disagreement(rows, max(scale.bootstrap, 1000)),
-        claims=claims,
+        disagreement=_disagreement(both, max(scale.bootstrap, 1000), scale),
+        claims=shifts,
         iterations={
-            "median": float(rows.iterations.median()),
-            "max": int(rows.iterations.max()),
-            "not_converged": int((~rows.converged.astype(bool)).sum()),
+            "median": float(both.iterations.median()),
+            "max": int(both.iterations.max()),
+            "not_converged": int((~both.converged.astype(bool)).sum()),
         },
         threshold=PAPER_THRESHOLD,
         n=scale.n_method,
         samples=scale.samples_method,
         excluded=excluded,
-        measured=_measurements(claims, scale),
+        measured=_measurements(shifts, scale),
     )
 
 
-def _disagreement(rows: pd.DataFrame, n_boot: int = 1000, seed: int = 1) -> pd.DataFrame:
+def claims(result: MethodResult) -> tuple[Measurement, ...]:
+    """The shifts as evidence for the factor "method" (:attr:`MethodResult.measured`)."""
+    return result.measured
+
+
+def study(out, scale: Scale, **kw) -> MethodResult:
+    """Run (or resume) the grid with both verdicts into ``out`` and analyse it."""
+    return analyse(load_sweeps(out, sweeps(scale), **kw), scale)
+
+
+def _disagreement(rows: pd.DataFrame, n_boot: int, scale: Scale) -> pd.DataFrame:
     """How often the verdicts differ, per threshold and region, with a cluster interval.
 
     The rows are a few disorders (column ``sample``) each decided at many grid points
@@ -145,11 +158,11 @@ def _disagreement(rows: pd.DataFrame, n_boot: int = 1000, seed: int = 1) -> pd.D
         One row per sample and grid point with ``phi``, ``p_t``, ``p_r``, ``sample``,
         ``rigid`` (exact verdict), ``paper_energy`` and ``affine_energy``.
     n_boot : int
-        Bootstrap replicas of the cluster interval (:func:`study_method` passes the scale's
+        Bootstrap replicas of the cluster interval (:func:`analyse` passes the scale's
         ``bootstrap``, at least 1000).
-    seed : int
-        Seed of the replicas; every (threshold, region) restarts from it, so the same rows
-        give the same numbers.
+    scale : Scale
+        Its ``rng("disagreement")`` draws the replicas; every (threshold, region) restarts
+        that stream, so the same rows give the same numbers.
 
     Returns
     -------
@@ -198,7 +211,9 @@ def _disagreement(rows: pd.DataFrame, n_boot: int = 1000, seed: int = 1) -> pd.D
             wrong = exact_r != paper_r
             differ = int(wrong.sum())
             _, w_lo, w_hi = an.wilson(differ, m.sum())
-            lo, hi, note, units = _cluster_interval(wrong, sample[m], n_boot, seed)
+            lo, hi, note, units = _cluster_interval(
+                wrong, sample[m], n_boot, scale.rng("disagreement")
+            )
             out.append(
                 {
                     "threshold": tau,
@@ -220,7 +235,7 @@ def _disagreement(rows: pd.DataFrame, n_boot: int = 1000, seed: int = 1) -> pd.D
 
 
 def _cluster_interval(
-    wrong: np.ndarray, unit: np.ndarray, n_boot: int, seed: int
+    wrong: np.ndarray, unit: np.ndarray, n_boot: int, rng: np.random.Generator
 ) -> tuple[float, float, str, int]:
     """95 % interval of ``wrong.mean()`` resampling whole units (see :func:`_disagreement`).
 
@@ -232,8 +247,8 @@ def _cluster_interval(
         Each row's independent unit (its sample).
     n_boot : int
         Replicas.
-    seed : int
-        Seed of the replicas.
+    rng : numpy.random.Generator
+        Source of the replicas.
 
     Returns
     -------
@@ -260,10 +275,11 @@ def _cluster_interval(
     _, inverse = np.unique(unit, return_inverse=True)
     d = np.bincount(inverse, weights=wrong.astype(float))
     n = np.bincount(inverse).astype(float)
-    rng = np.random.default_rng(seed)
-    reps = np.array(an.replicas(lambda idx: d[idx].sum() / n[idx].sum(), units, n_boot, rng))
-    lo, hi = np.percentile(reps, [2.5, 97.5])
-    return float(lo), float(hi), "", units
+    ci = stats.bootstrap(
+        (d, n), lambda d, n, axis=-1: d.sum(axis=axis) / n.sum(axis=axis), paired=True,
+        n_resamples=n_boot, rng=rng, method="percentile",
+    ).confidence_interval  # fmt: skip
+    return float(ci.low), float(ci.high), "", units
 
 
 def _matrix(sub: pd.DataFrame, column: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -273,9 +289,10 @@ def _matrix(sub: pd.DataFrame, column: str) -> tuple[np.ndarray, np.ndarray, np.
     return table.to_numpy(float), cols.p_r.to_numpy(float), cols.p_t.to_numpy(float)
 
 
-def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
+def _claims(rows: pd.DataFrame, scale: Scale) -> pd.DataFrame:
     """Each measurable claim computed with both verdicts on the same samples."""
     out = []
+    n_boot = scale.bootstrap
 
     def add(key, est: an.PairedEstimate, note=""):
         out.append(
@@ -301,7 +318,7 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
             ok = np.all(np.isfinite(y), axis=1)
             return an.fit_collapse(y[ok], pr, pt, n_boot=0).lam
 
-        est = an.paired_bootstrap(lam, ya, yb, n_boot, rng=stream("paired"))
+        est = an.paired_bootstrap(lam, ya, yb, n_boot, rng=scale.rng("paired"))
         add(f"st_sr_cables_{strain}", est, "collapse fit over p_t = 0, 0.1, 0.2, 0.3")
         if strain == "compression":
             add("st_sr_struts_dilation", est, "equal to rods + cables under compression (e -> -e)")
@@ -313,7 +330,7 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
             def cross(y, x=pr1):
                 return an.crossing_point(y, x, n_boot=0).value
 
-            est = an.paired_bootstrap(cross, ya, yb, n_boot, rng=stream("paired"))
+            est = an.paired_bootstrap(cross, ya, yb, n_boot, rng=scale.rng("paired"))
             add(f"p_crit_{strain}_{p_t}", est, "P = 1/2 of a logistic fit over the p_r grid")
             ea, _, _ = _matrix(one, "energy")
             eb, _, _ = _matrix(one, "paper_energy")
@@ -325,7 +342,7 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
                 return fit.alpha
 
             est = an.paired_bootstrap(
-                alpha, np.hstack([ya, ea]), np.hstack([yb, eb]), n_boot, rng=stream("paired")
+                alpha, np.hstack([ya, ea]), np.hstack([yb, eb]), n_boot, rng=scale.rng("paired")
             )
             add(f"alpha_{strain}_{p_t}", est, "mean energies from each method, its own p_crit")
     rods = rows[np.isclose(rows.p_t, 0.0)]
@@ -347,7 +364,7 @@ def _claims(rows: pd.DataFrame, n_boot: int) -> pd.DataFrame:
         ya,
         yb,
         n_boot,
-        rng=stream("paired"),
+        rng=scale.rng("paired"),
         groups=np.concatenate(units),
     )
     add("rods_only_pc", est, "P = 1/2 of a logistic fit, p_t = 0, both strains")

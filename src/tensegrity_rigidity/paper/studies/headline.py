@@ -1,0 +1,272 @@
+"""The headline claims at one size and node disorder: the sweeps both finite-size studies run.
+
+:func:`headline_sweeps` gives exact per-sample thresholds along p_r (rods only; rods +
+one-sided elements at p_t = 0.3 with f_c = 0, 0.5, 1; rods + cables at p_t = 0.1, 0.2) under
+dilation, shear and compression; :func:`energy_sweeps` the energy grids of rods + cables on
+the first samples of the same disorders; :func:`rods_pc_sweep` the rods-only thresholds of
+the p_c extrapolation. :func:`headline` reads the claims at one (n, delta) from their rows:
+the rods-only P = 1/2 point, S_t/S_r per strain and per one-sided system, p_crit of rods +
+cables per p_t, the energy exponents alpha and the taut-cable fraction at the transition.
+Estimates pooled over strains bootstrap samples, not rows.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ...analysis import estimators as an
+from ..claims import CLAIMS, REFERENCES, Measurement
+from ..comparison import verdict, z_score
+from .energy import energy_exponent, taut_with_error
+from .fig1c import FIG1C_PT
+from .nonaffinity import mask_uncertified_tensions
+from .rows import PT4, Rows, p_r_grid, strain_name
+from .scales import Scale
+
+STRAINS3 = [0.0, math.pi / 2, math.pi]
+FC3 = [0.0, 0.5, 1.0]
+#: (claim key, f_c, strain) of the S_t/S_r claims measured here
+LAMBDA_CLAIMS = [
+    ("st_sr_half_dilation", 0.5, "dilation"),
+    ("st_sr_half_shear", 0.5, "shear"),
+    ("st_sr_half_compression", 0.5, "compression"),
+    ("st_sr_cables_compression", 1.0, "compression"),
+    ("st_sr_struts_dilation", 0.0, "dilation"),
+    ("st_sr_cables_dilation", 1.0, "dilation"),
+]
+#: the check on the fitted exponent and the extrapolated threshold
+NU_CHECK = REFERENCES["nu_moukarzel_duxbury"]
+PC_CHECK = REFERENCES["pc_javerzat_notarmuzi"]
+
+
+def chunk_size(n: int) -> int:
+    """Samples per chunk of the threshold sweeps at size ``n`` (the unit of resumption).
+
+    One threshold search takes about 1.6 s at n = 32, 48 s at n = 64 and, extrapolated, 25 min
+    at n = 128 (:data:`~tensegrity_rigidity.paper.budget.THRESHOLD_SECONDS`): chunks of 2
+    samples at n = 64 and 1 beyond keep what an interruption loses to a few minutes per worker
+    and let two workers share the last chunks of a sweep. Rows do not depend on it.
+    """
+    return 32 if n < 64 else max(1, 128 // n)
+
+
+def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
+    """Sweep name -> spec of the headline claims at one (n, delta); seed 61, threshold mode.
+
+    ``_rods``: p_t = 0 (f_c does not matter there) under dilation, shear and compression;
+    ``_mixed``: p_t = :data:`~tensegrity_rigidity.paper.studies.FIG1C_PT` at f_c = 0, 0.5, 1
+    under the three strains (S_t/S_r from the collapse over p_t = 0 and 0.3, as Fig. 1C);
+    ``_pcrit``: p_t = 0.1, 0.2 for rods + cables (f_c = 1) under dilation and compression, for
+    p_crit at every p_t. The names carry (n, delta) only, so the two studies share a sweep where
+    they meet (n_delta among the sizes, delta the default), the smaller reading the first
+    samples of the larger.
+    """
+    name = f"headline_n{n}_delta{delta:g}"
+    base = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": STRAINS3}
+    base |= {"threshold": {"path": "p_r"}, "output": {"chunk_size": chunk_size(n)}}
+    return {
+        f"{name}_rods": base | {"p_t": 0.0, "f_c": 0.5},
+        f"{name}_mixed": base | {"p_t": FIG1C_PT, "f_c": FC3},
+        f"{name}_pcrit": base | {"p_t": PT4[1:-1], "f_c": 1.0, "phi": [0.0, math.pi]},
+    }
+
+
+#: samples per chunk of the pebble-game sweeps of the p_c extrapolation: about a minute of one
+#: worker at n = 512 (about 6 s a sample), proportionally more samples below
+PEBBLE_CHUNK_SITES = 8 * 512**2
+
+
+def rods_pc_sweep(n: int, delta: float, samples: int, method: str = "lp") -> dict[str, dict]:
+    """Sweep name -> spec of the rods-only thresholds of the p_c extrapolation at (n, delta).
+
+    One strain (dilation): a rods-only threshold does not depend on the strain (identical under
+    dilation, shear and compression for all 400 samples at n = 8 and 96 % at n = 32 of the fss
+    run), so a second strain would cost a full search for no new information. Seed 61, so
+    sample k is the disorder of sample k of :func:`headline_sweeps` (common random numbers).
+    ``method`` is the threshold method: ``"lp"`` (certified bisection) or ``"pebble"`` (one
+    pebble-game pass, which also records the spanning rigid cluster at the threshold; its sweeps
+    are named ``rods_pc_pebble_...``, so they never meet the bisection's).
+    """
+    spec = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": [0.0]}
+    spec |= {"p_t": 0.0, "f_c": 0.5, "threshold": {"path": "p_r"}}
+    if method == "pebble":
+        spec["threshold"] = {"path": "p_r", "method": "pebble"}
+        chunk = max(1, min(256, PEBBLE_CHUNK_SITES // n**2))
+        return {f"rods_pc_pebble_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk}}}
+    return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
+
+
+#: p_r grid of the energy sweeps: every p_crit of rods + cables lies above 0.45 and the power
+#: law is fitted within 0.25 above it (``fit_energy_power_law``)
+ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
+
+
+def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
+    """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
+
+    Per p_t of :data:`~tensegrity_rigidity.paper.studies.PT4`, f_c = 1 under dilation and
+    compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
+    fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
+    The same seed as :func:`headline_sweeps`, so sample k is the disorder of threshold sample k
+    (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
+    others have none). ``count`` samples per point
+    (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`); no minimum-norm
+    displacements (the energy and the tensions do not need them).
+    """
+    base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
+    base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
+    base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
+    return {
+        f"energy_n{n}_delta{delta:g}_pt{p_t:.1f}": base
+        | {"p_t": p_t, "p_r": [p for p in ENERGY_P_R if p + p_t <= 1 + 1e-12]}
+        for p_t in PT4
+    }
+
+
+#: the claims :func:`energy_claims` measures
+ENERGY_KEYS = frozenset(
+    [f"alpha_{s}_{p_t}" for s in ("compression", "dilation") for p_t in PT4]
+    + ["taut_cables_transition"]
+)
+
+
+def energy_claims(
+    rows: pd.DataFrame, thresholds: dict[tuple[str, float], pd.DataFrame], scale: Scale
+) -> list[dict]:
+    """alpha per (strain, p_t) and the taut-cable fraction at the transition from grid rows.
+
+    Parameters
+    ----------
+    rows : DataFrame
+        Grid rows of :func:`energy_sweeps` (every p_t, both strains): the decided ones and the
+        undecided ones whose E* is bracketed
+        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`), which enter the mean
+        energies and, not being rigid, not the taut fraction.
+    thresholds : dict
+        (strain name, p_t) -> threshold rows (``sample``, ``threshold_p_r``) of the same
+        samples at the same size and delta; their median is p_crit.
+    scale : Scale
+        Bootstrap replicas and generators of the errors.
+
+    Returns
+    -------
+    list of dict
+        Rows ``key``, ``value``, ``err``: ``alpha_<strain>_<p_t>`` (the power law of the mean
+        energy above p_crit, as in Fig. 2:
+        :func:`~tensegrity_rigidity.paper.studies.energy_exponent`) and
+        ``taut_cables_transition`` (mean over p_t = 0.1, 0.2, 0.3 under compression of the taut
+        fraction of rigid samples with certified tensions at the grid p_r nearest p_crit,
+        :func:`~tensegrity_rigidity.paper.studies.taut_with_error`). Both errors are
+        bootstraps over samples that re-estimate p_crit in every replica.
+    """
+    rows, _ = mask_uncertified_tensions(rows)
+    out, th = [], []
+    empty = pd.DataFrame({"sample": pd.Series(dtype=int), "threshold_p_r": pd.Series(dtype=float)})
+    for phi in (math.pi, 0.0):
+        strain = strain_name(phi)
+        for p_t in PT4:
+            t = thresholds.get((strain, p_t), empty)
+            th.append(t[["sample", "threshold_p_r"]].assign(phi=phi, p_t=p_t))
+            sub = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
+            fit = energy_exponent(sub, t, scale.bootstrap, rng=scale.rng("energy_exponent"))
+            out.append({"key": f"alpha_{strain}_{p_t}", "value": fit.alpha, "err": fit.alpha_err})
+    th_all = pd.concat(th, ignore_index=True)
+    tr = taut_with_error(rows, th_all, scale.bootstrap, rng=scale.rng("taut"))
+    if tr is not None:
+        out.append({"key": "taut_cables_transition", "value": tr[0], "err": tr[1]})
+    return out
+
+
+def headline(rows: Rows, n: int, delta: float, scale: Scale, *, samples: int, energy: int):
+    """The headline claims at one (n, delta) from the rows of :func:`headline_sweeps`
+    (``samples`` per point) and the energy claims from those of :func:`energy_sweeps`
+    (``energy`` per point; :func:`energy_claims`).
+
+    Parameters
+    ----------
+    rows : Rows
+        Sweep name -> (rows, excluded) of a study that ran both (:func:`.rows.load_sweeps`,
+        the energy sweeps loaded with ``energy``).
+    n, delta : int, float
+        The size and node disorder.
+    scale : Scale
+        Its bootstrap replicas and generators.
+    samples, energy : int
+        Samples per point of the threshold and of the energy sweeps.
+
+    Returns
+    -------
+    frame : DataFrame
+        Columns ``key``, ``value``, ``err``.
+    excluded : dict
+        Sweep name -> undecided rows.
+    bracketed : dict
+        Energy sweep name -> of those, the rows that still enter the energy analyses
+        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
+    """
+    frames, excluded, bracketed = {}, {}, {}
+    for name in headline_sweeps(n, delta, samples):
+        part = name.rsplit("_", 1)[1]
+        frames[part], excluded[name] = rows[name]
+    rods, mixed, pcrit = frames["rods"], frames["mixed"], frames["pcrit"]
+    out = []
+    # rods-only thresholds do not depend on the strain: a sample is one unit, not three
+    pc, pc_err = an.critical_point(
+        rods.threshold_p_r.to_numpy(),
+        groups=rods["sample"].to_numpy(),
+        rng=scale.rng("critical_point"),
+    )
+    out.append({"key": "rods_only_pc", "value": pc, "err": pc_err})
+    grid = np.arange(0.3, 0.9001, 0.01)
+    for key, f_c, strain in LAMBDA_CLAIMS:
+        phi = next(p for p in STRAINS3 if strain_name(p) == strain)
+        sub = pd.concat(
+            [
+                rods[np.isclose(rods.phi, phi)].assign(f_c=f_c),
+                mixed[np.isclose(mixed.phi, phi) & np.isclose(mixed.f_c, f_c)],
+            ]
+        )
+        y, pr, pt = an.outcomes_from_thresholds(sub, grid)
+        fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=scale.rng("collapse"))
+        out.append({"key": key, "value": fit.lam, "err": fit.lam_err})
+    cables = pd.concat([pcrit, mixed[np.isclose(mixed.f_c, 1.0)]], ignore_index=True)
+    crit = {}
+    for phi in (math.pi, 0.0):
+        strain = strain_name(phi)
+        for p_t in PT4:
+            src = rods if p_t == 0 else cables
+            crit[strain, p_t] = src[np.isclose(src.phi, phi) & np.isclose(src.p_t, p_t)]
+            v, e = an.critical_point(
+                crit[strain, p_t].threshold_p_r.to_numpy(), rng=scale.rng("critical_point")
+            )
+            out.append({"key": f"p_crit_{strain}_{p_t}", "value": v, "err": e})
+    grids = []
+    for name in energy_sweeps(n, delta, count=energy):
+        grid, excluded[name] = rows[name]
+        bracketed[name] = int((~grid.decided.astype(bool)).sum())
+        grids.append(grid)
+    out += energy_claims(pd.concat(grids, ignore_index=True), crit, scale)
+    return pd.DataFrame(out), excluded, bracketed
+
+
+def energy_names(sweeps: dict[str, dict]) -> tuple[str, ...]:
+    """The sweeps of ``sweeps`` made by :func:`energy_sweeps` (loaded for the energy analyses)."""
+    return tuple(name for name in sweeps if name.startswith("energy_"))
+
+
+def z_paper(key: str, value: float, err: float) -> float:
+    """The comparison's agreement statistic of one value against the paper's claim."""
+    return z_score(CLAIMS[key], Measurement.scalar(key, value, err, ""))
+
+
+def judged(key: str, value: float, err: float) -> tuple[float, str]:
+    """The comparison's z and verdict on one value of a claim ("agree", "disagree",
+    "inconclusive", "n/a"; :func:`~tensegrity_rigidity.paper.comparison.verdict`)."""
+    return verdict(CLAIMS[key], Measurement.scalar(key, value, err, ""))
+
+
+# --------------------------------------------------------------------------- finite size
