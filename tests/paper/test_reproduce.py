@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
+from pathlib import Path
 
 import pytest
 
@@ -186,3 +187,26 @@ def test_the_html_report_renders_in_a_real_browser(tiny, tmp_path):
         timeout=120,
     )
     assert shot.stat().st_size > 20_000  # a drawn page, not a blank one
+
+
+@pytest.mark.parametrize(
+    "report",
+    sorted((Path(__file__).parents[2] / "reports").glob("*/report.md")),
+    ids=lambda p: p.parent.name,
+)
+def test_the_committed_reports_keep_the_budgets(report):
+    """Every committed report (paper-n32, fss, pc, 3d): no table cell over 160 characters and
+    no paragraph over about 120 words, as the tiny one; a stale report written before the
+    budgets fails here until it is regenerated."""
+    from tensegrity_rigidity.paper.render import MAX_WORDS
+
+    md = report.read_text()
+    cells = [
+        c.strip()
+        for line in md.splitlines()
+        if line.startswith("| ") and not line.startswith("|---")
+        for c in line.strip("|").split(" | ")
+    ]
+    assert cells and max(map(len, cells)) <= 160, max(cells, key=len)
+    longest = max(len(p.split()) for p in _paragraphs(md))
+    assert longest <= MAX_WORDS + 40, longest

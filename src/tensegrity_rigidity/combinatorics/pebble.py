@@ -42,10 +42,10 @@ ONE_SHORT = ALL_FREE - 1
 #: columns of a lifted path row: bond, tail node and potential (x, y), head node and potential
 PATH_COLUMNS = 7
 
-#: rows of the kernel's (ROWS, N) int64 scratch array
+#: rows of the kernel's (ROWS, N) int64 work array
 SEEN, PRED, LIST, PX, PY, SEEN2, PRED2, LIST2, ONPATH, MARK, STACK = range(11)
 ROWS = 11
-#: rows of the cluster labelling's (LABEL_ROWS, N) int64 scratch array: per node the stamp of
+#: rows of the cluster labelling's (LABEL_ROWS, N) int64 work array: per node the stamp of
 #: the search visiting it and its potential there, the cluster holding it and its potential in
 #: it, and the wrapping cluster holding it (-1: none)
 VISITED, TPX, TPY, TLIST, MEMBER, MPX, MPY, WRAP_OF = range(8)

@@ -14,7 +14,7 @@ sites (:func:`draw_clusters`, from the pebble game). Colours are Okabe and Ito's
 
 Nothing here selects a Matplotlib backend: :func:`plot_solution` draws on a bare
 ``matplotlib.figure.Figure`` (no GUI needed), and :func:`draw_network` draws on whatever
-``Axes`` it is given (a notebook's inline figure, a report's Agg figure).
+``Axes`` it is given (an interactive figure, a report's Agg figure).
 """
 
 from __future__ import annotations
