@@ -4,7 +4,8 @@ Given the unique tensions ``t*`` the minimisers form a polyhedron ``U*`` (equali
 stressed one-sided elements, inequalities on the others); the reported displacements are the
 projection of the origin onto it, the limit of a vanishing background stiffness: a primal-dual
 active set (:func:`active_set`) first where ``t*`` is not zero, else a primal-dual interior point
-(:func:`min_norm_minimizer`), certified only by their KKT residuals (docs/solver.md).
+(:func:`min_norm_minimizer`), both on reduced systems in the Newton matrix's pattern, certified only
+by their KKT residuals (docs/model.md, "The relaxed state"; docs/solver.md).
 """
 
 from __future__ import annotations

@@ -65,12 +65,21 @@ def nested_dissection(n_nodes: int, pairs: np.ndarray, dim: int) -> np.ndarray:
 
 
 class PatternFactor:
-    """Factorisations of symmetric positive (semi)definite (n, n) matrices sharing one pattern.
+    """Factorisations of symmetric positive (semi)definite matrices sharing one pattern.
 
-    ``indptr``, ``indices``: the CSC pattern of the upper triangle (sorted rows per column);
-    ``backend`` "auto" (CHOLMOD where available, QDLDL for matrices it rejects), "cholmod" or
-    "qdldl"; ``ordering`` (n,): a fill-reducing permutation for CHOLMOD (default its AMD). The
-    attribute ``backend`` names the backend of the most recent factorisation.
+    Parameters
+    ----------
+    indptr, indices, n : int arrays, int
+        CSC pattern of the upper triangle (sorted rows per column) of an (n, n) matrix.
+    backend : {"auto", "cholmod", "qdldl"}
+        "auto": CHOLMOD where available, QDLDL for matrices it rejects.
+    ordering : (n,) int, optional
+        A fill-reducing permutation for CHOLMOD (default its AMD).
+
+    Attributes
+    ----------
+    backend : str
+        Backend of the most recent factorisation.
     """
 
     def __init__(
@@ -95,9 +104,6 @@ class PatternFactor:
         self._qdldl: qdldl.Solver | None = None
         self._ordering = None if ordering is None else np.asarray(ordering, dtype=np.int64)
         self.backend = ""
-
-    def _csc(self, data: np.ndarray) -> sp.csc_matrix:
-        return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))
 
     def factor(self, data: np.ndarray) -> PatternFactor:
         """Factorise the matrix with values ``data`` (in pattern order); returns self. Raises
@@ -128,7 +134,7 @@ class PatternFactor:
                 if not self._allow_qdldl:
                     raise
                 # a non-positive pivot: this matrix goes to LDL^T (the analysis stays valid)
-        H = self._csc(data)
+        H = sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))
         self.backend = ""
         try:
             if self._qdldl is None:

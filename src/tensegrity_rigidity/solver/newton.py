@@ -121,7 +121,8 @@ def crossover(p: Problem, u: np.ndarray, tau: float | None = None, rounds: int =
     The guess: the rods and the one-sided elements within ``tau max |e0|`` of engaging (default the
     first of ``Tolerances.crossover_taus``), on which :func:`prox_minimize` minimises exactly;
     wrong-signed engaged elements are released and stretched slack ones added, for at most
-    ``rounds``. Returns the displacements (2N,), or None when they do not settle.
+    ``rounds``. Returns the displacements (2N,), or None when the rounds do not settle or the
+    corrections grow (a wrong guess costs time, never a wrong verdict).
     """
     tau = p.tol.crossover_taus[0] if tau is None else tau
     scale = float(np.abs(p.e0).max())

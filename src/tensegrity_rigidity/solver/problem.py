@@ -88,8 +88,9 @@ class Problem:
 
         Per node pair the ``d`` columns of node ``J`` hold ``d`` rows for every node ``I < J``
         bonded to it, then its own diagonal block. ``_assemble`` (entries x sites) holds each
-        entry's terms bond by bond, so that ``_assemble @ w`` sums them in a fixed order
-        (tests/solver/test_problem.py keeps the per-entry reference).
+        entry's terms bond by bond, so that ``_assemble @ w`` adds them in a fixed order: the same
+        sums to the last bit as a per-entry construction (tests/solver/test_problem.py keeps that as
+        the reference).
         """
         net = self.instance.network
         d, n_nodes = self.dim, net.n_nodes

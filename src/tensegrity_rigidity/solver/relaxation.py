@@ -154,8 +154,8 @@ def _relax(
 ) -> tuple[np.ndarray, float, int]:
     """Minimise the energy from ``u`` (2N,): Newton, then (if not stationary) the interior point
     with ``ipm`` = (iterations, tolerance), going on from ``ipm_start`` where it passes through it,
-    and a crossover; then a final crossover where it lowers the force residual. (u, E, iterations).
-    """
+    and a crossover; then a final crossover where it lowers the force residual. Returns (u, E,
+    iterations)."""
 
     def residual(x):
         _, _, t = p.state(x)
@@ -253,7 +253,7 @@ def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
 
 def _exact_residual(p: Problem, t: np.ndarray) -> float:
     """``|R^T t|_1 / |t|_1`` of tensions ``t`` (m,), the forces in extended precision (0 for ``t =
-    0``; no floor on ``|t|_1``)."""
+    0``; no floor on ``|t|_1``, so underflowed tensions keep their large residual)."""
     size = float(np.abs(t).sum())
     return float(np.abs(p.exact.forces(t)).sum()) / size if size > 0 else 0.0
 

@@ -597,10 +597,12 @@ def _feasibility_lp(
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's simplex, one thread.
 
-    Each variant of ``simplex`` runs at most ``max_iter`` iterations, the next only after status
+    Rows in site order (rods ``R u = -e0``, cables ``<=``, struts ``>=``), free columns; each
+    variant of ``simplex`` runs at most ``max_iter`` iterations, the next only after status
     "Unknown"; ``tolerance``: HiGHS's primal feasibility tolerance. Returns ``(vertex, ray)``: a
     vertex (2N,) when feasible; when proved infeasible, minus its dual ray (m,), tensions with ``R^T
-    t = 0`` up to round-off, admissible signs and positive work by Farkas' lemma.
+    t = 0`` up to round-off, admissible signs and positive work by Farkas' lemma (purified and
+    checked by the caller).
     """
     import highspy
 
