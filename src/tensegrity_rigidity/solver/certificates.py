@@ -1,11 +1,10 @@
 """The two certificates of a verdict and the resolution model that makes them exclude each other.
 
-In units of the largest affine extension ``s0 = max_b |e0_b|``: a **floppy** certificate is a
-displacement ``u`` whose extensions ``v = e0 + R u`` are admissible to ``tau`` (violation: ``|v|``
-on rods, ``max(sigma v, 0)`` on one-sided elements) with size ``max |u| <= U``; a **rigid** one
-an admissible self-stress ``t`` with work ``w = t . e0 / |t|_1 > tau + U r``, ``r = |R^T t|_1 /
-|t|_1``. Both cannot pass for one instance (docs/model.md, "The resolution model"). Every
-quantity is evaluated in extended precision, with a bound on its round-off added to each test.
+In units of ``s0 = max_b |e0_b|``: a **floppy** certificate is a displacement ``u`` whose extensions
+``v = e0 + R u`` are admissible to ``tau`` with ``max |u| <= U``; a **rigid** one an admissible
+self-stress ``t`` with work ``t . e0 / |t|_1 > tau + U |R^T t|_1 / |t|_1``. Both cannot pass for one
+instance (docs/model.md, "The resolution model"). Everything is evaluated in extended precision,
+with a bound on its round-off added to each test.
 """
 
 from __future__ import annotations
@@ -21,9 +20,8 @@ EPS = float(np.finfo(np.longdouble).eps) / 2
 
 
 def violation_roundoff(size: float) -> float:
-    """Round-off bound of an extended-precision violation at displacements of ``size`` (units of
-    ``max |e0|``): about ten roundings of quantities up to ``1 + 4 size``, ``20 EPS (1 + 4 size)``.
-    """
+    """Round-off bound ``20 EPS (1 + 4 size)`` of an extended-precision violation at displacements
+    of ``size`` (units of ``max |e0|``): about ten roundings of quantities up to ``1 + 4 size``."""
     return 20.0 * EPS * (1.0 + 4.0 * size)
 
 
@@ -96,9 +94,7 @@ def _two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def bond_vectors(network, sites: np.ndarray) -> np.ndarray:
     """Bond vectors ((m, d) longdouble) of ``sites`` (m,) of ``network``, correctly rounded up to
-    ``~EPS^2``: ``x_j + s . box - x_i`` summed by cascaded TwoSum (docs/solver.md), however far
-    from the origin the nodes lie.
-    """
+    ``~EPS^2`` by cascaded TwoSum however far from the origin the nodes lie (docs/solver.md)."""
     pos = network.positions.astype(np.longdouble)
     box = network.box.astype(np.longdouble)
     b, shift = network.bonds[sites], network.shifts[sites].astype(np.longdouble)
@@ -114,8 +110,8 @@ def bond_vectors(network, sites: np.ndarray) -> np.ndarray:
 class ExactGeometry:
     """The rigidity matrix of a problem in extended precision, for certificate checks.
 
-    Built from the node pairs ``bonds`` (m, 2), the extended-precision bond vectors ``d`` (m, dim)
-    (:func:`bond_vectors`), the affine extensions ``e0`` (m,) in units of ``max |e0|``, the signs
+    Built from the node pairs ``bonds`` (m, 2), the bond vectors ``d`` (m, dim) of
+    :func:`bond_vectors`, the affine extensions ``e0`` (m,) in units of ``max |e0|``, the signs
     ``sigma`` (m,) and the number of nodes ``n_nodes``.
     """
 
@@ -164,14 +160,12 @@ class ExactGeometry:
 
     def violations(self, v: np.ndarray) -> np.ndarray:
         """Per-site violation ((m,)) of extensions ``v`` (m,): ``|v|`` on rods, ``max(sigma v, 0)``
-        on one-sided elements.
-        """
+        on one-sided elements."""
         return np.where(self.rod, np.abs(v), np.maximum(self.sigma * v, 0))
 
     def floppy(self, u: np.ndarray, res: Resolution) -> FloppyCertificate:
         """Check displacements ``u`` ((2N,), extended precision kept) as a floppy certificate at
-        resolution ``res``.
-        """
+        resolution ``res``."""
         u_n = np.asarray(u).ravel()
         if u_n.dtype != np.longdouble:
             u_n = u_n.astype(float)
@@ -221,21 +215,12 @@ def undecided_reason(
     res: Resolution,
     roundoff: float,
 ) -> tuple[str, str]:
-    """Why neither best candidate was accepted: the boundary is within resolution, or the
-    search did not resolve it.
+    """Why neither best candidate was accepted: within resolution of the boundary, or not resolved.
 
-    Any self-stress and displacement satisfy ``violation >= work - size * residual``
-    (docs/model.md, "Undecided verdicts"), so the candidates bound the verdict LP both ways:
-
-    * a displacement of violation ``v`` bounds the work of every exact self-stress by ``v``;
-      at or below the smallest work a rigid certificate can show, ``tau + (U + 1) roundoff``,
-      no self-stress can ever pass;
-    * a self-stress with ``work - U (residual + roundoff) - roundoff > 0`` proves that every
-      displacement within ``U`` violates by more than that: no zero-energy displacement
-      exists within the bound, yet the margin is below ``tau``.
-
-    Either proves the sample lies within resolution of the boundary. Otherwise the strategies
-    ran out before reaching either side: the probe is not resolved.
+    Any self-stress and displacement satisfy ``violation >= work - size * residual`` (docs/model.md,
+    "Undecided verdicts"): a displacement whose violation is at most the least work a rigid
+    certificate can show, or a self-stress whose margin proves every displacement within ``U``
+    violates, puts the sample within resolution; otherwise the strategies ran out.
 
     Parameters
     ----------

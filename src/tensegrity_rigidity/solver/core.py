@@ -189,10 +189,6 @@ _SUMMARY_FLOATS = (
 )
 
 
-def _check_scale(p: Problem) -> None:
-    check_energy_scale(p.scale, p.instance.network.stiffness_or_ones()[p.sites])
-
-
 def _undecided_message(s, reason: str, evidence: str) -> str:
     parts = [f"{reason}: {evidence}"]
     if s.rigid is not None:
@@ -215,7 +211,7 @@ def _search(
         hint = hint if isinstance(instance, (str, os.PathLike)) else ""
         raise InputError(f"expected an Instance, got {type(instance).__name__}{hint}")
     p = Problem(instance, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
-    _check_scale(p)
+    check_energy_scale(p.scale, instance.network.stiffness_or_ones()[p.sites])
     u0 = t0 = None
     if start is not None and p.scale > 0:
         u0 = np.asarray(start, dtype=float).ravel() / p.scale

@@ -2,11 +2,10 @@
 
 Given the unique tensions ``t*`` the minimisers form a polyhedron ``U*`` (equalities on rods and
 stressed one-sided elements, inequalities on the others); the reported displacements are the
-projection of the origin onto it, the limit of a vanishing background stiffness. A primal-dual
-active set (:func:`active_set`) tries first where ``t*`` is not zero, a primal-dual interior
-point (:func:`min_norm_minimizer`) does the rest; both solve reduced ``2N x 2N`` systems in the
-pattern of the Newton matrix (:class:`_ReducedKKT`). The result is minimum-norm only when its
-KKT residuals pass; docs/model.md ("The relaxed state") and docs/solver.md give the derivation.
+projection of the origin onto it, the limit of a vanishing background stiffness: a primal-dual
+active set (:func:`active_set`) first where ``t*`` is not zero, else a primal-dual interior point
+(:func:`min_norm_minimizer`), both on reduced systems in the Newton matrix's pattern, certified only
+by their KKT residuals (docs/model.md, "The relaxed state"; docs/solver.md).
 """
 
 from __future__ import annotations
@@ -75,17 +74,14 @@ class MinimumNorm:
 def minimum_norm(relaxed: Relaxation, asked: bool = True) -> MinimumNorm:
     """The minimum-norm minimiser of a relaxed state (if ``asked``: ``SolverOptions.min_norm``).
 
-    The polyhedron is built from the relaxed tensions, so it is ``U*`` only where the energy's
-    lower bound certifies them; otherwise nothing is projected. The targets are the extensions
-    the relaxed minimiser realises on every equality, so that the equalities are consistent.
+    ``U*`` is built from the relaxed tensions, so nothing is projected unless the energy's lower
+    bound certifies them; the equalities' targets are the extensions the relaxed minimiser realises.
     """
     p, u = relaxed.problem, relaxed.u
-    if not (p.sites.size and np.any(p.e0)):  # nothing strained or no element: u = 0 is exact
-        if asked:
-            return MinimumNorm("certified", "", np.zeros(p.n2), (0.0, 0.0, 0.0))
-        return MinimumNorm("not asked", _NOT_ASKED, u)
     if not asked:
         return MinimumNorm("not asked", _NOT_ASKED, u)
+    if not (p.sites.size and np.any(p.e0)):  # nothing strained or no element: u = 0 is exact
+        return MinimumNorm("certified", "", np.zeros(p.n2), (0.0, 0.0, 0.0))
     if not relaxed.certified:
         message = (
             f"minimum-norm displacements not computed: {relaxed.message}, so its tensions "
@@ -110,9 +106,9 @@ _NOT_ASKED = "minimum-norm displacements not asked for (SolverOptions.min_norm)"
 
 
 def project(p: Problem, t: np.ndarray, u_start: np.ndarray | None = None) -> MinNormResult:
-    """The minimum-norm minimiser for the tensions ``t*`` ``t`` (m,) from the minimiser
-    ``u_start`` (2N,): :func:`active_set` where ``t`` is not zero and a start is given, then,
-    unless that is certified, :func:`min_norm_minimizer`."""
+    """The minimum-norm minimiser for the tensions ``t*`` ``t`` (m,) from the minimiser ``u_start``
+    (2N,): :func:`active_set` where ``t`` is not zero and a start is given, else (or where that is
+    not certified) :func:`min_norm_minimizer`."""
     if np.any(t) and u_start is not None:
         first = active_set(p, t, u_start)
         if first.ok:
@@ -126,40 +122,32 @@ def active_set(
     u_start: np.ndarray,
     tol: float | None = None,
     max_iterations: int = 5,
-    regularization: float | None = None,
     refinement: int = 3,
     corrections: int = 4,
 ) -> MinNormResult:
     """Projection of the origin onto ``U*`` by a primal-dual active set.
 
-    Each iteration projects onto the equalities and the held inequalities, all as equalities
-    (one :class:`_ReducedKKT` step from the minimiser ``u_start`` (2N,) for the tensions ``t``
-    (m,)). The held set starts as the inequalities the start touches, then keeps those whose
-    multiplier has the right sign and adds those the new point violates; where it stands, up to
-    ``corrections`` further steps on the same factorisation run while each halves the
-    residuals. ``tol`` (default ``Tolerances.min_norm_tol``) bounds the feasibility and
-    stationarity residuals, ``regularization`` is ``d`` of :class:`_ReducedKKT` (default
-    ``Tolerances.min_norm_regularization``), ``refinement`` the refinement steps per solve.
-    It suits rigid verdicts; on floppy ones its stationarity stalls. Returns the last iterate.
+    Each iteration projects from the minimiser ``u_start`` (2N,) for the tensions ``t`` (m,) onto
+    the equalities and the held inequalities as equalities (one :class:`_ReducedKKT` step,
+    ``refinement`` refinement steps per solve). The held set starts as the inequalities the start
+    touches, keeps those with right-signed multipliers and adds those violated; once it stands, up
+    to ``corrections`` more steps on the same factorisation while each halves the residuals.
+    ``tol``: default ``Tolerances.min_norm_tol``. Suits rigid verdicts. Returns the last iterate.
     """
     tol = p.tol.min_norm_tol if tol is None else tol
-    regularization = p.tol.min_norm_regularization if regularization is None else regularization
     eq, ineq, c, E, In = _polyhedron(p, t)
     u0 = np.asarray(u_start, dtype=float)
     sig = p.sigma[In]
 
-    def scale(u):
-        return max(1.0, float(np.abs(u).max(initial=0.0)))
-
     v = p.e0 + p.R @ u0
-    held = sig * v[In] >= -p.tol.min_norm_held * scale(u0)  # touched by the start
+    held = sig * v[In] >= -p.tol.min_norm_held * max(1.0, _inf(u0))  # touched by the start
     bE = (c - p.e0)[E]
     u = u0
     residuals: tuple[float, float, float] = (np.inf, np.inf, np.inf)
     it = 0
     for it in range(1, max_iterations + 1):
         H = In[held]
-        kkt_system = _ReducedKKT(p, E, H, sig[held], regularization, refinement)
+        kkt_system = _ReducedKKT(p, E, H, sig[held], p.tol.min_norm_regularization, refinement)
         try:
             kkt_system.factor(np.zeros(H.size))  # the held rows as equalities
         except ArithmeticError:
@@ -173,14 +161,13 @@ def active_set(
         v = p.e0 + p.R @ u
         z_all = np.zeros(In.size)
         z_all[held] = z
-        new = (sig * v[In] > p.tol.min_norm_violated * scale(u)) | (
+        new = (sig * v[In] > p.tol.min_norm_violated * max(1.0, _inf(u))) | (
             held & (z_all >= 0)
         )  # violated, or right sign
         if not np.array_equal(new, held):
             held = new
             continue
-        # the held set stands, the residuals do not: correct on the same factorisation while
-        # that halves the feasibility and stationarity residuals
+        # the held set stands, the residuals do not: correct while that halves them
         for _ in range(corrections):
             previous = max(residuals[:2])
             u, y, z, residuals = _equality_step(p, kkt_system, bE, h, (u, y, z), polyhedron)
@@ -195,8 +182,8 @@ def active_set(
 def _equality_step(
     p: Problem, kkt_system: _ReducedKKT, bE, h, point, polyhedron
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[float, float, float]]:
-    """The step of :func:`active_set`'s equality-constrained projection from ``point = (u, y,
-    z)`` and the KKT residuals where it ends; ``polyhedron`` is ``(E, H, eq, ineq, c)``."""
+    """One step of :func:`active_set` from ``point = (u, y, z)`` and its KKT residuals
+    (``polyhedron``: ``(E, H, eq, ineq, c)``)."""
     u, y, z = point
     du, dy, dz = kkt_system.solve(
         -(u + kkt_system.REt @ y + kkt_system.Gt @ z), bE - kkt_system.RE @ u, h - kkt_system.G @ u
@@ -212,35 +199,30 @@ def min_norm_minimizer(
     u_start: np.ndarray | None = None,
     tol: float | None = None,
     max_iterations: int = 150,
-    regularization: float | None = None,
     refinement: int = 3,
     predictor_refinement: int = 0,
     refine_multipliers: bool = True,
 ) -> MinNormResult:
     """Projection of the origin onto the minimisers ``U*`` by a primal-dual interior point.
 
-    From the minimiser ``u_start`` (2N,) (default the origin) for the tensions ``t*`` ``t`` (m,),
-    at most ``max_iterations`` iterations (one factorisation each). ``tol`` (default
-    ``Tolerances.min_norm_tol``) bounds the feasibility and stationarity residuals,
-    ``regularization`` is ``d`` of :class:`_ReducedKKT` (default
-    ``Tolerances.min_norm_regularization``); ``refinement`` and ``predictor_refinement`` are the
-    refinement steps of the corrector's and the predictor's solves (the predictor only sets the
-    centring). With ``refine_multipliers``, a feasible end point it has not certified gets its
-    multipliers refined in extended precision (:func:`_refined_certificate`) and is checked again.
-    Returns the first iterate certified with a margin, else the one with the least KKT measure.
+    From the minimiser ``u_start`` (2N,) (default the origin) for the tensions ``t*`` ``t`` (m,), at
+    most ``max_iterations`` Mehrotra iterations, one factorisation each; ``tol`` as in
+    :func:`active_set`, ``refinement`` and ``predictor_refinement`` the refinement steps of the
+    corrector's and the predictor's solves. With ``refine_multipliers`` a feasible uncertified end
+    point is checked again with multipliers refined in extended precision
+    (:func:`_refined_certificate`). Returns the first iterate certified with a margin, else the one
+    of least KKT measure.
     """
     tol = p.tol.min_norm_tol if tol is None else tol
-    regularization = p.tol.min_norm_regularization if regularization is None else regularization
     eq, ineq, c, E, In = _polyhedron(p, t)
-    kkt_system = _ReducedKKT(p, E, In, p.sigma[In], regularization, refinement)
+    kkt_system = _ReducedKKT(p, E, In, p.sigma[In], p.tol.min_norm_regularization, refinement)
     RE, G, REt, Gt = kkt_system.RE, kkt_system.G, kkt_system.REt, kkt_system.Gt
     bE = (c - p.e0)[E]
     h = -(p.sigma * p.e0)[In]
     mI = In.size
     u = np.zeros(p.n2) if u_start is None else np.array(u_start, float)
-    # multipliers on the scale of the start: u = -R^T lam needs |lam| of order |u| (z = 1
-    # instead took about twice the iterations near the threshold, where |u| is 1e3 to 1e7)
-    y, z = np.zeros(E.size), np.full(mI, max(1.0, float(np.abs(u).max(initial=0.0))))
+    # multipliers on the scale of the start: u = -R^T lam needs |lam| of order |u|
+    y, z = np.zeros(E.size), np.full(mI, max(1.0, _inf(u)))
     s = np.maximum(h - G @ u, 1.0)
     best: tuple | None = None
     it = 0
@@ -249,13 +231,8 @@ def min_norm_minimizer(
         re = RE @ u - bE
         ri = G @ u + s - h
         mu = float(z @ s) / max(mI, 1)
-        size = max(1.0, float(np.abs(u).max(initial=0.0)))
-        kkt = max(
-            float(np.abs(re).max(initial=0.0)),
-            float(np.abs(ri).max(initial=0.0)),
-            float(np.abs(rd).max(initial=0.0)) / size,
-            mI * mu / size**2,
-        )
+        size = max(1.0, _inf(u))
+        kkt = max(_inf(re), _inf(ri), _inf(rd) / size, mI * mu / size**2)
         if best is None or kkt < best[0]:
             best = (kkt, u.copy(), y.copy(), z.copy(), it)
         if kkt <= p.tol.min_norm_kkt_exact or (kkt < p.tol.min_norm_kkt_stall and it - best[4] > 8):
@@ -298,21 +275,18 @@ def min_norm_minimizer(
 
 
 def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
-    """A certified lower bound on ``|u*|^2`` from any multipliers ``lam`` (m,), by weak duality.
+    """A certified lower bound on ``|u*|^2`` by weak duality from any multipliers ``lam`` (m,).
 
-    With wrong-signed multipliers set to 0, the projection's dual function ``g(lam) = -1/2
-    |R^T lam|^2 + lam . (e0 - c)`` bounds ``1/2 |u*|^2`` from below; it is evaluated on the
-    certificates' geometry less bounds on its round-off (docs/solver.md). ``eq``, ``ineq`` and
-    ``c`` are the polyhedron's masks and targets (:func:`_polyhedron`). Returns ``2 g(lam)`` less
-    its round-off bound, or 0 where that is negative.
+    Wrong-signed multipliers are set to 0; the dual function ``-1/2 |R^T lam|^2 + lam . (e0 - c)``
+    is evaluated on the certificates' geometry less bounds on its round-off (docs/solver.md).
+    ``eq``, ``ineq``, ``c``: the polyhedron (:func:`_polyhedron`). Returns twice it, or 0.
     """
     lam_x = np.where(eq | (ineq & (p.sigma * np.asarray(lam, dtype=float) >= 0)), lam, 0)
     lam_x = np.asarray(lam_x, dtype=np.longdouble)
     forces = p.exact.forces(lam_x)
     # |R^T lam| of the exact geometry is at most |forces| + their round-off, per component
     upper = np.abs(forces) + _force_roundoff(p, lam_x)
-    # the two sums (NumPy's pairwise summation, in extended precision; a longdouble dot
-    # product would add in turn) less bounds on their summation errors
+    # the two sums (pairwise, unlike a longdouble dot product) less bounds on their errors
     sums = float(np.ceil(np.log2(max(lam_x.size, 2)))) + 2.0
     square = np.sum(upper * upper) * (1 + 2 * sums * EPS)
     target = np.asarray(p.e0, dtype=np.longdouble) - np.asarray(c, dtype=np.longdouble)
@@ -324,10 +298,9 @@ def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
 
 
 def _polyhedron(p: Problem, t: np.ndarray):
-    """``U*`` of the tensions ``t`` ((m,)): masks of its equalities (rods and stressed
-    one-sided elements) and inequalities (the other one-sided elements), each (m,) bool; the
-    targets ``c`` ((m,), ``v_b = c_b`` on the equalities, ``sigma_b v_b <= 0`` on the
-    inequalities); the indices of both."""
+    """``U*`` of the tensions ``t`` (m,): masks (m,) of its equalities (rods and stressed one-sided
+    elements) and inequalities, targets ``c`` (m,) (``v = c`` on the equalities, ``sigma v <= 0`` on
+    the inequalities) and the indices of both."""
     stressed = p.one_sided & (t != 0)
     eq = p.rod | stressed
     ineq = p.one_sided & ~stressed
@@ -335,18 +308,14 @@ def _polyhedron(p: Problem, t: np.ndarray):
     return eq, ineq, c, np.flatnonzero(eq), np.flatnonzero(ineq)
 
 
-def _certified(
-    feasibility: float, stationarity: float, dual: float, tol: float, dual_tol: float
-) -> bool:
-    """The KKT residuals within their tolerances (``tol``; ``dual_tol`` for ``dual``)."""
+def _certified(feasibility, stationarity, dual, tol: float, dual_tol: float) -> bool:
+    """The KKT residuals (floats) within their tolerances (``tol``; ``dual_tol`` for ``dual``)."""
     return feasibility <= tol and stationarity <= tol and dual <= dual_tol
 
 
-def _certified_with_margin(
-    feasibility: float, stationarity: float, dual: float, tol: float, dual_tol: float
-):
-    """Certified (:func:`_certified`) with feasibility ``100`` times and the other residuals
-    ``10`` times below ``tol``: where :func:`min_norm_minimizer` stops."""
+def _certified_with_margin(feasibility, stationarity, dual, tol: float, dual_tol: float) -> bool:
+    """Certified (:func:`_certified`) with feasibility ``100`` and the others ``10`` times below
+    ``tol``: where :func:`min_norm_minimizer` stops."""
     return (
         _certified(feasibility, stationarity, dual, tol, dual_tol)
         and feasibility <= 1e-2 * tol
@@ -355,8 +324,8 @@ def _certified_with_margin(
 
 
 def _multipliers(p, y, z, E, In) -> np.ndarray:
-    """The multipliers ``lam`` ((m,)) of the equalities ``y`` and inequalities ``z``, such that
-    ``u = -R^T lam`` at the projection and ``sigma lam >= 0`` on the inequalities."""
+    """The multipliers ``lam`` (m,) of the equalities ``y`` and inequalities ``z``: ``u = -R^T lam``
+    at the projection, ``sigma lam >= 0`` on the inequalities."""
     lam = np.zeros(p.sites.size)
     lam[E] = y
     lam[In] = p.sigma[In] * z
@@ -374,10 +343,8 @@ def _refined_certificate(
     """The KKT residuals of ``u`` (2N,) with its multipliers ``lam`` (m,) refined in extended
     precision, and those multipliers ((m,) longdouble); None when the factorisation fails.
 
-    Near a sample's own threshold ``|lam|`` reaches ``1e8 |u|`` and the stationarity residual is
-    the round-off of ``R^T lam``: each step corrects ``lam`` by the least-squares solution of
-    ``R^T dlam = -(u + R^T lam)``, evaluated and accumulated in extended precision; the reported
-    stationarity includes a bound on the round-off of those forces.
+    Each of ``steps`` corrects ``lam`` by the least-squares solution of ``R^T dlam = -(u + R^T
+    lam)``; the stationarity includes a bound on the forces' round-off (docs/solver.md).
     """
     f = p.factor_shifted(np.ones(p.sites.size), p.tol.min_norm_multiplier_shifts)
     if f is None:
@@ -389,27 +356,22 @@ def _refined_certificate(
         lam_x = lam_x - p.R @ f.solve(np.asarray(r, dtype=float))
     lam_f = np.asarray(lam_x, dtype=float)
     roundoff = float(_force_roundoff(p, lam_f).max(initial=0.0))
-    stat = (float(np.abs(U + p.exact.forces(lam_x)).max(initial=0.0)) + roundoff) / max(
-        float(np.abs(u).max(initial=0.0)), 1e-300
-    )
+    stat = (_inf(U + p.exact.forces(lam_x)) + roundoff) / max(_inf(u), 1e-300)
     return _residuals(p, u, p.e0 + p.R @ u, lam_f, eq, ineq, c, stationarity=stat), lam_x
 
 
 def _force_roundoff(p: Problem, lam: np.ndarray) -> np.ndarray:
-    """Per-component bound (2N,) on the round-off of ``p.exact.forces(lam)``: each force sums
-    products of at most the node's degree, ``exact.roundoff`` bounds their relative round-off,
-    so the node's sum of ``|lam_b|`` bounds the absolute."""
+    """Per-component bound (2N,) on the round-off of ``p.exact.forces(lam)``: ``exact.roundoff``
+    times each node's sum of ``|lam_b|``."""
     return p.exact.roundoff * (abs(p.RT) @ np.abs(lam))
 
 
 class _ReducedKKT:
-    """The interior-point system of the projection, reduced to ``2N x 2N``.
+    """The interior-point system of the projection, reduced to ``2N x 2N`` (docs/solver.md).
 
     The steps of :func:`min_norm_minimizer` (and, with ``D = 0``, of :func:`active_set`) solve
-    ``[[I, R_E^T, G^T], [R_E, 0, 0], [G, 0, -D]] (du, dy, dz) = (r1, r2, r3)`` with
-    ``G = diag(sigma) R_I``, ``D = S / Z``. Regularised by ``d`` in its last two blocks, ``dy``
-    and ``dz`` are eliminated, leaving a matrix in the pattern of the Newton matrix
-    (docs/solver.md); a solve can be refined against the unregularised system.
+    ``[[I, R_E^T, G^T], [R_E, 0, 0], [G, 0, -D]] (du, dy, dz) = (r1, r2, r3)``, ``G = diag(sigma)
+    R_I``, ``D = S / Z``, regularised by ``d`` and refined against the unregularised system.
     """
 
     def __init__(self, p: Problem, E, In, sigma_in, d: float, refinement: int):
@@ -442,23 +404,23 @@ class _ReducedKKT:
         self._factor = f
 
     def newton(self, residuals, rc, z, s, refinement: int | None = None):
-        """(du, dy, dz, ds) of the interior-point step for the residuals ``(rd, re, ri)`` and
-        the complementarity residual ``rc``, at multipliers ``z`` and slacks ``s``, with
-        ``refinement`` steps of iterative refinement (default: the system's own)."""
+        """(du, dy, dz, ds) of the interior-point step for the residuals ``(rd, re, ri)``, the
+        complementarity residual ``rc``, multipliers ``z`` and slacks ``s`` (``refinement``: default
+        the system's own)."""
         rd, re, ri = residuals
         du, dy, dz = self.solve(-rd, -re, -ri + rc / z, refinement)
         return du, dy, dz, -(rc + s * dz) / z
 
     def _regularised(self, r1, r2):
-        """(du, dw) of the regularised system with right-hand side ``(r1, r2)``, ``r2`` and
-        ``dw = (dy, dz)`` stacked."""
+        """(du, dw) of the regularised system for ``(r1, r2)``, ``r2`` and ``dw = (dy, dz)``
+        stacked."""
         assert self._factor is not None
         du = self._factor.solve(self.d * (r1 + self.Bt @ (self._inverse * r2)))
         return du, (self.B @ du - r2) * self._inverse
 
     def solve(self, r1, r2, r3, refinement: int | None = None):
-        """(du, dy, dz) of the unregularised system with right-hand side (r1, r2, r3), refined
-        ``refinement`` times (default: the system's own count)."""
+        """(du, dy, dz) of the unregularised system for (r1, r2, r3), refined ``refinement`` times
+        (default: the system's own count)."""
         r23 = np.concatenate([r2, r3])
         du, dw = self._regularised(r1, r23)
         for _ in range(self.refinement if refinement is None else refinement):
@@ -474,13 +436,16 @@ def _residuals(p, u, v, lam, eq, ineq, target, stationarity: float | None = None
     stationarity ``|u + R^T lam|_inf / |u|_inf`` in double precision unless given."""
     feas_eq = np.abs(v - target)[eq].max(initial=0.0)
     feas_in = np.maximum(p.sigma * v, 0.0)[ineq].max(initial=0.0)
-    lam_max = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
+    lam_max = max(_inf(lam), 1e-300)
     # complementarity as the relative duality gap: sum |lam_b v_b| over the inequalities is
     # the gap between 1/2 |u|^2 and the dual value, so 1/2 |u|^2 is within it of its minimum
     comp = float(np.sum((np.abs(lam) * np.abs(v))[ineq])) / max(float(u @ u), 1e-300)
     if stationarity is None:
-        stationarity = float(np.abs(u + p.RT @ lam).max(initial=0.0)) / max(
-            float(np.abs(u).max(initial=0.0)), 1e-300
-        )
+        stationarity = _inf(u + p.RT @ lam) / max(_inf(u), 1e-300)
     dual = float(np.maximum(-p.sigma * lam, 0.0)[ineq].max(initial=0.0)) / lam_max
     return float(max(feas_eq, feas_in)), max(comp, stationarity), dual
+
+
+def _inf(x: np.ndarray) -> float:
+    """``max |x|`` (0 for an empty ``x``) as a float."""
+    return float(np.abs(x).max(initial=0.0))

@@ -1,11 +1,9 @@
 """A primal-dual interior-point method specialised to the tensegrity energy.
 
-With one slack per one-sided element the energy is a convex QP with bounds only; its Newton
-system's Schur complement ``R^T diag(k~) R`` has the pattern of the Newton matrix, so each
-Mehrotra predictor-corrector iteration is one numeric refactorisation, and the iteration count
-hardly depends on the combinatorics that slow active-set methods near the transition.
-``anchored=True`` adds ``mu/2 |u|^2``, which keeps a floppy sample's central path near the
-minimum-norm minimiser (docs/solver.md).
+With one slack per one-sided element the energy is a convex QP with bounds only, whose Newton
+system's Schur complement ``R^T diag(k~) R`` has the Newton matrix's pattern: each Mehrotra
+iteration is one refactorisation, and the iteration count hardly depends on the combinatorics that
+slow active sets near the transition. ``anchored=True`` adds ``mu/2 |u|^2`` (docs/solver.md).
 """
 
 from __future__ import annotations
@@ -21,9 +19,8 @@ from .problem import Problem
 class IpmState:
     """Where a run of :func:`interior_point` ended, in the run's own units.
 
-    The iteration is a function of its iterate alone, so a later run that would take the same
-    steps may start there and end where it would have from the cold start: the relaxation goes on
-    from the verdict search's run instead of retracing it.
+    The iteration is a function of its iterate alone, so a later run that would pass through this
+    state may start there and end where it would have from the cold start.
     """
 
     #: The problem it ran on.
@@ -41,9 +38,8 @@ class IpmState:
     lam: np.ndarray
 
     def resumes(self, p: Problem, max_iter: int, tol: float, anchored: bool) -> bool:
-        """Whether a run on ``p`` with these settings certainly passes through this state (the
-        same problem object and objective, a tolerance at most this run's, at least ``steps``
-        iterations)."""
+        """Whether a run on ``p`` with these settings passes through this state (the same problem
+        object and objective, a tolerance at most this run's, at least ``steps`` iterations)."""
         return (
             self.problem is p
             and self.anchored == anchored
@@ -65,13 +61,12 @@ def interior_point(
     """Approximately minimise the energy of problem ``p``.
 
     Returns (u, w, lam, iterations): displacements (2N,), slacks and multipliers on the one-sided
-    sites. Stops when the scaled residuals and the duality measure are below ``tol`` (default
-    ``Tolerances.relax_short_ipm``'s), when ``callback(u, lam)`` returns True (offered each time
-    the larger measure first falls below the next of the decreasing ``checkpoints``), or at its
-    last finite iterate when a slack has underflowed. ``anchored``: see the module docstring.
-    ``start``: an earlier run's end (:class:`IpmState`) through which this one passes
-    (:meth:`IpmState.resumes`, no checkpoint pending), to go on from; ``record``: a list to which
-    this run's end state is appended.
+    sites. Stops at scaled residuals and duality measure below ``tol`` (default
+    ``Tolerances.relax_short_ipm``'s), when ``callback(u, lam)`` (called as the larger measure
+    passes each of the decreasing ``checkpoints``) returns True, or at the last finite iterate when
+    a slack underflows. ``start``: an earlier run's end through which this one passes
+    (:meth:`IpmState.resumes`, no checkpoint pending); ``record``: a list this run's end is appended
+    to.
     """
     tol = p.tol.relax_short_ipm[1] if tol is None else tol
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
@@ -115,8 +110,7 @@ def interior_point(
         with np.errstate(over="ignore"):
             ratio = lam / w
         if not np.all(np.isfinite(ratio)):
-            # a slack underflowed (a tolerance below what the iterates resolve, as 1e-14 can
-            # be): the next step would be NaN, so stop at this, the last finite, iterate
+            # a slack underflowed: the next step would be NaN, so stop at this last finite one
             break
         D = k + ratio
         ktil = k_all.copy()
@@ -128,7 +122,6 @@ def interior_point(
         a_p, a_d = step_to_boundary(w, dw), step_to_boundary(lam, dlam)
         mu_aff = float((w + a_p * dw) @ (lam + a_d * dlam)) / m_os if w.size else 0.0
         sigma_c = (mu_aff / mu) ** 3 if mu > 0 else 0.0
-        # corrector
         du, dw, dlam = _direction(
             p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, sigma_c * mu - dw * dlam
         )
@@ -146,8 +139,8 @@ def interior_point(
 
 
 def _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, tau):
-    """Newton direction of the perturbed KKT system (complementarity target tau), eliminating
-    the slacks and multipliers down to the Schur complement already factorised in ``solver``."""
+    """Newton direction of the perturbed KKT system (complementarity target tau), eliminated down to
+    the Schur complement factorised in ``solver``."""
     q = -r_w - lam + tau / w
     rhs_full = np.zeros(p.k.size)
     rhs_full[os_] = k * sig * q / D

@@ -1,9 +1,8 @@
 """Repeated sparse Cholesky / LDL^T factorisation of matrices with one fixed sparsity pattern.
 
-Every Newton, crossover and interior-point step factorises ``R^T D R + mu I`` for a new ``D``
-in the same pattern: :class:`PatternFactor` orders and analyses it once and redoes only the
-numeric factorisation, by CHOLMOD's supernodal Cholesky (through CVXOPT) and, for a matrix on
-which that meets a non-positive pivot, QDLDL's LDL^T (docs/benchmarks.md).
+Every Newton, crossover and interior-point step factorises ``R^T D R + mu I`` for a new ``D``:
+:class:`PatternFactor` orders and analyses the pattern once and redoes only the numeric step, by
+CHOLMOD's supernodal Cholesky (CVXOPT) or, where that meets a non-positive pivot, QDLDL's LDL^T.
 """
 
 from __future__ import annotations
@@ -36,19 +35,17 @@ def _controller() -> ThreadpoolController:
 def one_blas_thread() -> Iterator[None]:
     """Run the enclosed code with every loaded BLAS on one thread, then restore the counts.
 
-    A multithreaded BLAS adds the parts of long dot products in an order that depends on its
-    thread count, and near a threshold the last bits decide which probes are certified: the
-    verdict must be a function of the instance and the options only.
+    A multithreaded BLAS sums long dot products in an order that depends on its thread count, and
+    near a threshold the last bits decide: the verdict must depend on the instance and options only.
     """
     with _controller().limit(limits=1, user_api="blas"):
         yield
 
 
 def nested_dissection(n_nodes: int, pairs: np.ndarray, dim: int) -> np.ndarray:
-    """A METIS nested-dissection ordering ((dim N,) int, new position -> unknown) of the
-    ``dim n_nodes`` unknowns of a network with node pairs ``pairs`` (m, 2) (self-images and
-    repeats allowed): each node's ``dim`` unknowns follow it in turn. Deterministic for a graph.
-    """
+    """A METIS nested-dissection ordering ((dim N,) int, new position -> unknown) of the ``dim
+    n_nodes`` unknowns of a network with node pairs ``pairs`` (m, 2) (self-images and repeats
+    allowed), each node's unknowns in turn; deterministic for a graph."""
     import pymetis
 
     i, j = np.asarray(pairs, dtype=np.int64).T
@@ -72,13 +69,12 @@ class PatternFactor:
 
     Parameters
     ----------
-    indptr, indices : int arrays
-        CSC pattern of the **upper** triangle (sorted row indices within each column) of an
-        (n, n) matrix.
+    indptr, indices, n : int arrays, int
+        CSC pattern of the upper triangle (sorted rows per column) of an (n, n) matrix.
     backend : {"auto", "cholmod", "qdldl"}
-        "auto" uses CHOLMOD when available and QDLDL for matrices CHOLMOD rejects.
+        "auto": CHOLMOD where available, QDLDL for matrices it rejects.
     ordering : (n,) int, optional
-        A fill-reducing permutation for CHOLMOD (default: CHOLMOD's AMD).
+        A fill-reducing permutation for CHOLMOD (default its AMD).
 
     Attributes
     ----------
@@ -109,13 +105,9 @@ class PatternFactor:
         self._ordering = None if ordering is None else np.asarray(ordering, dtype=np.int64)
         self.backend = ""
 
-    def _csc(self, data: np.ndarray) -> sp.csc_matrix:
-        return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))
-
     def factor(self, data: np.ndarray) -> PatternFactor:
         """Factorise the matrix with values ``data`` (in pattern order); returns self. Raises
-        ArithmeticError when it is numerically singular for every allowed backend.
-        """
+        ArithmeticError when it is numerically singular for every allowed backend."""
         if self._use_cholmod:
             if self._cvx is None:
                 cols = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(self._indptr))
@@ -141,9 +133,8 @@ class PatternFactor:
             except ArithmeticError:
                 if not self._allow_qdldl:
                     raise
-                # Cholesky met a non-positive pivot: the symbolic analysis stays valid for
-                # the next matrix; this one goes to LDL^T.
-        H = self._csc(data)
+                # a non-positive pivot: this matrix goes to LDL^T (the analysis stays valid)
+        H = sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))
         self.backend = ""
         try:
             if self._qdldl is None:

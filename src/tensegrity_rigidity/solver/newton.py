@@ -1,7 +1,7 @@
 """Semismooth Newton on the energy, its exact line search, and the active-set crossover.
 
-All work on a :class:`~.problem.Problem` in its normalised units; none decides anything: the
-strategies (:mod:`.stages`) offer their points to the certificates.
+All work on a :class:`~.problem.Problem` in its normalised units and decide nothing: the strategies
+(:mod:`.stages`) offer their points to the certificates.
 """
 
 from __future__ import annotations
@@ -13,9 +13,8 @@ from .problem import Problem
 
 def line_search(p: Problem, e: np.ndarray, s: np.ndarray) -> float:
     """Exact minimiser ``alpha >= 0`` of the energy along ``e + alpha s`` (extensions ``e`` (m,),
-    ``s = R d`` (m,) for the direction ``d``): the convex piecewise quadratic's breakpoints, where
-    one-sided elements engage or slacken, are sorted and walked.
-    """
+    ``s = R d`` (m,) for the direction ``d``), walking the sorted breakpoints where one-sided
+    elements engage or slacken."""
     k, sig = p.k, p.sigma
     ks, kes = k * s * s, k * e * s
     et, st = sig * e, sig * s
@@ -54,11 +53,9 @@ def line_search(p: Problem, e: np.ndarray, s: np.ndarray) -> float:
 
 
 def prox_minimize(p: Problem, w: np.ndarray, x: np.ndarray, max_iter: int = 100):
-    """Minimise ``1/2 sum_b w_b (e0 + R x)_b^2`` (weights ``w`` (m,)) by proximal iterations from
-    ``x`` (2N,) on one factorisation, at most ``max_iter``: the minimiser closest to the start.
-    Stops when the gradient has not halved for three iterations (on floppy sets round-off then
-    grows along the floppy modes); returns the iterate with the smallest gradient and its norm.
-    """
+    """Minimise ``1/2 sum_b w_b (e0 + R x)_b^2`` (``w`` (m,)) by at most ``max_iter`` proximal
+    iterations from ``x`` (2N,) on one factorisation, stopping when the gradient has not halved for
+    three (round-off then grows along floppy modes): the best iterate and its gradient norm."""
     solver = p.factor(w)
     best_x, best_g, g0, since = x, np.inf, None, 0
     for _ in range(max_iter):
@@ -83,10 +80,9 @@ def newton(
 ) -> tuple[np.ndarray, float, int]:
     """Semismooth Newton with exact line search from ``u`` (2N,); returns (u, E, iterations).
 
-    The step solves ``(R^T D_A R + mu I) d = -R^T t`` on the current active set. Stops after
-    ``max_iter`` iterations, once ``E <= energy_floor``, at a round-off gradient, after three steps
-    without progress, or after ``max_truncated`` steps in a row cut short at a breakpoint (the
-    active set then crawls, which the interior point handles better).
+    Steps solve ``(R^T D_A R + mu I) d = -R^T t`` on the active set. Stops after ``max_iter``, once
+    ``E <= energy_floor``, at a round-off gradient, after three steps without progress, or after
+    ``max_truncated`` steps in a row cut short at a breakpoint (the active set then crawls).
     """
     e, act, t = p.state(u)
     E = 0.5 * float(np.dot(t, e))
@@ -122,12 +118,11 @@ def newton(
 def crossover(p: Problem, u: np.ndarray, tau: float | None = None, rounds: int = 12):
     """Exact solve on a guessed active set corrected by KKT signs (primal-dual active set).
 
-    The guess is the rods and every one-sided element within ``tau max |e0|`` of engaging
-    (default ``tau``: the first of ``Tolerances.crossover_taus``); on the fixed set
-    :func:`prox_minimize` minimises the quadratic energy exactly. Engaged elements with a
-    wrong-signed tension are released and stretched slack ones added, for at most ``rounds``.
-    Returns the displacements (2N,), or None when the rounds do not settle or the corrections grow
-    (a wrong guess costs time, never a wrong verdict).
+    The guess: the rods and the one-sided elements within ``tau max |e0|`` of engaging (default the
+    first of ``Tolerances.crossover_taus``), on which :func:`prox_minimize` minimises exactly;
+    wrong-signed engaged elements are released and stretched slack ones added, for at most
+    ``rounds``. Returns the displacements (2N,), or None when the rounds do not settle or the
+    corrections grow (a wrong guess costs time, never a wrong verdict).
     """
     tau = p.tol.crossover_taus[0] if tau is None else tau
     scale = float(np.abs(p.e0).max())

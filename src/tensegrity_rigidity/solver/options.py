@@ -13,15 +13,7 @@ import numpy as np
 
 from ..errors import InputError
 from .certificates import Resolution, violation_roundoff
-from .stages import (
-    DEFAULT_STRATEGIES,
-    Affine,
-    InteriorPoint,
-    LinearProgram,
-    Newton,
-    Refine,
-    Refiner,
-)
+from .stages import DEFAULT_STRATEGIES, Refiner
 from .tolerances import DEFAULT_REGULARIZATION, Tolerances
 
 
@@ -29,16 +21,10 @@ def strategy_named(name: str):
     """The default strategy named ``name`` ("affine", "newton", "refine", "ipm" or "lp"), as
     ``SolverOptions.stages`` accepts names.
     """
-    table = {
-        "affine": Affine,
-        "newton": Newton,
-        "refine": Refine,
-        "ipm": InteriorPoint,
-        "lp": LinearProgram,
-    }
+    table = {s.name: s for s in DEFAULT_STRATEGIES}
     if name not in table:
         raise InputError(f"unknown solver stage {name!r}; choose from {', '.join(table)}")
-    return table[name]()
+    return table[name]
 
 
 @dataclass(frozen=True)
@@ -108,16 +94,10 @@ class SolverOptions:
         object.__setattr__(self, "stages", strategies)
         for f in fields(self):
             value = getattr(self, f.name)
-            kind = {"int": int, "float": float, "bool": bool}.get(str(f.type))
+            kind = {"int": int, "float": (int, float), "bool": bool}.get(str(f.type))
             if kind is None:
                 continue
-            if kind is bool:
-                ok = isinstance(value, bool)
-            elif kind is float:
-                ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-            else:
-                ok = isinstance(value, int) and not isinstance(value, bool)
-            if not ok:
+            if not isinstance(value, kind) or isinstance(value, bool) != (kind is bool):
                 raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {value!r}")
             if kind is not bool and not (np.isfinite(value) and value >= 0):
                 raise InputError(

@@ -1,10 +1,8 @@
 """The non-empty part of an instance as the solver sees it, with a reusable factorisation.
 
-:class:`Problem` holds the rigidity matrix ``R`` of the non-empty sites, the affine extensions
-``e0``, stiffnesses, element signs and the fixed sparsity pattern of ``R^T D R + mu I`` into
-which every Newton, crossover and interior-point matrix is assembled (ordering and symbolic
-analysis once per instance, :mod:`.linalg`), and the extended-precision geometry of the
-certificates (:mod:`.certificates`).
+:class:`Problem` holds ``R``, ``e0``, stiffnesses and signs of the non-empty sites, the fixed
+pattern of ``R^T D R + mu I`` every Newton, crossover and interior-point matrix is assembled into
+(analysed once, :mod:`.linalg`), and the certificates' extended-precision geometry.
 """
 
 from __future__ import annotations
@@ -22,14 +20,12 @@ from .tolerances import DEFAULT_REGULARIZATION, Tolerances
 class Problem:
     """The non-empty part of an instance with a reusable factorisation of the Newton matrix.
 
-    Built from ``instance`` with the shift ``regularization`` (``mu`` of ``R^T D R + mu I``,
-    relative to the mean stiffness), the factorisation ``backend``
-    (:class:`~.linalg.PatternFactor`), unit stiffnesses where ``unit_stiffness`` (the verdict
-    does not depend on them) and ``tolerances`` (default ``Tolerances()``, read by the routines
-    as ``tol``). It holds the non-empty ``sites`` (m,), the rigidity matrix ``R`` (m, dN) and
-    ``RT``, the affine extensions ``e0`` (m,) in units of ``scale`` (``max |e0|`` over all bond
-    sites), the stiffnesses ``k`` (m,) relative to ``k_scale`` (their mean), ``sigma`` (m,; +1 on
-    cables, -1 on struts, 0 on rods) and the count of numeric ``factorizations``.
+    Built from ``instance`` with the shift ``regularization`` (``mu``, relative to the mean
+    stiffness), the factorisation ``backend``, unit stiffnesses where ``unit_stiffness`` and
+    ``tolerances`` (default ``Tolerances()``, read as ``tol``). Holds the non-empty ``sites`` (m,),
+    ``R`` (m, dN) and ``RT``, ``e0`` (m,) in units of ``scale`` (``max |e0|`` over all bond sites),
+    ``k`` (m,) relative to ``k_scale``, ``sigma`` (m,; +1 cables, -1 struts, 0 rods) and the count
+    of numeric ``factorizations``.
     """
 
     def __init__(
@@ -90,11 +86,11 @@ class Problem:
     def _pattern(self) -> None:
         """Fixed upper-triangular CSC pattern of ``R^T D R + mu I`` and the map into it.
 
-        Per node pair: the ``d`` columns of node ``J`` hold ``d`` rows for every node ``I < J``
+        Per node pair the ``d`` columns of node ``J`` hold ``d`` rows for every node ``I < J``
         bonded to it, then its own diagonal block. ``_assemble`` (entries x sites) holds each
-        entry's terms ``vals_p vals_q`` bond by bond, so that ``_assemble @ w`` adds them in a
-        fixed order: the same sums to the last bit as a per-entry construction
-        (tests/solver/test_problem.py keeps it as the reference).
+        entry's terms bond by bond, so that ``_assemble @ w`` adds them in a fixed order: the same
+        sums to the last bit as a per-entry construction (tests/solver/test_problem.py keeps that as
+        the reference).
         """
         net = self.instance.network
         d, n_nodes = self.dim, net.n_nodes
@@ -163,17 +159,15 @@ class Problem:
         self._diagonal = diagonal
 
     def values(self, weights: np.ndarray, shift: float | None = None) -> np.ndarray:
-        """Entries ((nnz,), the pattern's CSC order) of ``R^T diag(weights) R + shift I`` for
-        ``weights`` (m,) (``shift`` default ``mu``).
-        """
+        """Entries ((nnz,), pattern order) of ``R^T diag(weights) R + shift I`` for ``weights`` (m,)
+        (``shift``: default ``mu``)."""
         out = self._assemble @ np.asarray(weights, dtype=float)
         out[self._diagonal] += self.mu if shift is None else shift
         return out
 
     def factor(self, weights: np.ndarray) -> PatternFactor:
         """The factorisation of ``R^T diag(weights) R + mu I`` (``weights`` (m,)), reused while the
-        weights do not change.
-        """
+        weights do not change."""
         if self._weights is None or not np.array_equal(weights, self._weights):
             self._weights = None  # until the factorisation below succeeds
             self._factor.factor(self.values(weights, self.mu))
@@ -189,9 +183,8 @@ class Problem:
         return self._factor
 
     def factor_shifted(self, weights: np.ndarray, shifts) -> PatternFactor | None:
-        """Factorise ``R^T diag(weights) R + mu I`` with the first ``mu`` of ``shifts`` for which it
-        succeeds; None when every shift fails.
-        """
+        """Factorise ``R^T diag(weights) R + mu I`` with the first ``mu`` of ``shifts`` that
+        succeeds; None when all fail."""
         for mu in shifts:
             try:
                 return self.factor_values(self.values(weights, mu))
@@ -200,20 +193,15 @@ class Problem:
         return None
 
     def energy(self, u: np.ndarray) -> float:
-        """The energy ``E(u) = 1/2 sum_b k_b h_b(e_b) e_b^2`` at ``u`` (2N,) (units of ``k_scale
-        scale^2``, no background stiffness).
-        """
+        """The energy ``1/2 sum_b k_b h_b(e_b) e_b^2`` at ``u`` (2N,) (units of ``k_scale
+        scale^2``)."""
         e, _, t = self.state(u)
         return 0.5 * float(np.dot(t, e))
 
-    def active(self, e: np.ndarray) -> np.ndarray:
-        """Engaged elements at extensions ``e`` ((m,)): rods, stretched cables, compressed
-        struts; returns an (m,) bool array."""
-        return self.rod | (self.sigma * e > 0)
-
     def state(self, u: np.ndarray):
-        """Extensions (m,), engaged mask (m,) and tensions (m,) at displacements ``u`` (2N,)."""
+        """Extensions (m,), engaged mask (m,) and tensions (m,) at displacements ``u`` (2N,): rods,
+        stretched cables and compressed struts are engaged."""
         e = self.e0 + self.R @ u
-        act = self.active(e)
+        act = self.rod | (self.sigma * e > 0)
         t = np.where(act, self.k * e, 0.0)
         return e, act, t

@@ -1,10 +1,9 @@
 """The relaxed state after a verdict: the minimum energy, its tensions and a certified bound.
 
-On a floppy verdict ``E* = 0`` and ``t* = 0``. On a rigid or undecided one the energy with the
-instance's stiffnesses is minimised from the search's lowest-energy point (Newton, the interior
-point, a crossover), and a weak-duality lower bound on ``E*`` from a self-stress states its
-accuracy. Where the short run leaves the energy uncertified, a long run on a Newton matrix
-shifted far less goes on from it; the better of the two is kept (docs/model.md).
+On a floppy verdict ``E* = 0`` and ``t* = 0``. Otherwise the energy with the instance's stiffnesses
+is minimised from the search's lowest-energy point, and a weak-duality lower bound from a
+self-stress states its accuracy; where that leaves it uncertified, a long run on a Newton matrix
+shifted far less goes on from it, the better of the two kept (docs/model.md).
 """
 
 from __future__ import annotations
@@ -156,8 +155,7 @@ def _relax(
     """Minimise the energy from ``u`` (2N,): Newton, then (if not stationary) the interior point
     with ``ipm`` = (iterations, tolerance), going on from ``ipm_start`` where it passes through it,
     and a crossover; then a final crossover where it lowers the force residual. Returns (u, E,
-    iterations).
-    """
+    iterations)."""
 
     def residual(x):
         _, _, t = p.state(x)
@@ -195,20 +193,22 @@ def _relaxed(
     ipm_start: IpmState | None = None,
 ) -> tuple[np.ndarray, float, int, np.ndarray, np.ndarray, float]:
     """The relaxation from ``u`` (2N,) (:func:`_relax`) and what certifies it: (u, E, iterations,
-    tensions ``k (e0 + R u)`` (m,), the same moved onto an exact self-stress where close to one,
-    a certified lower bound on E* at most E).
-    """
+    tensions ``k (e0 + R u)`` (m,), the same moved onto an exact self-stress where close to one, a
+    certified lower bound on E* at most E)."""
     gap = opts.tolerances.energy_gap
     u, E, more = _relax(p, u, opts, ipm, ipm_start)
     _, _, t_relaxed = p.state(u)
     t_n, tensions_bound = _balanced_tensions(p, t_relaxed)
     E_lower = min(_energy_lower(p, tensions_bound, certificate), E)
     if E > 0 and not energy_certified(E, E_lower, gap):
-        t_opt, bound = _support_optimal_tensions(p, t_relaxed)
-        if bound > E_lower:
-            E_lower = min(bound, E)
-            if energy_certified(E, E_lower, gap):
-                t_n = t_opt
+        x = optimal_on_support(p, t_relaxed)  # the best self-stress of the tensions' support
+        if x is not None:
+            t_opt = np.asarray(x, dtype=float)
+            bound = _self_stress_bound(p, t_opt, _exact_residual(p, x))
+            if bound > E_lower:
+                E_lower = min(bound, E)
+                if energy_certified(E, E_lower, gap):
+                    t_n = t_opt
     return u, E, more, t_relaxed, t_n, E_lower
 
 
@@ -219,10 +219,9 @@ def _long_relaxation(
     u: np.ndarray,
     certificate: RigidCertificate | None,
 ) -> tuple[tuple | None, int]:
-    """The long run (``Tolerances.relax_long_ipm``, Newton matrix shifted by
-    ``Tolerances.relax_long_shift``) from ``u`` (2N,): what :func:`_relaxed` returns (None where a
-    factorisation failed) and the factorisations spent.
-    """
+    """The long run (``Tolerances.relax_long_ipm``, shift ``Tolerances.relax_long_shift``) from
+    ``u`` (2N,): what :func:`_relaxed` returns (None where a factorisation failed), and the
+    factorisations spent."""
     tol = opts.tolerances
     pl = Problem(instance, tol.relax_long_shift, opts.factorization, unit_stiffness, tol)
     try:
@@ -233,10 +232,8 @@ def _long_relaxation(
 
 def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
     """The minimiser's tensions ``t`` (m,) moved onto an exact self-stress where purification
-    balances them to ``Tolerances.balanced_residual`` (else ``t``), and the lower bound on E* of
-    that self-stress (0 where purification fails). Tensions that already balance that well (their
-    round-off entries dropped) are kept without purifying.
-    """
+    balances them to ``Tolerances.balanced_residual`` (else ``t``; kept as they are, less round-off
+    entries, where they balance that well already), and the lower bound on E* it gives."""
     if not np.any(t):
         return t, 0.0
     # purification's own support: the round-off tensions of elements only touched dropped
@@ -254,30 +251,16 @@ def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
     return t, bound
 
 
-def _support_optimal_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
-    """The minimiser's tensions ``t`` (m,) moved onto the best self-stress of their support for the
-    energy's dual (:func:`~.selfstress.optimal_on_support`; ``t`` when there is none), and the
-    lower bound on E* it gives (0 when there is none).
-    """
-    x = optimal_on_support(p, t)
-    if x is None:
-        return t, 0.0
-    t_opt = np.asarray(x, dtype=float)
-    return t_opt, _self_stress_bound(p, t_opt, _exact_residual(p, x))
-
-
 def _exact_residual(p: Problem, t: np.ndarray) -> float:
     """``|R^T t|_1 / |t|_1`` of tensions ``t`` (m,), the forces in extended precision (0 for ``t =
-    0``; no floor on ``|t|_1``, so underflowed tensions get the large residual they have).
-    """
+    0``; no floor on ``|t|_1``, so underflowed tensions keep their large residual)."""
     size = float(np.abs(t).sum())
     return float(np.abs(p.exact.forces(t)).sum()) / size if size > 0 else 0.0
 
 
 def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
-    """Weak-duality lower bound ``(t . e0)^2 / (2 t . K^-1 t)`` on E* from an admissible self-stress
-    ``t`` (m,) with relative force residual ``residual``; 0 unless the residual is at round-off
-    (``Tolerances.bound_residual``).
+    """Weak-duality bound ``(t . e0)^2 / (2 t . K^-1 t)`` on E* from an admissible self-stress ``t``
+    (m,) of relative force residual ``residual``; 0 unless that is at ``Tolerances.bound_residual``.
     """
     work = float(np.dot(t, p.e0))
     if residual > p.tol.bound_residual or work <= 0 or not np.all(np.isfinite(t)):
@@ -288,9 +271,7 @@ def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
 def _energy_lower(
     p: Problem, tensions_bound: float, certificate: RigidCertificate | None = None
 ) -> float:
-    """Lower bound on E*: the larger of ``tensions_bound`` (:func:`_balanced_tensions`) and the
-    bound from the rigid certificate's self-stress.
-    """
+    """Lower bound on E*: the larger of ``tensions_bound`` and the rigid certificate's bound."""
     bound = 0.0
     if certificate is not None:
         tc = np.asarray(certificate.t, dtype=float)

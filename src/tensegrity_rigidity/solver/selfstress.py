@@ -1,11 +1,9 @@
 """Exact admissible self-stresses near approximate ones (the rigid side of a verdict).
 
-Interior points, Newton iterates and LPs give tensions that balance the nodes only
-approximately, and near the transition tensions read off displacements lose most digits.
-:func:`purify` moves them onto the null space of ``R^T`` by a weighted least-squares correction
-that keeps signs, :func:`rebalance` continues where that stalls on near-mechanisms, and
-:func:`optimal_on_support` finds the best self-stress of a support for the energy's dual
-(derivations in docs/solver.md). The certificates (:mod:`.certificates`) judge the results.
+Tensions from interior points, Newton iterates and LPs balance the nodes only approximately:
+:func:`purify` moves them onto the null space of ``R^T`` keeping signs, :func:`rebalance` goes on
+where that stalls on near-mechanisms, :func:`optimal_on_support` finds the best self-stress of a
+support for the energy's dual (docs/solver.md). Only the certificates judge the results.
 """
 
 from __future__ import annotations
@@ -21,31 +19,22 @@ def purify(
     support_tol: float | None = None,
     rounds: int = 8,
     refine: int = 6,
-    hopeless: float | None = None,
     extended: int = 4,
-    rod_weight: float | None = None,
-    shift: float | None = None,
     stall: int = 2,
     work_floor: float | None = None,
 ) -> np.ndarray:
     """An admissible self-stress near ``t`` ((m,), non-empty sites), up to round-off.
 
     Entries below ``support_tol max |t|`` and wrong-signed ones are dropped; then up to ``rounds``
-    projections ``t <- t - W R y``, ``(R^T W R + shift I) y = R^T t``, ``W = diag(t^2)`` plus
-    ``rod_weight`` on rods, each refined ``refine`` times on its factorisation, the one-sided
-    elements whose sign flipped dropped before the next; ``extended`` final steps with residuals in
-    extended precision. It stops early after a projection whose relative residual stays above
-    ``hopeless``, or after ``stall`` rounds in a row whose work ``t . e0`` is at most ``work_floor
-    |t|_1`` (no rigid certificate accepts such work). Tolerances default to those of ``p.tol``
-    (``support_tol``, ``purify_hopeless``, ``rod_weight``, ``purify_shift``,
-    ``purify_work_floor``). Returns (m,) float or longdouble tensions with admissible signs; the
-    certificate test decides whether their residual is small enough.
+    projections ``t <- t - W R y``, ``(R^T W R + delta I) y = R^T t``, ``W = diag(t^2)`` plus
+    ``Tolerances.rod_weight`` on rods (``delta``: ``purify_shift``), each refined ``refine`` times,
+    dropping the one-sided elements whose sign flipped; ``extended`` final steps in extended
+    precision. It stops after a projection left above ``Tolerances.purify_hopeless`` relative
+    residual, or after ``stall`` rounds in a row with work at most ``work_floor |t|_1``. Defaults
+    from ``p.tol``. Returns (m,) float or longdouble tensions with admissible signs.
     """
     tol = p.tol
     support_tol = tol.support_tol if support_tol is None else support_tol
-    hopeless = tol.purify_hopeless if hopeless is None else hopeless
-    rod_weight = tol.rod_weight if rod_weight is None else rod_weight
-    shift = tol.purify_shift if shift is None else shift
     work_floor = tol.purify_work_floor if work_floor is None else work_floor
     t = np.array(t, dtype=float)
     t_max = float(np.abs(t).max(initial=0.0))
@@ -54,10 +43,10 @@ def purify(
     t[~kept(t, support_tol)] = 0.0
     t[p.sigma * t < 0] = 0.0
     w = t * t
-    w[p.rod] += rod_weight * t_max**2
+    w[p.rod] += tol.rod_weight * t_max**2
     nonpositive = 0  # consecutive rounds doing no positive work (see ``stall``)
     for _ in range(rounds):
-        solver = p.factor_values(p.values(w, shift * t_max**2))
+        solver = p.factor_values(p.values(w, tol.purify_shift * t_max**2))
         r_prev = np.inf
         for _ in range(refine):
             r = p.RT @ t
@@ -66,9 +55,8 @@ def purify(
                 break  # converged, or stagnating at round-off
             r_prev = r_norm
             t = t - w * (p.R @ solver.solve(r))
-        if float(np.abs(p.RT @ t).sum()) > hopeless * float(np.abs(t).sum()):
-            # far from any self-stress on this support: more rounds will not help, nor will
-            # the extended-precision steps
+        if float(np.abs(p.RT @ t).sum()) > tol.purify_hopeless * float(np.abs(t).sum()):
+            # far from any self-stress on this support: no further round or step will help
             return t
         flipped = p.sigma * t < 0
         if not flipped.any():
@@ -84,23 +72,16 @@ def purify(
     return t
 
 
-def optimal_on_support(
-    p: Problem,
-    t: np.ndarray,
-    rounds: int = 8,
-    steps: int = 30,
-    shift: float | None = None,
-) -> np.ndarray | None:
-    """The best self-stress for the energy's dual on the support ``S`` of a minimiser's tensions.
+def optimal_on_support(p: Problem, t: np.ndarray, rounds: int = 8, steps: int = 30):
+    """The best self-stress for the energy's dual on the support ``S`` of tensions ``t`` (m,).
 
-    The stiffness-weighted correction ``t <- t - K_S R y``, ``(R^T K_S R) y = R^T t`` (residuals in
-    extended precision, at most ``steps`` per projection while each cuts the residual by 0.7)
-    converges to the maximiser of ``D(t) = t . e0 - 1/2 t . K^-1 t`` over the self-stresses on
-    ``S``; one-sided elements whose sign flips leave ``S``, for at most ``rounds`` projections
-    (``shift``: default ``Tolerances.support_optimal_shift``). Returns admissible (m,) longdouble
-    tensions on ``S``, or None when the support empties or nothing factorises.
+    Stiffness-weighted corrections ``t <- t - K_S R y``, ``(R^T K_S R) y = R^T t`` (at most
+    ``steps`` per projection) converge to the maximiser of ``t . e0 - 1/2 t . K^-1 t`` over the
+    self-stresses on ``S``; one-sided elements whose sign flips leave ``S``, for at most ``rounds``
+    projections. Returns (m,) longdouble tensions, or None when the support empties or nothing
+    factorises (``Tolerances.support_optimal_shift``, then 1e2 and 1e4 times it).
     """
-    shift = p.tol.support_optimal_shift if shift is None else shift
+    shift = p.tol.support_optimal_shift
     x = np.asarray(t, dtype=np.longdouble)
     support = np.asarray(t, dtype=float) != 0
     for _ in range(rounds):
@@ -110,16 +91,7 @@ def optimal_on_support(
         solver = p.factor_shifted(w, [shift, 1e2 * shift, 1e4 * shift])
         if solver is None:
             return None
-        x = np.where(support, x, 0)
-        r = p.exact.forces(x)
-        r_norm = float(np.abs(r).sum())
-        for _ in range(steps):
-            trial = x - w * (p.R @ solver.solve(_without_net_force(p, r)))
-            r_trial = p.exact.forces(trial)
-            r_trial_norm = float(np.abs(r_trial).sum())
-            if not r_trial_norm < 0.7 * r_norm:
-                break
-            x, r, r_norm = trial, r_trial, r_trial_norm
+        x = _refine_extended(p, np.where(support, x, 0), w, solver, steps, 0.7, dual=True)
         flipped = p.sigma * np.asarray(x, dtype=float) < 0
         if not flipped.any():
             return x
@@ -128,56 +100,48 @@ def optimal_on_support(
 
 
 def kept(t: np.ndarray, support_tol: float) -> np.ndarray:
-    """The entries of ``t`` ((m,) float) that :func:`purify` keeps at ``support_tol``: ``|t_b| >=
-    support_tol max |t|`` ((m,) bool); two tolerances with the same mask purify alike.
+    """The entries ((m,) bool) of ``t`` (m,) that :func:`purify` keeps at ``support_tol``.
+
+    ``|t_b| >= support_tol max |t|``: two tolerances with the same mask purify alike.
     """
     t = np.asarray(t, dtype=float)  # as purify sees it
     return ~(np.abs(t) < support_tol * float(np.abs(t).max(initial=0.0)))
 
 
-def _refine_extended(p: Problem, t: np.ndarray, w: np.ndarray, solver, steps: int):
+def _refine_extended(p: Problem, t, w, solver, steps: int, gain: float = 0.5, dual=False):
     """Mixed-precision refinement of ``t`` (m,): residuals ``R^T t`` in extended precision,
-    corrections from the double-precision factorisation ``solver`` (weights ``w``), the tensions
-    kept in extended precision; at most ``steps``, stopping when the residual no longer halves or
-    a correction would flip a sign.
+    corrections ``w R y`` from the double-precision factorisation ``solver`` (weights ``w``
+    (m,)), the tensions kept in extended precision; at most ``steps``, stopping when a
+    correction does not cut the residual by ``gain`` or would flip a sign. ``dual`` (for
+    :func:`optimal_on_support`): signs may flip, and the net force is dropped from the
+    residual (:func:`_without_net_force`). Returns (m,) longdouble.
     """
-    exact = p.exact
-    t_ld = np.asarray(t, dtype=np.longdouble)
-    r = exact.forces(t_ld)
+    x = np.asarray(t, dtype=np.longdouble)
+    r = p.exact.forces(x)
     r_norm = float(np.abs(r).sum())
     for _ in range(steps):
-        step = w * (p.R @ solver.solve(np.asarray(r, dtype=float)))
-        trial = t_ld - step
-        if np.any(p.sigma * trial < 0):
+        rhs = _without_net_force(p, r) if dual else np.asarray(r, dtype=float)
+        trial = x - w * (p.R @ solver.solve(rhs))
+        if not dual and np.any(p.sigma * trial < 0):
             break
-        r_trial = exact.forces(trial)
+        r_trial = p.exact.forces(trial)
         r_trial_norm = float(np.abs(r_trial).sum())
-        if not r_trial_norm < 0.5 * r_norm:
+        if not r_trial_norm < gain * r_norm:
             break
-        t_ld, r, r_norm = trial, r_trial, r_trial_norm
-    return t_ld
+        x, r, r_norm = trial, r_trial, r_trial_norm
+    return x
 
 
-def rebalance(
-    p: Problem,
-    t: np.ndarray,
-    steps: int = 20,
-    shifts: tuple[float, ...] | None = None,
-    rod_weight: float | None = None,
-) -> np.ndarray | None:
+def rebalance(p: Problem, t: np.ndarray, steps: int = 20) -> np.ndarray | None:
     """Balance nearly balanced admissible tensions to extended round-off, keeping their signs.
 
-    Continues where :func:`purify` stalls on near-mechanisms of the support of ``t`` ((m,), a
-    purified candidate): weighted corrections with the first of ``shifts`` (relative to ``max t^2``,
-    default ``Tolerances.rebalance_shifts``) that factorises, each cut at the first one-sided
-    element it would take through zero (a ratio test), which is then fixed at zero; a full
-    correction that does not halve the residual ends it, unless it was the first on its
-    factorisation (then the next shift is tried). At most ``steps`` corrections. Returns the (m,)
-    longdouble tensions with the least relative residual met, or None when ``t`` is zero or not
-    admissible.
+    Goes on where :func:`purify` stalls, from ``t`` ((m,), a purified candidate): weighted
+    corrections with the first of ``Tolerances.rebalance_shifts`` (times ``max t^2``) that
+    factorises and gains, each cut at the first one-sided element it would take through zero,
+    which is then fixed at zero; at most ``steps``. Returns the (m,) longdouble tensions of least
+    relative residual, or None when ``t`` is zero or inadmissible.
     """
-    shifts = p.tol.rebalance_shifts if shifts is None else shifts
-    rod_weight = p.tol.rod_weight if rod_weight is None else rod_weight
+    shifts = p.tol.rebalance_shifts
     exact = p.exact
     x = np.array(t, dtype=np.longdouble)
     tf = np.asarray(x, dtype=float)
@@ -185,7 +149,7 @@ def rebalance(
     if t_max == 0.0 or not np.isfinite(t_max) or np.any(p.sigma * tf < 0):
         return None
     w = tf * tf
-    w[p.rod] += rod_weight * t_max**2
+    w[p.rod] += p.tol.rod_weight * t_max**2
     r = exact.forces(x)
     r_norm = float(np.abs(r).sum())
     best, best_rel = x, r_norm / float(np.abs(x).sum())
@@ -225,8 +189,6 @@ def rebalance(
 
 
 def _without_net_force(p: Problem, r: np.ndarray) -> np.ndarray:
-    """Forces ``r`` ((2N,), any precision) as doubles less their mean per axis: the net force
-    of a self-stress is zero in exact arithmetic, and its round-off would be amplified along
-    the translations, which a small shift barely regularises."""
+    """Forces ``r`` ((2N,), any precision) as doubles less their mean per axis (docs/solver.md)."""
     f = np.asarray(r, dtype=float).reshape(-1, p.dim)
     return (f - f.mean(axis=0)).ravel()

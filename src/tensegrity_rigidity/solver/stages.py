@@ -1,13 +1,11 @@
 """The verdict search: strategies that propose candidates to one search state.
 
-Only a certificate accepted by the resolution model (:mod:`.certificates`) decides. Strategies
-propose displacements ``u`` (floppy candidates) and tensions ``t`` (rigid candidates) to a
-:class:`Search`, whose :class:`Refiner` cleans each one first: tensions are purified onto exact
-self-stresses and, where that stalls with real work left, balanced; displacements that fail
-narrowly are polished onto their tight set in extended precision. A strategy is a frozen
-dataclass (its fields are its knobs) with a ``name`` and a ``run(search)`` method; they run in
-order (:data:`DEFAULT_STRATEGIES`) until a candidate is accepted. Every limit is a count, never a
-time. docs/model.md ("How the verdict is found") describes each strategy.
+Strategies propose displacements ``u`` (floppy candidates) and tensions ``t`` (rigid ones) to a
+:class:`Search`, whose :class:`Refiner` cleans each first; only a certificate accepted by the
+resolution model (:mod:`.certificates`) decides. A strategy is a frozen dataclass (its fields its
+knobs) with a ``name`` and ``run(search)``; they run in order (:data:`DEFAULT_STRATEGIES`) until a
+candidate is accepted. Every limit is a count, never a time (docs/model.md, "How the verdict is
+found").
 """
 
 from __future__ import annotations
@@ -39,8 +37,8 @@ class Search:
     #: The lowest-energy point offered so far and its energy.
     u: np.ndarray = field(default_factory=lambda: np.zeros(0))
     E: float = np.inf
-    #: The accepted certificate, else the best candidate: the smallest violation (within the
-    #: displacement bound first), the largest margin ``work - U residual``.
+    #: The accepted certificate, else the best candidate: the smallest violation, the largest
+    #: margin ``work - U residual``.
     floppy: FloppyCertificate | None = None
     rigid: RigidCertificate | None = None
     #: The strategy whose candidate was accepted ("" while undecided).
@@ -68,9 +66,9 @@ class Search:
         return self.rigid is not None and self.rigid.accepted
 
     def offer_u(self, u: np.ndarray, stage: str, E: float | None = None) -> bool:
-        """Offer displacements ``u`` ((2N,) float or longdouble, kept in their precision) with
-        their energy ``E`` if known, as a floppy candidate and as the lowest-energy point;
-        polished when they narrowly fail. True once the search is decided."""
+        """Offer displacements ``u`` ((2N,) float or longdouble, precision kept) with their energy
+        ``E`` if known, as a floppy candidate and as the lowest-energy point; polished when they
+        narrowly fail. True once the search is decided."""
         if self.decided:
             return True
         exact = np.asarray(u)
@@ -98,9 +96,8 @@ class Search:
 
     def offer_t(self, t: np.ndarray, stage: str, as_is: bool = False) -> bool:
         """Offer approximate tensions ``t`` ((m,) on the non-empty sites) as a rigid candidate,
-        purified at each support tolerance and balanced when that narrowly fails. ``as_is``:
-        check ``t`` itself first, in its own precision (for tensions already balanced to
-        extended round-off, which purification could only coarsen). True once decided."""
+        purified and, where that narrowly fails, balanced. ``as_is``: check ``t`` itself first, in
+        its own precision (for tensions purification could only coarsen). True once decided."""
         if self.decided:
             return True
         if as_is and self._offer_rigid(self.p.exact.rigid(t, self.resolution), stage):
@@ -133,16 +130,15 @@ class Search:
         return cert.accepted
 
     def offer_point(self, u: np.ndarray, stage: str) -> bool:
-        """Offer displacements ``u`` (2N,) and the tensions of the energy at them; True
-        once the search is decided."""
+        """Offer displacements ``u`` (2N,) and the tensions of the energy at them; True once
+        decided."""
         e, _, t = self.p.state(u)
         E = 0.5 * float(np.dot(t, e))
         return self.offer_u(u, stage, E) or (E > 0 and self.offer_t(t, stage))
 
     def crossovers(self, u: np.ndarray, stage: str, taus=None) -> bool:
-        """Crossovers (:func:`~.newton.crossover`) from ``u`` (2N,) with the near-tight set
-        guessed at the widening thresholds ``taus`` (default ``Tolerances.crossover_taus``);
-        True once the search is decided."""
+        """Crossovers (:func:`~.newton.crossover`) from ``u`` (2N,) at the widening ``taus``
+        (default ``Tolerances.crossover_taus``); True once the search is decided."""
         for tau in self.p.tol.crossover_taus if taus is None else taus:
             x = crossover(self.p, u, tau=tau)
             if x is not None and self.offer_point(x, stage):
@@ -150,8 +146,8 @@ class Search:
         return False
 
 
-def _floppy_key(c: FloppyCertificate, bound: float = np.inf) -> tuple:
-    return (not c.accepted, c.size > bound, c.violation)
+def _floppy_key(c: FloppyCertificate) -> tuple:
+    return (not c.accepted, c.violation)
 
 
 def _rigid_key(c: RigidCertificate, res: Resolution) -> float:
@@ -162,12 +158,11 @@ def _rigid_key(c: RigidCertificate, res: Resolution) -> float:
 class Refiner:
     """How the search cleans candidates before the certificates judge them.
 
-    Tensions are purified at each support tolerance (one dropping the same entries as the one
-    before is skipped); a rejected best purification with real work left is balanced
-    (:func:`~.selfstress.rebalance`). A floppy candidate within the displacement bound failing
-    by at most ``polish_below`` is polished: holding the rods and the one-sided elements within
-    a slack of their bound, :class:`Refine`'s proximal iteration moves it onto that set in
-    extended precision. Both are bounded by counts per search (docs/model.md).
+    Tensions are purified at each support tolerance (skipping one that drops the same entries); a
+    rejected best purification with real work left is balanced (:func:`~.selfstress.rebalance`). A
+    floppy candidate within the displacement bound failing by at most ``polish_below`` is polished:
+    :class:`Refine`'s proximal iteration moves it onto the set of rods and one-sided elements within
+    a slack of their bound, in extended precision. Both are bounded by counts per search.
     """
 
     #: Relative sizes below which approximate tensions are dropped before purification.
@@ -190,8 +185,8 @@ class Refiner:
     proximal: Refine = field(default_factory=lambda: Refine())
 
     def purified(self, s: Search, t: np.ndarray):
-        """Yield the purifications ((m,) float or longdouble) of tensions ``t`` (m,) at the
-        support tolerances (nothing for a failed one)."""
+        """Yield the purifications ((m,) float or longdouble) of tensions ``t`` (m,) at the support
+        tolerances (nothing for a failed one)."""
         previous = None
         for support_tol in self.support_tols:
             support = kept(t, support_tol)
@@ -204,8 +199,7 @@ class Refiner:
                 continue
 
     def balances(self, cert: RigidCertificate, res: Resolution, done: int = 0) -> bool:
-        """Whether a rejected rigid candidate is worth balancing after ``done`` others: work
-        above ``tau``, residual at most ``balance_below``, within ``balance_reduction``."""
+        """Whether a rejected rigid candidate is worth balancing after ``done`` others."""
         margin = float(cert.work) - res.violation
         return (
             done < self.balance_attempts
@@ -215,8 +209,7 @@ class Refiner:
         )
 
     def polishes(self, cert: FloppyCertificate, res: Resolution, done: int = 0) -> bool:
-        """Whether a floppy candidate is worth polishing after ``done`` others: rejected,
-        violation at most ``polish_below``, within the displacement bound."""
+        """Whether a floppy candidate is worth polishing after ``done`` others."""
         return (
             not cert.accepted
             and cert.violation <= self.polish_below
@@ -225,8 +218,8 @@ class Refiner:
         )
 
     def polished(self, s: Search, u: np.ndarray) -> np.ndarray | None:
-        """The polished displacements ((2N,) longdouble) of candidate ``u`` (2N,): the first
-        end point that is a floppy certificate, else the first that converged, else None."""
+        """The polished displacements ((2N,) longdouble) of ``u`` (2N,): the first end point that is
+        a floppy certificate, else the first that converged, else None."""
         fallback = None
         for slack in self.polish_slacks:
             x = self._polish(s, u, slack)
@@ -238,8 +231,8 @@ class Refiner:
         return fallback
 
     def _polish(self, s: Search, u: np.ndarray, slack: float) -> np.ndarray | None:
-        """Rounds of the proximal iteration from ``u`` holding the elements within ``slack``
-        of their bound; the end point ((2N,) longdouble), or None."""
+        """Rounds of the proximal iteration from ``u`` holding the elements within ``slack`` of
+        their bound; the end point ((2N,) longdouble), or None."""
         p = s.p
         v = np.asarray(p.exact.extensions(u), dtype=float)
         active = p.rod | (p.sigma * v >= -slack)
@@ -259,9 +252,6 @@ class Refiner:
         return x
 
 
-# --------------------------------------------------------------------------- strategies
-
-
 @dataclass(frozen=True)
 class Affine:
     """The tensions of the affine deformation: decides deeply rigid samples."""
@@ -274,8 +264,8 @@ class Affine:
 
 @dataclass(frozen=True)
 class Newton:
-    """Semismooth Newton from the search's point (:func:`~.newton.newton`), stopped once the
-    energy alone would allow a violation of a tenth of ``tau``."""
+    """Semismooth Newton from the search's point (:func:`~.newton.newton`), stopped once the energy
+    alone would allow a violation of a tenth of ``tau``."""
 
     max_iter: int = 15
     max_truncated: int = 4
@@ -291,8 +281,8 @@ class Newton:
 @dataclass(frozen=True)
 class InteriorPoint:
     """The energy interior point (:func:`~.ipm.interior_point`) to ``tol`` in ``max_iter``
-    iterations: at each of the ``checkpoints`` accuracies its point is offered and crossed over
-    at ``checkpoint_taus``, at its end at every crossover tau."""
+    iterations: its point offered and crossed over at ``checkpoint_taus`` at each of the
+    ``checkpoints``, at its end at every crossover tau."""
 
     checkpoints: tuple[float, ...] = (1e-3, 1e-5, 1e-7)
     checkpoint_taus: tuple[float, ...] = (1e-7,)
@@ -307,11 +297,11 @@ class InteriorPoint:
             t[s.p.one_sided] = s.p.sigma[s.p.one_sided] * lam
             return t
 
-        def on_checkpoint(u, lam):
+        def offer(u, lam, taus=None):
             return (
                 s.offer_u(u, self.name)
                 or s.offer_t(tensions(u, lam), self.name)
-                or s.crossovers(u, self.name, taus=self.checkpoint_taus)
+                or s.crossovers(u, self.name, taus=taus)
             )
 
         end: list[IpmState] = []
@@ -320,28 +310,22 @@ class InteriorPoint:
             max_iter=self.max_iter,
             tol=self.tol,
             checkpoints=self.checkpoints,
-            callback=on_checkpoint,
+            callback=lambda u, lam: offer(u, lam, self.checkpoint_taus),
             record=end,
         )
         s.ipm_end = end[0]
-        if not s.decided:
-            s.offer_u(u, self.name)
-        if not s.decided:
-            s.offer_t(tensions(u, lam), self.name)
-        if not s.decided:
-            s.crossovers(u, self.name)
+        offer(u, lam)
 
 
 @dataclass(frozen=True)
 class Refine:
     """The minimum-norm zero-violation displacements on the engaged set, in extended precision.
 
-    Near a threshold the energy's minimisers drift to ``1e6``-``1e8`` times the strain and their
-    violations stall at that size times the double-precision round-off. On the engaged set ``A``
-    this solves ``min |u|`` s.t. ``e0_A + R_A u = 0`` by proximal steps on one factorisation per
-    round, with reduced rank extrapolation every ``window`` steps (docs/solver.md). A round that
-    stalls leaves the least-squares self-stress, offered as a rigid candidate; one-sided
-    elements the end point violates join ``A`` for the next round.
+    Near a threshold the energy's minimisers drift to ``1e6``-``1e8`` times the strain, their
+    violations stalling at that size times the round-off. On the engaged set ``A`` proximal steps on
+    one factorisation per round, extrapolated every ``window`` steps, solve ``min |u|`` s.t. ``e0_A
+    + R_A u = 0`` (docs/solver.md); a stalled round offers its least-squares self-stress, and
+    one-sided elements the end point violates join ``A`` for the next.
     """
 
     #: ``mu`` relative to the unit stiffness, tried in turn until a factorisation succeeds.
@@ -353,7 +337,6 @@ class Refine:
     #: Most steps per round (each one back-substitution); most rounds (engaged sets).
     max_iter: int = 200
     rounds: int = 3
-    #: The strategy's name.
     name: str = "refine"
 
     def run(self, s: Search) -> None:
@@ -378,9 +361,9 @@ class Refine:
             active = active | joined
 
     def _round(self, s: Search, active: np.ndarray, solver, start=None):
-        """Proximal steps with extrapolation on the engaged set ``active`` (m,) bool, from
-        ``start`` ((2N,), default the origin); returns (u (2N,) longdouble, residual on
-        ``active`` (m,) longdouble, converged)."""
+        """Proximal steps with extrapolation on the engaged set ``active`` (m,) bool from ``start``
+        ((2N,), default the origin): (u (2N,) longdouble, residual on ``active`` (m,), converged).
+        """
         ex, goal = s.p.exact, 0.1 * s.resolution.violation
         R = ex.matrix
 
@@ -412,8 +395,8 @@ class Refine:
 
 
 def _extrapolate(us, rs, residual):
-    """The affine combination of iterates ``us`` (each (2N,)) whose residual, the same
-    combination of ``rs`` (each (m,)), has the least 2-norm; returns (u, r, max |r|)."""
+    """The affine combination of iterates ``us`` (each (2N,)) whose residual (the same combination
+    of ``rs``, each (m,)) has the least 2-norm: (u, r, max |r|)."""
     last_u, last_r = us[-1], rs[-1]
     D = np.array([np.asarray(x - last_r, dtype=float) for x in rs[:-1]]).T
     c = np.linalg.lstsq(D, -np.asarray(last_r, dtype=float), rcond=None)[0]
@@ -426,12 +409,11 @@ def _extrapolate(us, rs, residual):
 class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
-    The verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1`` (interior point and
-    crossover; again without the crossover when its clean-up runs out): its tensions are offered,
-    its row duals offered as displacements and crossed over, its vertex refined in extended
-    precision (LP iterative refinement, docs/model.md). Then, up to ``feasibility_sites_max``
-    sites, the feasibility LP (:func:`_feasibility_lp`): a vertex is a floppy candidate, a dual
-    ray a rigid one. A HiGHS failure leaves the search as it was.
+    The verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1`` (:meth:`verdict_lp`): its
+    tensions offered, its row duals offered as displacements and crossed over, its vertex refined in
+    extended precision. Then, up to ``feasibility_sites_max`` sites, the feasibility LP
+    (:func:`_feasibility_lp`): a vertex is a floppy candidate, a dual ray a rigid one. A HiGHS
+    failure leaves the search as it was.
     """
 
     #: Interior-point iterations of the verdict LP.
@@ -442,8 +424,7 @@ class LinearProgram:
     simplex_iterations_max: int = 25_000
     #: Refinement rounds of the verdict LP's vertex (0: no crossover, no refinement).
     refine: int = 1
-    #: Simplex iterations per non-empty site of each refinement round and of the clean-up after the
-    #: verdict LP's crossover.
+    #: Simplex iterations per non-empty site of each refinement round and the crossover's clean-up.
     refine_iterations_per_site: float = 0.25
     #: Solve the verdict LP again without the crossover when its clean-up hits its limit.
     interior_fallback: bool = True
@@ -453,19 +434,16 @@ class LinearProgram:
     feasibility_sites_max: int = 24_576
     #: HiGHS's primal feasibility tolerance in the feasibility LP (units of ``max |e0|``).
     feasibility_tolerance: float = 1e-9
-    #: The strategy's name.
     name: str = "lp"
 
     def __post_init__(self):
         _simplex_variants(self.feasibility_simplex)
 
     def verdict_lp(self, p: Problem, crossover: bool | None = None):
-        """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``,
-        solved as the strategy solves it (``crossover``: default when ``refine`` is set).
-
-        Returns the solved ``highspy.Highs`` (columns the tensions (m,), rows the forces (2N,)),
-        its constraint matrix ``R^T`` (2N, m) CSC and the tensions' bounds ``lo, hi`` (m,).
-        """
+        """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``, as the
+        strategy solves it (``crossover``: default when ``refine`` is set): the solved
+        ``highspy.Highs`` (columns the tensions, rows the forces), ``R^T`` (2N, m) CSC and the
+        bounds ``lo, hi`` (m,)."""
         A = p.RT.tocsc()
         lo = np.where(p.sigma > 0, 0.0, -1.0)
         hi = np.where(p.sigma < 0, 0.0, 1.0)
@@ -489,8 +467,7 @@ class LinearProgram:
         h, A, lo, hi = self.verdict_lp(p)
         sol = h.getSolution()
         if not sol.value_valid and self.refine and self.interior_fallback:
-            # the crossover or its clean-up simplex hit its limit, and HiGHS dropped the
-            # interior point with it: solve again without the crossover
+            # the crossover's clean-up hit its limit and HiGHS dropped the interior point with it
             sol = self.verdict_lp(p, crossover=False)[0].getSolution()
         if sol.value_valid and sol.dual_valid:
             t = np.asarray(sol.col_value, dtype=float)
@@ -522,13 +499,12 @@ class LinearProgram:
         return min(per_site, self.simplex_iterations_max)
 
     def _refine_budget(self, p: Problem) -> int:
-        """Simplex iterations of the clean-up after the interior point and of each
-        refinement round."""
+        """Simplex iterations of the interior point's clean-up and of each refinement round."""
         return int(self.refine_iterations_per_site * p.sites.size)
 
     def _refine(self, s: Search, h, A, lo, hi) -> bool:
-        """``refine`` rounds of LP iterative refinement from the vertex of the solved verdict
-        LP ``h``, each result offered; True once the search is decided."""
+        """``refine`` rounds of LP iterative refinement from the vertex of the solved verdict LP
+        ``h``, each result offered; True once the search is decided."""
         sol, basis = h.getSolution(), h.getBasis()
         if not (sol.value_valid and basis.valid):
             return False
@@ -547,8 +523,8 @@ class LinearProgram:
 
 def _highs(A, cost, col_lower, col_upper, row_lower, row_upper, basis=None, **options):
     """HiGHS on ``min cost . x`` s.t. ``row_lower <= A x <= row_upper``, ``col_lower <= x <=
-    col_upper`` (``A`` CSC), one thread, silent, with ``options`` and an optional starting
-    basis; returns the solved ``highspy.Highs``."""
+    col_upper`` (``A`` CSC), one thread, silent, with ``options`` and an optional starting basis;
+    the solved ``highspy.Highs``."""
     import highspy
 
     lp = highspy.HighsLp()
@@ -569,10 +545,9 @@ def _highs(A, cost, col_lower, col_upper, row_lower, row_upper, basis=None, **op
 
 
 def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
-    """One round of LP iterative refinement of the verdict LP at tensions ``t`` ((m,)
-    longdouble), warm-started from ``basis``: (refined tensions (m,) longdouble, the correction
-    LP's row duals (2N,) as displacements, its basis), or None when ``t`` is exact or the primal
-    simplex does not reach an optimum within ``max_iter`` iterations."""
+    """One round of LP iterative refinement of the verdict LP at tensions ``t`` ((m,) longdouble)
+    from ``basis``: (refined tensions (m,) longdouble, the correction LP's row duals (2N,), its
+    basis), or None when ``t`` is exact or the primal simplex does not end within ``max_iter``."""
     import highspy
 
     f = p.exact.forces(t)
@@ -624,10 +599,10 @@ def _feasibility_lp(
 
     Rows in site order (rods ``R u = -e0``, cables ``<=``, struts ``>=``), free columns; each
     variant of ``simplex`` runs at most ``max_iter`` iterations, the next only after status
-    "Unknown"; ``tolerance`` is HiGHS's primal feasibility tolerance. Returns ``(vertex, ray)``:
-    a vertex (2N,) when HiGHS finds the LP feasible; when it proves it infeasible, minus its
-    dual ray (m,), tensions with ``R^T t = 0`` up to round-off, admissible signs and positive
-    work by Farkas' lemma (the caller purifies it; the certificate checks it).
+    "Unknown"; ``tolerance``: HiGHS's primal feasibility tolerance. Returns ``(vertex, ray)``: a
+    vertex (2N,) when feasible; when proved infeasible, minus its dual ray (m,), tensions with ``R^T
+    t = 0`` up to round-off, admissible signs and positive work by Farkas' lemma (purified and
+    checked by the caller).
     """
     import highspy
 
@@ -650,8 +625,7 @@ def _feasibility_lp(
         if status == highspy.HighsModelStatus.kOptimal:
             return np.asarray(h.getSolution().col_value, dtype=float), None
         if status == highspy.HighsModelStatus.kInfeasible:
-            # (status, has_ray, values); a method of the compiled base class that highspy's
-            # type stubs leave out
+            # (status, has_ray, values); missing from highspy's type stubs
             *_, has_ray, ray = h.getDualRay()  # type: ignore[attr-defined]
             return (None, -np.asarray(ray, dtype=float)) if has_ray else (None, None)
         if status != highspy.HighsModelStatus.kUnknown:
@@ -673,11 +647,11 @@ def search(
     polish: bool = True,
     balance: bool = True,
 ) -> Search:
-    """Run ``strategies`` (objects with a ``name`` and ``run(search)``) in order until a
-    certificate is accepted, after the starting points: ``start`` ((2N,) displacements, units
-    of ``max |e0|``) offered and crossed over, ``start_tensions`` ((m,) on the non-empty sites)
-    purified and offered. ``refiner`` (default ``Refiner()``) cleans the candidates, polishing
-    and balancing where ``polish``, ``balance``. Returns the final :class:`Search`."""
+    """Run ``strategies`` (objects with a ``name`` and ``run(search)``) in order until a certificate
+    is accepted, after the starting points ``start`` ((2N,), units of ``max |e0|``; offered and
+    crossed over) and ``start_tensions`` ((m,), offered). ``refiner`` (default ``Refiner()``) cleans
+    the candidates, polishing and balancing where ``polish``, ``balance``; the final
+    :class:`Search`."""
     s = Search(p, resolution, Refiner() if refiner is None else refiner, polish, balance)
     if not np.any(p.e0):  # nothing is strained: u = 0 is exact
         s.offer_u(np.zeros(p.n2), "trivial")

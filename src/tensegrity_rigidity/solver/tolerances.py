@@ -1,10 +1,9 @@
 """Every numeric constant of the search and the relaxation, named once with its meaning.
 
-A :class:`Tolerances` is held by :class:`~.options.SolverOptions` (so it enters the sweep
-settings digest) and by each :class:`~.problem.Problem`, through which the routines read it.
-Lengths are in units of ``max |e0|``, stiffnesses relative to the mean stiffness. The resolution
-model's ``tau`` and ``U`` are ``SolverOptions.violation_tol`` and ``displacement_bound``; a
-strategy's knobs are its own fields (:mod:`.stages`).
+Held by :class:`~.options.SolverOptions` (so it enters the sweep settings digest) and by each
+:class:`~.problem.Problem`, through which the routines read it; lengths in units of ``max |e0|``,
+stiffnesses relative to the mean. ``tau`` and ``U`` are ``SolverOptions.violation_tol`` and
+``displacement_bound``; a strategy's knobs are its own fields (:mod:`.stages`).
 """
 
 from __future__ import annotations
@@ -44,8 +43,7 @@ class Tolerances:
     purify_shift : float
         Shift of purification's matrix ``R^T W R``, relative to ``max t^2``.
     purify_work_floor : float
-        Purification's default ``work_floor``: rounds with ``t . e0 <= purify_work_floor |t|_1``
-        count toward its stall (the default ``tau``, below which no rigid certificate passes).
+        Purification's default ``work_floor`` (the default ``tau``): rounds doing less stall it.
     rod_weight : float
         Weight of every rod in purification and balancing, relative to ``max t^2``.
     rebalance_shifts : tuple of float
@@ -61,11 +59,9 @@ class Tolerances:
     relax_long_ipm : tuple of (int, float)
         The same for its long run, where the short one leaves the energy uncertified.
     relax_long_shift : float
-        Newton-matrix shift of the long run: near a threshold the energy falls along near-mechanisms
-        of curvature below the default ``1e-12``.
+        Newton-matrix shift of the long run, below the near-mechanisms' curvature (docs/model.md).
     stationary : float
-        Relative force residual of Newton's end point below which the relaxation's interior point is
-        not run.
+        Relative force residual of Newton's end point at which the relaxation skips its IPM.
     final_crossover_tau : float
         Engagement tolerance of the relaxation's final crossover.
     final_crossover_raise : float
@@ -81,8 +77,7 @@ class Tolerances:
     min_norm_regularization : float
         Regularisation ``d`` of the projection's reduced KKT systems.
     min_norm_held : float
-        The active set's held set starts with the inequalities within this (relative to ``max |u|``)
-        of their bound.
+        The active set first holds the inequalities within this (times ``max |u|``) of their bound.
     min_norm_violated : float
         Relative violation at which the projection's active set adds an inequality.
     min_norm_kkt_exact : float
