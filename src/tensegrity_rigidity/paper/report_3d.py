@@ -167,7 +167,7 @@ def three_d_section(r):
             f = ex.loc[key]
             v, e = r.at(key, n_top)
             two = TWO_D_OURS[key]
-            label = QUANTITY_TEXT[key].split(', ')[-1].split(':')[0]
+            label = QUANTITY_TEXT[key].split(", ")[-1].split(":")[0]
             parts.append(f"{label} {fmt(f.y_inf, f.y_inf_err)}")
             z_top.append(an.agreement_z(v, e**2, two.value, two.error or np.nan))
             z_inf.append(an.agreement_z(f.y_inf, f.y_inf_err**2, two.value, two.error or np.nan))

@@ -344,7 +344,8 @@ def claims(result: Fig2Result) -> tuple[Measurement, ...]:
                 "taut_cables_transition",
                 v,
                 e,
-                system + "; rigid samples with certified tensions at p_r nearest p_crit, mean over "
+                system,
+                note="rigid samples with certified tensions at p_r nearest p_crit, mean over "
                 "p_t = 0.1, 0.2, 0.3 (error: bootstrap over samples, p_crit re-estimated)",
                 size=n,
             )
