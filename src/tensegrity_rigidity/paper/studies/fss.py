@@ -386,7 +386,14 @@ def analyse(rows: Rows, scale: Scale) -> FiniteSizeResult:
     )  # fmt: skip
 
 
-def extrapolate(by_size: pd.DataFrame, scale: Scale, **extra) -> FiniteSizeResult:
+def extrapolate(
+    by_size: pd.DataFrame,
+    scale: Scale,
+    *,
+    pc_widths: an.WidthScaling | None = None,
+    excluded: dict[str, int] | None = None,
+    **extra,
+) -> FiniteSizeResult:
     """Every claim of ``by_size`` extrapolated to n -> infinity, twice.
 
     The rods-only point with nu fitted; the other claims with nu fixed at that fit's value
@@ -399,15 +406,19 @@ def extrapolate(by_size: pd.DataFrame, scale: Scale, **extra) -> FiniteSizeResul
         scale's); a ``rods_only_pc`` row at two sizes at least.
     scale : Scale
         The study's scale (its sizes, sample counts and bootstrap generators).
+    pc_widths : WidthScaling, optional
+        The rods-only widths reading (:attr:`FiniteSizeResult.pc_widths`), compared here with
+        the literature.
+    excluded : dict, optional
+        Sweep name -> undecided rows (none by default).
     **extra
-        Further fields of :class:`FiniteSizeResult` (``excluded``, ``pc_widths``, ...).
+        Further fields of :class:`FiniteSizeResult` (``bracketed``, ``fractal``, ...).
 
     Returns
     -------
     FiniteSizeResult
     """
-    widths = extra.pop("pc_widths", None)
-    extra.setdefault("excluded", {})
+    widths = pc_widths
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
@@ -498,6 +509,7 @@ def extrapolate(by_size: pd.DataFrame, scale: Scale, **extra) -> FiniteSizeResul
         pc_at_check_nu=at_check,
         pc_at_check_nu_z=at_check_z,
         nu_at_bound=at_bound,
+        excluded=excluded or {},
         pc_widths=widths,
         pc_widths_z=widths_z,
         pc_widths_nu_z=widths_nu_z,
