@@ -189,28 +189,16 @@ def test_the_html_report_renders_in_a_real_browser(tiny, tmp_path):
     assert shot.stat().st_size > 20_000  # a drawn page, not a blank one
 
 
-#: committed reports written before the budgets, until ``reproduce`` writes them again (strict:
-#: a regenerated report passes, and the mark must go)
-STALE_REPORTS = {"fss"}
-
-
 @pytest.mark.parametrize(
     "report",
     [
-        pytest.param(
-            path,
-            id=path.parent.name,
-            marks=pytest.mark.xfail(strict=True, reason="written before the report budgets")
-            if path.parent.name in STALE_REPORTS
-            else (),
-        )
+        pytest.param(path, id=path.parent.name)
         for path in sorted((Path(__file__).parents[2] / "reports").glob("*/report.md"))
     ],
 )
 def test_the_committed_reports_keep_the_budgets(report):
     """Every committed report (paper-n32, fss, pc, 3d): no table cell over 160 characters and
-    no paragraph over about 120 words, as the tiny one; a stale report written before the
-    budgets fails here until it is regenerated."""
+    no paragraph over about 120 words, as the tiny one."""
     from tensegrity_rigidity.paper.render import MAX_WORDS
 
     md = report.read_text()

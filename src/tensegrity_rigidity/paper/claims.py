@@ -114,10 +114,10 @@ REFERENCES = {
 
 #: our own 2D values of the quantities the 3D study measures (paper.studies.three_d), set
 #: beside the 3D ones in the report: the n -> infinity extrapolations of the committed
-#: finite-size report, reports/fss/tables/fss_extrapolated.csv (commit 258fea6; n = 8 to 64,
-#: rods-only p_c from n = 8 to 64 with 4000 to 100 samples), column y_inf (nu fitted, 0.58)
+#: finite-size report, reports/fss/tables/fss_extrapolated.csv (written at 13780ee; n = 8 to
+#: 64, rods-only p_c from n = 8 to 64 with 4000 to 100 samples), column y_inf (nu fitted, 0.58)
 TWO_D_OURS = {
-    key: Reference(value, error, "reports/fss/tables/fss_extrapolated.csv (258fea6), y_inf")
+    key: Reference(value, error, "reports/fss/tables/fss_extrapolated.csv (13780ee), y_inf")
     for key, value, error in (
         ("rods_only_pc", 0.657684, 0.001369),
         ("st_sr_half_dilation", 0.499619, 0.002437),

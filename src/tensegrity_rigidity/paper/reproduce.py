@@ -27,10 +27,8 @@ EXPECTED = {
     "quick": "8 min 33 s measured from a clean clone at fe7943b, install included "
     "(estimated 8 minutes)",
     "paper": "33 min 12 s measured from a clean clone at ef3ed37 (estimated 33 minutes)",
-    "fss": "97 minutes measured in one run from a clean clone at 5a78b41 for its "
-    "threshold sweeps (estimated 109 minutes then); with the energy grids (24 samples per "
-    "point at every size), estimated 119 minutes; resumable: re-run to "
-    "continue",
+    "fss": "97 minutes measured in one run at 13780ee, energy grids included (estimated 119 "
+    "minutes); resumable: re-run to continue",
     "pc": "the rods-only study by the pebble game (n = 32 to 512; p_c, nu, fractal dimensions): "
     "7 minutes measured on 2 idle cores (estimated 19 minutes)",
     "3d": "beyond the paper, the disordered FCC lattice in 3D (n = 4 to 10, rods-only "
