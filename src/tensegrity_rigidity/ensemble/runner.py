@@ -24,7 +24,7 @@ from ..model.network import Instance
 from ..model.sampling import lattice_geometry
 from ..model.strain import sequence_rotation, strain_tensor
 from ..solver.core import solve
-from ..solver.inexact import paper_verdict
+from .inexact import paper_verdict
 from .spec import GridPoint, Spec
 from .thresholds import find_threshold, pebble_pass
 

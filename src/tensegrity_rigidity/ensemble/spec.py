@@ -11,7 +11,7 @@ Flat keys (each a scalar or a list of distinct values; the grid is the product o
     samples = 100           # samples k = 1 .. samples per grid point
     seed = 1                # a list gives independent replicas (non-negative integers)
     verdict = "exact"       # "paper": decide grid samples the paper's way instead
-                            # (solver.inexact: L-BFGS-B from u = 0, E > 1e-8 E(u = 0))
+                            # (ensemble.inexact: L-BFGS-B from u = 0, E > 1e-8 E(u = 0))
 
 Optional sections (defaults shown, but for ``[solver]``, whose line is an example)::
 

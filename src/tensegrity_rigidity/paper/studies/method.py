@@ -1,7 +1,7 @@
 """The paper's method beside ours: both verdicts on the same samples near the transition.
 
 The paper decided each sample with a local minimiser and "energy greater than 0"
-(:mod:`tensegrity_rigidity.solver.inexact` reproduces that with L-BFGS-B and a relative
+(:mod:`tensegrity_rigidity.ensemble.inexact` reproduces that with L-BFGS-B and a relative
 threshold). This study runs the same grid twice, once with the certified verdict and once with
 the paper's (sweep key ``verdict = "paper"``), on identical samples (common random numbers:
 a sample's disorder depends only on ``(seed, n, delta, sample)``), and reports
@@ -34,7 +34,7 @@ import pandas as pd
 from scipy import stats
 
 from ...analysis import estimators as an
-from ...solver.inexact import PAPER_THRESHOLD
+from ...ensemble.inexact import PAPER_THRESHOLD
 from ..claims import Measurement
 from .rows import PT4, Rows, load_sweeps, p_r_grid, strain_name
 from .scales import Scale
@@ -53,7 +53,7 @@ class MethodResult:
     ----------
     rows : DataFrame
         One row per sample and grid point: ``rigid`` (certified), ``paper_rigid`` (the paper's
-        verdict at :data:`~tensegrity_rigidity.solver.inexact.PAPER_THRESHOLD`), ``energy``
+        verdict at :data:`~tensegrity_rigidity.ensemble.inexact.PAPER_THRESHOLD`), ``energy``
         (exact E*), ``paper_energy`` (where L-BFGS-B stopped), ``affine_energy``,
         ``iterations``, ``converged``.
     disagreement : DataFrame

@@ -7,7 +7,8 @@ it stops at exceeds :data:`PAPER_THRESHOLD` times the affine energy. A minimiser
 default tolerances resolves the energy to about half the machine digits of its scale
 (Mathematica's ``PrecisionGoal``, L-BFGS-B's ``ftol`` = 2.2e-9), so "E > 0" is read as
 ``E > 1e-8 E(0)``; energies are stored, so other thresholds can be applied afterwards. Nothing
-here is certified: this is the method under test, set beside :func:`~.core.solve`.
+here is certified: this is the method under test, set beside
+:func:`~tensegrity_rigidity.solver.core.solve` (and so it lives outside ``solver/``).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from scipy.optimize import minimize
 
 from ..model.mechanics import affine_extensions, rigidity_matrix
 from ..model.network import Element, Instance
-from .linalg import one_blas_thread
+from ..solver.linalg import one_blas_thread
 
 #: rigid when the minimiser's energy exceeds this fraction of the affine energy (see above)
 PAPER_THRESHOLD = 1e-8

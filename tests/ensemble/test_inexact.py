@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from tensegrity_rigidity import SolverOptions, lattice_instance, solve, triangular_lattice
+from tensegrity_rigidity.ensemble.inexact import PAPER_THRESHOLD, paper_verdict
 from tensegrity_rigidity.model.mechanics import energy
 from tensegrity_rigidity.model.network import Element, Instance
 from tensegrity_rigidity.model.strain import strain_tensor
-from tensegrity_rigidity.solver.inexact import PAPER_THRESHOLD, paper_verdict
 
 
 def test_perfect_rod_lattice_keeps_the_affine_energy():
