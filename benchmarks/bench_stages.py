@@ -6,14 +6,18 @@ registered as a stage of its own for the run, and a token ``option=value`` sets 
 boolean field of ``SolverOptions`` for the design (``polish=0``, ``displacement_bound=1e8``).
 Every design searches the same thresholds of the near-threshold set (six configurations of
 issue 13, cycled; ``near_threshold_set``) in the same run, one after the other, and records per
-design: seconds per threshold (median, max, total), probes, undecided probes, thresholds left
+design: seconds per threshold (median, max, total), probes, undecided probes (and of them the
+ones not resolved, the others within resolution), thresholds left
 as an interval and the widest interval in events, brackets ``[s_low, s_high]`` that differ from
 the first design's and brackets disjoint from it (certified verdicts that contradict each
 other: must be 0), and the stages that decided the probes.
 
 Run: python benchmarks/bench_stages.py [--sizes 32 64] [--samples 12 6]
-     [--designs affine,newton,crossover,ipm,lp affine,newton,refine,crossover,ipm,lp ...]
-     [--configs 1 0 2]
+     [--designs affine,newton,ipm,lp affine,newton,refine,ipm,support,lp ...]
+     [--configs 1 0 2] [--save-undecided FOLDER]
+
+``--save-undecided`` writes every undecided probe (its kinds and hints) for
+``resolve_probes.py``; the raw results list each with its reason and best candidates.
 
 ``--configs`` keeps only the samples of the given configurations (the first ``--samples`` of
 the set, cycled, filtered): at n = 128, where one threshold takes minutes to most of an hour,
@@ -26,6 +30,7 @@ import argparse
 import time
 from collections import Counter
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 from _record import machine, probe, record, table
@@ -34,6 +39,7 @@ from near_threshold_set import CONFIGS, RODS_ONLY, interval_events, samples
 from tensegrity_rigidity.ensemble import thresholds
 from tensegrity_rigidity.ensemble.thresholds import find_threshold
 from tensegrity_rigidity.errors import InputError
+from tensegrity_rigidity.solver.certificates import NOT_RESOLVED
 from tensegrity_rigidity.solver.core import SolverOptions
 from tensegrity_rigidity.solver.options import strategy_named
 from tensegrity_rigidity.solver.stages import DEFAULT_STRATEGIES
@@ -45,7 +51,8 @@ DEFAULT_DESIGNS = [
 ]
 
 HEADER = ["n", "stages", "samples", "median s", "max s", "total s", "probes", "undecided probes",
-          "intervals", "widest (events)", "differ", "disjoint", "decided by"]  # fmt: skip
+          "not resolved", "intervals", "widest (events)", "differ", "disjoint",
+          "decided by"]  # fmt: skip
 DETAIL = ["n", "stages", "config", "k", "s", "interval", "events", "probes", "undecided",
           "wall s"]  # fmt: skip
 
@@ -100,6 +107,12 @@ def main() -> None:
         help="only the samples of these configurations (indices into the set)",
     )
     ap.add_argument(
+        "--save-undecided",
+        type=Path,
+        default=None,
+        help="write each undecided probe (kinds and hints, .npz) into this folder",
+    )
+    ap.add_argument(
         "--rods-only",
         action="store_true",
         help="the rods-only thresholds of the p_c extrapolation instead of the issue-13 set",
@@ -116,9 +129,13 @@ def main() -> None:
     decided_by: Counter = Counter()
     original_decide = thresholds.decide
 
-    def counting_decide(*a, **kw):
-        verdict = original_decide(*a, **kw)
+    def counting_decide(inst, opts, **kw):
+        verdict = original_decide(inst, opts, **kw)
         decided_by[verdict.stage or "undecided"] += 1
+        if not verdict.decided:
+            UNDECIDED.append(_undecided_row(inst, verdict, **kw))
+            if args.save_undecided is not None:
+                _save_probe(args.save_undecided, inst, kw)
         return verdict
 
     thresholds.decide = counting_decide  # count the deciding stage of every probe
@@ -126,6 +143,34 @@ def main() -> None:
         run(args, designs, decided_by)
     finally:
         thresholds.decide = original_decide
+
+
+#: The undecided probes of the run so far, one dict each (the run loop sets ``CURRENT``).
+UNDECIDED: list[dict] = []
+CURRENT: dict = {}
+
+
+def _undecided_row(inst, verdict, **_) -> dict:
+    """One undecided probe: where it is, why it is undecided and its best candidates."""
+    r, f = verdict.rigid, verdict.floppy
+    return {
+        **CURRENT,
+        "rods": int((inst.network.kinds == 1).sum()),
+        "reason": verdict.reason,
+        "work": None if r is None else float(r.work),
+        "residual": None if r is None else float(r.residual),
+        "violation": None if f is None else float(f.violation),
+        "size": None if f is None else float(f.size),
+    }
+
+
+def _save_probe(folder: Path, inst, hints: dict) -> None:
+    """Write the probe's kinds and starting hints, so that it can be solved again alone."""
+    folder.mkdir(parents=True, exist_ok=True)
+    row = UNDECIDED[-1]
+    name = f"n{row['n']}_c{row['config']}_k{row['k']}_{len(UNDECIDED):04d}.npz"
+    arrays = {k: v for k, v in hints.items() if v is not None}
+    np.savez(folder / name, kinds=inst.network.kinds, **arrays)
 
 
 def run(args, designs, decided_by: Counter) -> None:
@@ -144,6 +189,7 @@ def run(args, designs, decided_by: Counter) -> None:
             decided_by.clear()
             secs, probes, undecided, widths, differ, disjoint = [], 0, 0, [], 0, 0
             for c, k, (net, u, v, eps, p_t, f_c) in insts:
+                CURRENT.update(n=n, stages=label, config=c, k=k)
                 probe()
                 t0 = time.perf_counter()
                 th = find_threshold(net, u, v, eps, p_t, f_c, options=opts)
@@ -164,10 +210,12 @@ def run(args, designs, decided_by: Counter) -> None:
                 )  # fmt: skip
                 print(*detail[-1], flush=True)
             s = np.asarray(secs)
+            here = [x for x in UNDECIDED if x["n"] == n and x["stages"] == label]
+            not_resolved = sum(x["reason"] == NOT_RESOLVED for x in here)
             rows.append(
                 [n, label, len(s), f"{np.median(s):.2f}", f"{s.max():.2f}",
-                 f"{s.sum():.1f}", probes, undecided, sum(w > 0 for w in widths), max(widths),
-                 differ, disjoint,
+                 f"{s.sum():.1f}", probes, undecided, not_resolved,
+                 sum(w > 0 for w in widths), max(widths), differ, disjoint,
                  ", ".join(f"{k} {v}" for k, v in sorted(decided_by.items()))]
             )  # fmt: skip
             _write(rows, detail, args.rods_only)
@@ -190,6 +238,7 @@ def _write(rows, detail, rods_only: bool) -> None:
         + table(DETAIL, detail)
     )
     raw = {"designs": [dict(zip(HEADER, r, strict=True)) for r in rows]}
+    raw["undecided"] = UNDECIDED
     raw["thresholds"] = [dict(zip(DETAIL, d, strict=True)) for d in detail]
     if rods_only:
         record(

@@ -353,6 +353,33 @@ def test_a_failing_lp_stage_leaves_the_search_as_it_was():
     assert not s.decided
 
 
+def test_the_support_strategy_certifies_a_rigid_probe_the_stages_leave_unbalanced():
+    """n = 64, rods + cables, p_t = 0.3, dilation, just above the sample's threshold
+    (benchmarks/near_threshold_set.py, configuration 1, sample 0, event 12378). The energy
+    stages end with tensions doing work 0.24 per unit |t|_1 but unbalanced to 2.8e-8 (U r = 2.8),
+    and neither purification nor balancing cleans them. Without the sites stressed below 1e-5 of
+    the largest the interior point converges, and its self-stress, zero elsewhere, certifies
+    the whole network rigid. The reference LP (``lp_verdict``, 85 s, not re-run here) agrees:
+    rigid, its vertex doing work 0.17 per unit |t|_1."""
+    from tensegrity_rigidity.solver.stages import Support
+
+    inst = near_threshold_instance(64, [64, 1, 0], "dilation", 0.3, 1.0, 12378)  # CONFIGS[1]
+    p = Problem(inst, unit_stiffness=True)
+    s = Search(p, Resolution(), polish=True, balance=True)
+    for name in ("affine", "newton", "refine", "ipm"):
+        strategy_named(name).run(s)
+    assert not s.decided
+    assert s.rigid is not None and s.rigid.work > 0.1 and s.rigid.residual > 1e-8
+    Support().run(s)
+    assert s.decided and s.rigid_verdict and s.stage == "support"
+    assert s.rigid.work > 0.1 and s.rigid.residual < 1e-9
+    s = Search(p, Resolution(), polish=True, balance=True)
+    for name in ("affine", "newton", "refine", "ipm"):
+        strategy_named(name).run(s)
+    Support(keep=0.1).run(s)  # too little of the network left: no self-stress there
+    assert not s.decided
+
+
 def test_lp_refinement_certifies_a_vertex_that_misses_its_bounds():
     """n = 64, rods + cables, p_t = 0.2, dilation, one event above the sample's threshold
     (benchmarks/near_threshold_set.py, configuration 5, sample 0, event 13790). HiGHS's vertex

@@ -18,8 +18,8 @@ from .tolerances import DEFAULT_REGULARIZATION, Tolerances
 
 
 def strategy_named(name: str):
-    """The default strategy named ``name`` ("affine", "newton", "refine", "ipm" or "lp"), as
-    ``SolverOptions.stages`` accepts names.
+    """The default strategy named ``name`` ("affine", "newton", "refine", "ipm", "support" or
+    "lp"), as ``SolverOptions.stages`` accepts names.
     """
     table = {s.name: s for s in DEFAULT_STRATEGIES}
     if name not in table:
@@ -88,7 +88,8 @@ class SolverOptions:
         if not stages:
             raise InputError(
                 "SolverOptions.stages is empty: no stage would look for a certificate, so every "
-                "sample would end undecided; choose from affine, newton, refine, ipm, lp"
+                "sample would end undecided; choose from "
+                + ", ".join(x.name for x in DEFAULT_STRATEGIES)
             )
         strategies = tuple(strategy_named(x) if isinstance(x, str) else x for x in stages)
         object.__setattr__(self, "stages", strategies)

@@ -64,6 +64,7 @@ class Problem:
         self.dim = net.dim
         self.n2 = self.dim * net.n_nodes
         self.mu = regularization
+        self.backend = backend
         self._pattern()
         # 3D networks: a nested-dissection ordering (2D keeps CHOLMOD's AMD, and its bits)
         ordering = None

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..model.network import Instance
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
 from .ipm import IpmState, interior_point
 from .newton import crossover, newton
@@ -406,6 +407,47 @@ def _extrapolate(us, rs, residual):
 
 
 @dataclass(frozen=True)
+class Support:
+    """The search again on the strongly stressed part of the network.
+
+    Near the threshold the best rigid candidate of the energy stages does real work but stays
+    unbalanced: its many nearly slack one-sided elements keep the interior point from
+    converging. Without the sites whose tension is below ``keep`` times the largest, the
+    network is smaller and its self-stress clean; a self-stress found there is one of the
+    whole network, zero elsewhere, and is checked on it.
+    """
+
+    #: Tensions below this fraction of the largest leave the sub-network.
+    keep: float = 1e-5
+    #: The strategies of the search on the sub-network.
+    stages: tuple = (Affine(), Newton(), Refine(), InteriorPoint())
+    name: str = "support"
+
+    def run(self, s: Search) -> None:
+        p, best = s.p, s.rigid
+        if best is None or not best.work > s.resolution.violation:
+            return
+        t = np.asarray(best.t, dtype=float)
+        stressed = p.sites[np.abs(t) >= self.keep * float(np.abs(t).max())]
+        net = p.instance.network
+        kinds = np.zeros_like(net.kinds)
+        kinds[stressed] = net.kinds[stressed]
+        sub = Problem(
+            Instance(net.with_kinds(kinds), p.instance.strain),
+            p.mu,
+            p.backend,
+            True,
+            tolerances=p.tol,
+        )
+        inner = search(sub, s.resolution, self.stages, refiner=s.refiner, polish=s.polish,
+                       balance=s.balance)  # fmt: skip
+        if inner.rigid_verdict and inner.rigid is not None:
+            lifted = np.zeros(net.kinds.size, dtype=np.asarray(inner.rigid.t).dtype)
+            lifted[sub.sites] = inner.rigid.t
+            s.offer_t(lifted[p.sites], self.name, as_is=True)
+
+
+@dataclass(frozen=True)
 class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
@@ -634,7 +676,7 @@ def _feasibility_lp(
 
 
 #: The default strategies of the verdict search, in order.
-DEFAULT_STRATEGIES = (Affine(), Newton(), Refine(), InteriorPoint(), LinearProgram())
+DEFAULT_STRATEGIES = (Affine(), Newton(), Refine(), InteriorPoint(), Support(), LinearProgram())
 
 
 def search(
