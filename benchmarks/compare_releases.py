@@ -238,6 +238,8 @@ def main(argv=None) -> None:
     ap.add_argument("--batch", type=int, default=0, help=argparse.SUPPRESS)
     ap.add_argument("--index", type=int, default=0, help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
+    if len(a.searches) != len(a.search_sizes):
+        ap.error("--searches needs one count per size of --search-sizes")
     if a.worker:
         _check_import(a.root)
         if a.worker == "generate":

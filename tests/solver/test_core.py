@@ -378,6 +378,8 @@ def test_the_support_strategy_certifies_a_rigid_probe_the_stages_leave_unbalance
         strategy_named(name).run(s)
     Support(keep=0.1).run(s)  # too little of the network left: no self-stress there
     assert not s.decided
+    with pytest.raises(InputError, match="Support.keep"):
+        Support(keep=1.0)
 
 
 def test_lp_refinement_certifies_a_vertex_that_misses_its_bounds():

@@ -423,6 +423,10 @@ class Support:
     stages: tuple = (Affine(), Newton(), Refine(), InteriorPoint())
     name: str = "support"
 
+    def __post_init__(self):
+        if not 0 < self.keep < 1:
+            raise InputError(f"Support.keep must lie in (0, 1), got {self.keep!r}")
+
     def run(self, s: Search) -> None:
         p, best = s.p, s.rigid
         if best is None or not best.work > s.resolution.violation:
