@@ -39,6 +39,7 @@ from near_threshold_set import CONFIGS, RODS_ONLY, interval_events, samples
 from tensegrity_rigidity.ensemble import thresholds
 from tensegrity_rigidity.ensemble.thresholds import find_threshold
 from tensegrity_rigidity.errors import InputError
+from tensegrity_rigidity.model.network import Element
 from tensegrity_rigidity.solver.certificates import NOT_RESOLVED
 from tensegrity_rigidity.solver.core import SolverOptions
 from tensegrity_rigidity.solver.options import strategy_named
@@ -133,7 +134,7 @@ def main() -> None:
         verdict = original_decide(inst, opts, **kw)
         decided_by[verdict.stage or "undecided"] += 1
         if not verdict.decided:
-            UNDECIDED.append(_undecided_row(inst, verdict, **kw))
+            UNDECIDED.append(_undecided_row(inst, verdict))
             if args.save_undecided is not None:
                 _save_probe(args.save_undecided, inst, kw)
         return verdict
@@ -150,12 +151,12 @@ UNDECIDED: list[dict] = []
 CURRENT: dict = {}
 
 
-def _undecided_row(inst, verdict, **_) -> dict:
+def _undecided_row(inst, verdict) -> dict:
     """One undecided probe: where it is, why it is undecided and its best candidates."""
     r, f = verdict.rigid, verdict.floppy
     return {
         **CURRENT,
-        "rods": int((inst.network.kinds == 1).sum()),
+        "rods": int((inst.network.kinds == Element.ROD).sum()),
         "reason": verdict.reason,
         "work": None if r is None else float(r.work),
         "residual": None if r is None else float(r.residual),

@@ -75,9 +75,7 @@ def main() -> None:
                  "stage": v.stage, "seconds": secs[-1]}
             )  # fmt: skip
             print(name, label, v.status, v.reason, v.stage, f"{secs[-1]:.2f}", flush=True)
-        clash = sum(
-            {"rigid", "floppy"} <= set(d.values()) for d in verdicts.values()
-        )  # fmt: skip
+        clash = sum({"rigid", "floppy"} <= set(d.values()) for d in verdicts.values())
         s = np.asarray(secs)
         rows.append(
             [label, len(probes), kinds["rigid"], kinds["floppy"], kinds["within resolution"],
