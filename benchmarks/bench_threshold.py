@@ -78,7 +78,8 @@ def main() -> None:
     args = ap.parse_args()
     rows, detail = [], []
     for n, count in zip(args.sizes, args.samples, strict=True):
-        secs, units, solves, undecided, widths, checks, same = [], [], [], [], [], [], True
+        secs, units, solves, widths, checks = [], [], [], [], []
+        undecided, unresolved, same = [], [], True
         for c, k, (net, u, v, eps, p_t, f_c) in samples(n, count):
             probe()
             t0 = time.perf_counter()
@@ -98,11 +99,12 @@ def main() -> None:
             units.append(dt / ref)
             solves.append(th.solves)
             undecided.append(th.undecided)
+            unresolved.append(th.not_resolved)
             widths.append(width)
             checks.append(check)
             detail.append(
                 [n, c, k, f"{th.s:.6f}", f"[{th.s_low:.6f}, {th.s_high:.6f}]", width,
-                 th.solves, th.undecided, f"{dt:.2f}", check]
+                 th.solves, th.undecided, th.not_resolved, f"{dt:.2f}", check]
             )  # fmt: skip
             print(*detail[-1], flush=True)
         s = np.asarray(secs)
@@ -115,6 +117,7 @@ def main() -> None:
                 f"{np.median(units):.0f}",
                 f"{np.median(solves):.0f}",
                 int(np.sum(undecided)),
+                int(np.sum(unresolved)),
                 sum(w > 0 for w in widths),
                 max(widths),
                 sum(c == "ok" for c in checks),
@@ -148,6 +151,7 @@ def _write(rows, detail) -> None:
                 "refactorisations",
                 "probes",
                 "undecided probes",
+                "not resolved",
                 "intervals",
                 "widest (events)",
                 "LP ok",
@@ -159,7 +163,19 @@ def _write(rows, detail) -> None:
         )  # fmt: skip
         + "\n\nPer threshold:\n\n"
         + table(
-            ["n", "config", "k", "s", "interval", "events", "probes", "undecided", "s", "LP check"],
+            [
+                "n",
+                "config",
+                "k",
+                "s",
+                "interval",
+                "events",
+                "probes",
+                "undecided",
+                "not resolved",
+                "s",
+                "LP check",
+            ],
             detail,
         )  # fmt: skip
     )
