@@ -1,7 +1,7 @@
 """Designs of the verdict search side by side on the near-threshold thresholds (issue 13).
 
 A design is an order of stages (``SolverOptions.stages``); a stage may carry parameters,
-``name:param=value[:param=value]`` (``ipm:max_iter=100``, ``lp:feasibility_simplex=dual+primal``),
+``name:param=value[:param=value]`` (``ipm:max_iter=100``, ``lp:max_iter=200``),
 registered as a stage of its own for the run, and a token ``option=value`` sets a numeric or
 boolean field of ``SolverOptions`` for the design (``polish=0``, ``displacement_bound=1e8``).
 Every design searches the same thresholds of the near-threshold set (six configurations of

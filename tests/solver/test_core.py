@@ -547,7 +547,7 @@ def test_the_primal_feasibility_lp_proves_infeasibility_where_the_dual_stalls():
 
     inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12452)  # CONFIGS[2]
     p = Problem(inst, unit_stiffness=True)
-    vertex, ray = _feasibility_lp(p, LinearProgram()._feasibility_budget(p), "primal")
+    vertex, ray = _feasibility_lp(p, LinearProgram()._feasibility_budget(p), ("primal",))
     assert vertex is None and ray is not None
     s = Search(p, Resolution())
     assert s.offer_t(ray, "lp") and s.rigid_verdict
@@ -557,26 +557,19 @@ def test_the_primal_feasibility_lp_proves_infeasibility_where_the_dual_stalls():
 @pytest.mark.slow
 def test_the_primal_simplex_takes_over_where_the_dual_stops_without_an_answer():
     """The same probe as above (about 95 s): the dual simplex alone stops with status
-    "Unknown", neither a vertex nor a ray; ``"dual+primal"`` then runs the primal simplex,
+    "Unknown", neither a vertex nor a ray; the default variants then run the primal simplex,
     whose ray is a rigid certificate."""
     from tensegrity_rigidity.solver.stages import LinearProgram, _feasibility_lp
 
     inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12452)  # CONFIGS[2]
     p = Problem(inst, unit_stiffness=True)
     budget = LinearProgram()._feasibility_budget(p)
-    vertex, ray = _feasibility_lp(p, budget, "dual")
+    vertex, ray = _feasibility_lp(p, budget, ("dual",))
     assert vertex is None and ray is None
-    vertex, ray = _feasibility_lp(p, budget, "dual+primal")
+    vertex, ray = _feasibility_lp(p, budget)
     assert vertex is None and ray is not None
     s = Search(p, Resolution())
     assert s.offer_t(ray, "lp") and s.rigid_verdict
-
-
-def test_feasibility_simplex_rejects_unknown_variants():
-    from tensegrity_rigidity.solver.stages import LinearProgram
-
-    with pytest.raises(InputError, match="feasibility_simplex must be one of"):
-        LinearProgram(feasibility_simplex="barrier")
 
 
 def test_balance_restores_perturbed_self_stresses_without_flipping_a_sign():

@@ -140,9 +140,7 @@ class ExactGeometry:
             i, j = self.bonds[:, 0], self.bonds[:, 1]
             axes = range(dim)
             cols = np.concatenate([dim * j + a for a in axes] + [dim * i + a for a in axes])
-            vals = np.concatenate(
-                [self.dhat[:, a] for a in axes] + [-self.dhat[:, a] for a in axes]
-            )
+            vals = np.concatenate([self.dhat.T, -self.dhat.T]).ravel()  # d columns of j, then of i
             rows = np.tile(np.arange(m), 2 * dim)
             shape = (m, dim * self.n_nodes)
             self._R = sp.csr_matrix((vals, (rows, cols)), shape=shape, dtype=np.longdouble)

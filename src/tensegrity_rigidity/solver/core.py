@@ -148,9 +148,7 @@ class SolveResult:
     @property
     def status(self) -> str:
         """ "rigid", "floppy" or "undecided"."""
-        if not self.decided:
-            return "undecided"
-        return "rigid" if self.rigid else "floppy"
+        return "undecided" if not self.decided else ("rigid" if self.rigid else "floppy")
 
     def summary(self) -> dict:
         """Scalars of the result as a JSON-ready dict.
@@ -162,12 +160,11 @@ class SolveResult:
             non-finite numbers as None (so that ``json.dumps`` writes valid JSON).
         """
 
-        def num(x):
-            x = float(x)
-            return x if np.isfinite(x) else None
-
+        floats = ("energy", "energy_lower", "affine_energy", "work", "force_residual")
         out = {"status": self.status, "rigid": bool(self.rigid), "decided": bool(self.decided)}
-        out |= {name: num(getattr(self, name)) for name in _SUMMARY_FLOATS}
+        for name in (*floats, "violation", "displacement_size"):
+            x = float(getattr(self, name))
+            out[name] = x if np.isfinite(x) else None
         out |= {"iterations": int(self.iterations), "factorizations": int(self.factorizations)}
         out |= {"method": self.method, "min_norm_ok": bool(self.min_norm_ok)}
         return out | {
@@ -177,35 +174,17 @@ class SolveResult:
         }
 
 
-#: the float fields of :meth:`SolveResult.summary`, in order
-_SUMMARY_FLOATS = (
-    "energy",
-    "energy_lower",
-    "affine_energy",
-    "work",
-    "force_residual",
-    "violation",
-    "displacement_size",
-)
-
-
 def _undecided_message(s, reason: str, evidence: str) -> str:
     parts = [f"{reason}: {evidence}"]
     if s.rigid is not None:
         parts.append(f"best self-stress: work {s.rigid.work:.2e}, residual {s.rigid.residual:.2e}")
-    if s.floppy is not None:
-        parts.append(
-            f"best displacement: violation {s.floppy.violation:.2e}, size {s.floppy.size:.2e}"
-        )
+    if (f := s.floppy) is not None:
+        parts.append(f"best displacement: violation {f.violation:.2e}, size {f.size:.2e}")
     return "; ".join(parts)
 
 
-def _search(
-    instance: Instance,
-    opts: SolverOptions,
-    start: np.ndarray | None,
-    start_tensions: np.ndarray | None = None,
-):
+def _search(instance: Instance, opts: SolverOptions, start, start_tensions=None):
+    """The problem of ``instance`` and the verdict search on it, from the given starting points."""
     if not isinstance(instance, Instance):
         hint = " (load a file with load_instance(path) first)"
         hint = hint if isinstance(instance, (str, os.PathLike)) else ""
@@ -226,16 +205,9 @@ def _verdict(p: Problem, s) -> Verdict:
     reason = evidence = ""
     if not s.decided:
         reason, evidence = undecided_reason(s.rigid, s.floppy, s.resolution, p.exact.roundoff)
+    message = "" if s.decided else _undecided_message(s, reason, evidence)
     return Verdict(
-        status=status,
-        rigid=s.rigid,
-        floppy=s.floppy,
-        stage=s.stage,
-        scale=p.scale,
-        factorizations=p.factorizations,
-        iterations=s.iterations,
-        message="" if s.decided else _undecided_message(s, reason, evidence),
-        reason=reason,
+        status, s.rigid, s.floppy, s.stage, p.scale, p.factorizations, s.iterations, message, reason
     )
 
 
@@ -326,9 +298,7 @@ def _result(
     t_full[p.sites] = relaxed.tensions * k_unit * p.scale
     affine = affine_extensions(net, instance.strain)
     rc, fc = verdict.rigid, verdict.floppy
-    message = verdict.message
-    if projected.message:
-        message = f"{message}; {projected.message}" if message else projected.message
+    message = "; ".join(x for x in (verdict.message, projected.message) if x)
     factorizations = p.factorizations + (pe.factorizations if pe is not p else 0)
     return SolveResult(
         energy=float(relaxed.energy * e_unit),

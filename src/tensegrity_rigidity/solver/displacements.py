@@ -44,8 +44,7 @@ class MinNormResult:
     ok: bool
     #: ``lam`` (``u = -R^T lam`` at the projection, ``sigma lam >= 0`` on the inequalities).
     multipliers: np.ndarray | None = None
-    #: Where :func:`min_norm_minimizer` ends uncertified, a certified lower bound on ``|u*|^2``
-    #: (:func:`norm_lower_bound`); NaN elsewhere.
+    #: Where uncertified, a certified lower bound on ``|u*|^2`` (:func:`norm_lower_bound`), or NaN.
     norm_lower: float = float("nan")
 
 
@@ -79,7 +78,9 @@ def minimum_norm(relaxed: Relaxation, asked: bool = True) -> MinimumNorm:
     """
     p, u = relaxed.problem, relaxed.u
     if not asked:
-        return MinimumNorm("not asked", _NOT_ASKED, u)
+        return MinimumNorm(
+            "not asked", "minimum-norm displacements not asked for (SolverOptions.min_norm)", u
+        )
     if not (p.sites.size and np.any(p.e0)):  # nothing strained or no element: u = 0 is exact
         return MinimumNorm("certified", "", np.zeros(p.n2), (0.0, 0.0, 0.0))
     if not relaxed.certified:
@@ -100,9 +101,6 @@ def minimum_norm(relaxed: Relaxation, asked: bool = True) -> MinimumNorm:
         f"{np.sqrt(mn.norm_lower):.3g} times the largest affine extension"
     )
     return MinimumNorm("uncertified", message, u, kkt, mn.norm_lower)
-
-
-_NOT_ASKED = "minimum-norm displacements not asked for (SolverOptions.min_norm)"
 
 
 def project(p: Problem, t: np.ndarray, u_start: np.ndarray | None = None) -> MinNormResult:
@@ -139,58 +137,46 @@ def active_set(
     u0 = np.asarray(u_start, dtype=float)
     sig = p.sigma[In]
 
+    def step(u, y, z):
+        """One step from ``(u, y, z)`` on the equalities and held rows, with its KKT residuals."""
+        du, dy, dz = K.solve(-(u + K.REt @ y + K.Gt @ z), bE - K.RE @ u, h - K.G @ u)
+        u, y, z = u + du, y + dy, z + dz
+        return u, y, z, _certificate(p, u, y, z, E, H, eq, ineq, c)
+
     v = p.e0 + p.R @ u0
     held = sig * v[In] >= -p.tol.min_norm_held * max(1.0, _inf(u0))  # touched by the start
     bE = (c - p.e0)[E]
-    u = u0
+    u, it = u0, 0
     residuals: tuple[float, float, float] = (np.inf, np.inf, np.inf)
-    it = 0
     for it in range(1, max_iterations + 1):
         H = In[held]
-        kkt_system = _ReducedKKT(p, E, H, sig[held], p.tol.min_norm_regularization, refinement)
+        K = _ReducedKKT(p, E, H, sig[held], p.tol.min_norm_regularization, refinement)
         try:
-            kkt_system.factor(np.zeros(H.size))  # the held rows as equalities
+            K.factor(np.zeros(H.size))  # the held rows as equalities
         except ArithmeticError:
             break
         h = -(p.sigma * p.e0)[H]
-        polyhedron = (E, H, eq, ineq, c)
-        start = (u0, np.zeros(E.size), np.zeros(H.size))
-        u, y, z, residuals = _equality_step(p, kkt_system, bE, h, start, polyhedron)
+        u, y, z, residuals = step(u0, np.zeros(E.size), np.zeros(H.size))
         if _certified(*residuals, tol, p.tol.min_norm_dual):
             return MinNormResult(u, *residuals, it, True)
         v = p.e0 + p.R @ u
         z_all = np.zeros(In.size)
         z_all[held] = z
-        new = (sig * v[In] > p.tol.min_norm_violated * max(1.0, _inf(u))) | (
-            held & (z_all >= 0)
-        )  # violated, or right sign
+        violated = sig * v[In] > p.tol.min_norm_violated * max(1.0, _inf(u))
+        new = violated | (held & (z_all >= 0))  # violated, or right-signed
         if not np.array_equal(new, held):
             held = new
             continue
         # the held set stands, the residuals do not: correct while that halves them
         for _ in range(corrections):
             previous = max(residuals[:2])
-            u, y, z, residuals = _equality_step(p, kkt_system, bE, h, (u, y, z), polyhedron)
+            u, y, z, residuals = step(u, y, z)
             if _certified(*residuals, tol, p.tol.min_norm_dual):
                 return MinNormResult(u, *residuals, it, True)
             if max(residuals[:2]) >= 0.5 * previous:
                 break
         break
     return MinNormResult(u, *residuals, it, False)
-
-
-def _equality_step(
-    p: Problem, kkt_system: _ReducedKKT, bE, h, point, polyhedron
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[float, float, float]]:
-    """One step of :func:`active_set` from ``point = (u, y, z)`` and its KKT residuals
-    (``polyhedron``: ``(E, H, eq, ineq, c)``)."""
-    u, y, z = point
-    du, dy, dz = kkt_system.solve(
-        -(u + kkt_system.REt @ y + kkt_system.Gt @ z), bE - kkt_system.RE @ u, h - kkt_system.G @ u
-    )
-    u, y, z = u + du, y + dy, z + dz
-    E, H, eq, ineq, c = polyhedron
-    return u, y, z, _certificate(p, u, y, z, E, H, eq, ineq, c)
 
 
 def min_norm_minimizer(
@@ -215,8 +201,8 @@ def min_norm_minimizer(
     """
     tol = p.tol.min_norm_tol if tol is None else tol
     eq, ineq, c, E, In = _polyhedron(p, t)
-    kkt_system = _ReducedKKT(p, E, In, p.sigma[In], p.tol.min_norm_regularization, refinement)
-    RE, G, REt, Gt = kkt_system.RE, kkt_system.G, kkt_system.REt, kkt_system.Gt
+    K = _ReducedKKT(p, E, In, p.sigma[In], p.tol.min_norm_regularization, refinement)
+    RE, G, REt, Gt = K.RE, K.G, K.REt, K.Gt
     bE = (c - p.e0)[E]
     h = -(p.sigma * p.e0)[In]
     mI = In.size
@@ -227,9 +213,7 @@ def min_norm_minimizer(
     best: tuple | None = None
     it = 0
     for it in range(1, max_iterations + 1):
-        rd = u + REt @ y + Gt @ z
-        re = RE @ u - bE
-        ri = G @ u + s - h
+        rd, re, ri = u + REt @ y + Gt @ z, RE @ u - bE, G @ u + s - h
         mu = float(z @ s) / max(mI, 1)
         size = max(1.0, _inf(u))
         kkt = max(_inf(re), _inf(ri), _inf(rd) / size, mI * mu / size**2)
@@ -242,24 +226,17 @@ def min_norm_minimizer(
             if _certified_with_margin(*residuals, tol, p.tol.min_norm_dual):
                 return MinNormResult(u, *residuals, it, True, _multipliers(p, y, z, E, In))
         try:
-            kkt_system.factor(s / z)
+            K.factor(s / z)
         except ArithmeticError:  # numerically singular: keep the best iterate
             break
-        residuals = (rd, re, ri)
-        du, dy, dz, ds = kkt_system.newton(  # predictor (affine scaling)
-            residuals, z * s, z, s, predictor_refinement
-        )
+        # the predictor (affine scaling), then the corrector on the same factorisation
+        du, dy, dz, ds = K.newton((rd, re, ri), z * s, z, s, predictor_refinement)
         a = min(step_to_boundary(z, dz), step_to_boundary(s, ds))
         mu_aff = float((z + a * dz) @ (s + a * ds)) / max(mI, 1)
         centring = (mu_aff / mu) ** 3 if mu > 0 else 0.0
-        du, dy, dz, ds = kkt_system.newton(  # corrector
-            residuals, z * s + dz * ds - centring * mu, z, s
-        )
+        du, dy, dz, ds = K.newton((rd, re, ri), z * s + dz * ds - centring * mu, z, s)
         a = 0.99 * min(step_to_boundary(z, dz), step_to_boundary(s, ds))
-        u += a * du
-        y += a * dy
-        z += a * dz
-        s += a * ds
+        u, y, z, s = u + a * du, y + a * dy, z + a * dz, s + a * ds
     assert best is not None
     _, u, y, z, _ = best
     lam = _multipliers(p, y, z, E, In)
@@ -283,9 +260,8 @@ def norm_lower_bound(p: Problem, lam: np.ndarray, eq, ineq, c) -> float:
     """
     lam_x = np.where(eq | (ineq & (p.sigma * np.asarray(lam, dtype=float) >= 0)), lam, 0)
     lam_x = np.asarray(lam_x, dtype=np.longdouble)
-    forces = p.exact.forces(lam_x)
     # |R^T lam| of the exact geometry is at most |forces| + their round-off, per component
-    upper = np.abs(forces) + _force_roundoff(p, lam_x)
+    upper = np.abs(p.exact.forces(lam_x)) + _force_roundoff(p, lam_x)
     # the two sums (pairwise, unlike a longdouble dot product) less bounds on their errors
     sums = float(np.ceil(np.log2(max(lam_x.size, 2)))) + 2.0
     square = np.sum(upper * upper) * (1 + 2 * sums * EPS)
@@ -302,8 +278,7 @@ def _polyhedron(p: Problem, t: np.ndarray):
     elements) and inequalities, targets ``c`` (m,) (``v = c`` on the equalities, ``sigma v <= 0`` on
     the inequalities) and the indices of both."""
     stressed = p.one_sided & (t != 0)
-    eq = p.rod | stressed
-    ineq = p.one_sided & ~stressed
+    eq, ineq = p.rod | stressed, p.one_sided & ~stressed
     c = np.where(eq, t / p.k, 0.0)
     return eq, ineq, c, np.flatnonzero(eq), np.flatnonzero(ineq)
 
@@ -316,10 +291,8 @@ def _certified(feasibility, stationarity, dual, tol: float, dual_tol: float) -> 
 def _certified_with_margin(feasibility, stationarity, dual, tol: float, dual_tol: float) -> bool:
     """Certified (:func:`_certified`) with feasibility ``100`` and the others ``10`` times below
     ``tol``: where :func:`min_norm_minimizer` stops."""
-    return (
-        _certified(feasibility, stationarity, dual, tol, dual_tol)
-        and feasibility <= 1e-2 * tol
-        and max(stationarity, dual) <= 0.1 * tol
+    return _certified(feasibility, stationarity, dual, tol, dual_tol) and (
+        feasibility <= 1e-2 * tol and max(stationarity, dual) <= 0.1 * tol
     )
 
 
@@ -341,16 +314,12 @@ def _refined_certificate(
     p: Problem, u: np.ndarray, lam: np.ndarray, eq, ineq, c, steps: int = 2
 ) -> tuple[tuple[float, float, float], np.ndarray] | None:
     """The KKT residuals of ``u`` (2N,) with its multipliers ``lam`` (m,) refined in extended
-    precision, and those multipliers ((m,) longdouble); None when the factorisation fails.
-
-    Each of ``steps`` corrects ``lam`` by the least-squares solution of ``R^T dlam = -(u + R^T
-    lam)``; the stationarity includes a bound on the forces' round-off (docs/solver.md).
-    """
+    precision by ``steps`` least-squares corrections ``R^T dlam = -(u + R^T lam)`` (stationarity
+    with the forces' round-off bound), and those ((m,) longdouble); None if the factor fails."""
     f = p.factor_shifted(np.ones(p.sites.size), p.tol.min_norm_multiplier_shifts)
     if f is None:
         return None
-    U = np.asarray(u, dtype=np.longdouble)
-    lam_x = np.asarray(lam, dtype=np.longdouble)
+    U, lam_x = np.asarray(u, dtype=np.longdouble), np.asarray(lam, dtype=np.longdouble)
     for _ in range(steps):
         r = U + p.exact.forces(lam_x)
         lam_x = lam_x - p.R @ f.solve(np.asarray(r, dtype=float))
@@ -361,8 +330,7 @@ def _refined_certificate(
 
 
 def _force_roundoff(p: Problem, lam: np.ndarray) -> np.ndarray:
-    """Per-component bound (2N,) on the round-off of ``p.exact.forces(lam)``: ``exact.roundoff``
-    times each node's sum of ``|lam_b|``."""
+    """Per-component bound (2N,) on the round-off of ``p.exact.forces(lam)`` (``lam`` (m,))."""
     return p.exact.roundoff * (abs(p.RT) @ np.abs(lam))
 
 
@@ -376,7 +344,8 @@ class _ReducedKKT:
 
     def __init__(self, p: Problem, E, In, sigma_in, d: float, refinement: int):
         R = p.R.tocsr()
-        self.p, self.In = p, In
+        self.p, self.In, self.mE = p, In, E.size
+        self.d, self.refinement = d, refinement
         self.RE = R[E]
         self.G = (sp.diags(sigma_in) @ R[In]).tocsr()
         # the transposes once (``.T`` builds a new matrix object on every call)
@@ -384,8 +353,6 @@ class _ReducedKKT:
         # both constraint blocks stacked, so that each product is one sparse product
         self.B = sp.vstack([self.RE, self.G], format="csr")
         self.Bt = self.B.T.tocsr()
-        self.mE = E.size
-        self.d, self.refinement = d, refinement
         self._lower = np.zeros(E.size + In.size)  # the lower diagonal blocks: 0 and -D
         self._inverse = np.full(E.size + In.size, 1.0 / d)  # 1 / (regularised blocks)
         self._factor: PatternFactor | None = None
@@ -404,16 +371,14 @@ class _ReducedKKT:
         self._factor = f
 
     def newton(self, residuals, rc, z, s, refinement: int | None = None):
-        """(du, dy, dz, ds) of the interior-point step for the residuals ``(rd, re, ri)``, the
-        complementarity residual ``rc``, multipliers ``z`` and slacks ``s`` (``refinement``: default
-        the system's own)."""
+        """(du, dy, dz, ds) of the interior-point step for the residuals ``(rd, re, ri)``, ``rc``
+        of the complementarity, multipliers ``z``, slacks ``s`` (``refinement``: as in solve)."""
         rd, re, ri = residuals
         du, dy, dz = self.solve(-rd, -re, -ri + rc / z, refinement)
         return du, dy, dz, -(rc + s * dz) / z
 
     def _regularised(self, r1, r2):
-        """(du, dw) of the regularised system for ``(r1, r2)``, ``r2`` and ``dw = (dy, dz)``
-        stacked."""
+        """(du, dw) of the regularised system for ``(r1, r2)`` (``r2``, ``dw``: y and z stacked)."""
         assert self._factor is not None
         du = self._factor.solve(self.d * (r1 + self.Bt @ (self._inverse * r2)))
         return du, (self.B @ du - r2) * self._inverse

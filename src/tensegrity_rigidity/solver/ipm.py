@@ -40,12 +40,8 @@ class IpmState:
     def resumes(self, p: Problem, max_iter: int, tol: float, anchored: bool) -> bool:
         """Whether a run on ``p`` with these settings passes through this state (the same problem
         object and objective, a tolerance at most this run's, at least ``steps`` iterations)."""
-        return (
-            self.problem is p
-            and self.anchored == anchored
-            and self.steps <= max_iter
-            and tol <= self.tol
-        )
+        same = self.problem is p and self.anchored == anchored
+        return same and self.steps <= max_iter and tol <= self.tol
 
 
 def interior_point(
@@ -70,27 +66,34 @@ def interior_point(
     """
     tol = p.tol.relax_short_ipm[1] if tol is None else tol
     pending = sorted((c for c in checkpoints if c > tol), reverse=True)
-    os_ = p.one_sided
-    sig = p.sigma[os_]
-    k_all = p.k
-    k = k_all[os_]
+    os_, k_all = p.one_sided, p.k
+    sig, k = p.sigma[os_], k_all[os_]
     scale = max(float(np.abs(p.e0).max()), 1e-300)
     e0 = p.e0 / scale  # solve the unit-scale problem; displacements scale back linearly
     m_os = max(int(os_.sum()), 1)
     anchor = p.mu if anchored else 0.0
-    if (
-        start is not None
-        and (callback is None or not pending)
-        and start.resumes(p, max_iter, tol, anchored)
-    ):
-        steps, u, w, lam = start.steps, start.u, start.w, start.lam
+    warm = start if callback is None or not pending else None  # not with checkpoints pending
+    if warm is not None and warm.resumes(p, max_iter, tol, anchored):
+        steps, u, w, lam = warm.steps, warm.u, warm.w, warm.lam
         e = e0 + p.R @ u
-    else:
+    else:  # cold start: slacks that make every one-sided element slightly slack, unit multipliers
         steps, u = 0, np.zeros(p.n2)
         e = e0 + p.R @ u
-        # cold start: slacks that make every one-sided element slightly slack, unit multipliers
         w = np.maximum(-sig * e[os_], 0.0) + 1.0
         lam = np.ones_like(w)
+
+    def direction(tau):
+        """Newton direction (du, dw, dlam) of the perturbed KKT system (complementarity target
+        ``tau``), eliminated down to the Schur complement factorised in ``solver``."""
+        q = -r_w - lam + tau / w
+        rhs_full = np.zeros(p.k.size)
+        rhs_full[os_] = k * sig * q / D
+        du = solver.solve(-r_u - p.RT @ rhs_full)
+        s = p.R @ du
+        dw = (q - sig * k * s[os_]) / D
+        dlam = -lam + tau / w - ratio * dw
+        return du, dw, dlam
+
     it = steps
     for it in range(steps + 1, max_iter + 1):  # noqa: B007 (reported)
         eps_el = e.copy()
@@ -109,8 +112,7 @@ def interior_point(
                 break
         with np.errstate(over="ignore"):
             ratio = lam / w
-        if not np.all(np.isfinite(ratio)):
-            # a slack underflowed: the next step would be NaN, so stop at this last finite one
+        if not np.all(np.isfinite(ratio)):  # a slack underflowed: stop before a NaN step
             break
         D = k + ratio
         ktil = k_all.copy()
@@ -118,37 +120,20 @@ def interior_point(
         solver = p.factor(ktil)
 
         # predictor (affine scaling), then the corrector with the same factorisation
-        du, dw, dlam = _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, 0.0)
+        du, dw, dlam = direction(0.0)
         a_p, a_d = step_to_boundary(w, dw), step_to_boundary(lam, dlam)
         mu_aff = float((w + a_p * dw) @ (lam + a_d * dlam)) / m_os if w.size else 0.0
         sigma_c = (mu_aff / mu) ** 3 if mu > 0 else 0.0
-        du, dw, dlam = _direction(
-            p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, sigma_c * mu - dw * dlam
-        )
+        du, dw, dlam = direction(sigma_c * mu - dw * dlam)
         a_p = min(1.0, 0.99 * step_to_boundary(w, dw))
         a_d = min(1.0, 0.99 * step_to_boundary(lam, dlam))
         # u and w move together (primal), lambda separately (dual)
-        u = u + a_p * du
-        w = w + a_p * dw
-        lam = lam + a_d * dlam
+        u, w, lam = u + a_p * du, w + a_p * dw, lam + a_d * dlam
         e = e0 + p.R @ u
         steps += 1
     if record is not None:
         record.append(IpmState(p, anchored, tol, steps, u, w, lam))
     return u * scale, w * scale, lam * scale, it
-
-
-def _direction(p, solver, os_, sig, k, D, ratio, r_u, r_w, lam, w, tau):
-    """Newton direction of the perturbed KKT system (complementarity target tau), eliminated down to
-    the Schur complement factorised in ``solver``."""
-    q = -r_w - lam + tau / w
-    rhs_full = np.zeros(p.k.size)
-    rhs_full[os_] = k * sig * q / D
-    du = solver.solve(-r_u - p.RT @ rhs_full)
-    s = p.R @ du
-    dw = (q - sig * k * s[os_]) / D
-    dlam = -lam + tau / w - ratio * dw
-    return du, dw, dlam
 
 
 def step_to_boundary(x: np.ndarray, dx: np.ndarray) -> float:

@@ -34,12 +34,9 @@ def line_search(p: Problem, e: np.ndarray, s: np.ndarray) -> float:
     order = idx[np.argsort(beta[idx], kind="stable")]
     sign = np.where(on[order], 1.0, -1.0)
     bpts = beta[order]
-    cs = c + np.cumsum(sign * kes[order])
-    as_ = a + np.cumsum(sign * ks[order])
-    seg_c = np.r_[c, cs]
-    seg_a = np.r_[a, as_]
-    right = np.r_[bpts, np.inf]
-    left = np.r_[0.0, bpts]
+    seg_c = np.r_[c, c + np.cumsum(sign * kes[order])]  # per segment between breakpoints
+    seg_a = np.r_[a, a + np.cumsum(sign * ks[order])]
+    left, right = np.r_[0.0, bpts], np.r_[bpts, np.inf]
     with np.errstate(invalid="ignore", over="ignore"):
         slope_right = seg_c + seg_a * right
     slope_right[-1] = np.inf if seg_a[-1] > 0 else seg_c[-1]
@@ -128,8 +125,7 @@ def crossover(p: Problem, u: np.ndarray, tau: float | None = None, rounds: int =
     scale = float(np.abs(p.e0).max())
     e = p.e0 + p.R @ u
     A = p.rod | (p.sigma * e > -tau * scale)
-    tol = p.tol.crossover_sign_tol * scale
-    changes = np.inf
+    tol, changes = p.tol.crossover_sign_tol * scale, np.inf
     for _ in range(rounds):
         best_x, _ = prox_minimize(p, p.k * A, u.copy())
         e = p.e0 + p.R @ best_x

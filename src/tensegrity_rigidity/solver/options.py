@@ -18,9 +18,7 @@ from .tolerances import DEFAULT_REGULARIZATION, Tolerances
 
 
 def strategy_named(name: str):
-    """The default strategy named ``name`` ("affine", "newton", "refine", "ipm", "support" or
-    "lp"), as ``SolverOptions.stages`` accepts names.
-    """
+    """The strategy of :data:`~.stages.DEFAULT_STRATEGIES` named ``name`` ("lp", say)."""
     table = {s.name: s for s in DEFAULT_STRATEGIES}
     if name not in table:
         raise InputError(f"unknown solver stage {name!r}; choose from {', '.join(table)}")

@@ -63,11 +63,9 @@ class Problem:
         #: dimension d of the space and number dN of displacement unknowns
         self.dim = net.dim
         self.n2 = self.dim * net.n_nodes
-        self.mu = regularization
-        self.backend = backend
+        self.mu, self.backend = regularization, backend
         self._pattern()
-        # 3D networks: a nested-dissection ordering (2D keeps CHOLMOD's AMD, and its bits)
-        ordering = None
+        ordering = None  # 3D: a nested-dissection ordering (2D keeps CHOLMOD's AMD, and its bits)
         if self.dim == 3:
             ordering = nested_dissection(net.n_nodes, net.bonds[self.sites], self.dim)
         self._factor = PatternFactor(self._indptr, self._indices, self.n2, backend, ordering)
@@ -87,16 +85,13 @@ class Problem:
     def _pattern(self) -> None:
         """Fixed upper-triangular CSC pattern of ``R^T D R + mu I`` and the map into it.
 
-        Per node pair the ``d`` columns of node ``J`` hold ``d`` rows for every node ``I < J``
-        bonded to it, then its own diagonal block. ``_assemble`` (entries x sites) holds each
-        entry's terms bond by bond, so that ``_assemble @ w`` adds them in a fixed order: the same
-        sums to the last bit as a per-entry construction (tests/solver/test_problem.py keeps that as
-        the reference).
+        The ``d`` columns of node ``J`` hold ``d`` rows per node ``I < J`` bonded to it, then its
+        own diagonal block. ``_assemble`` (nnz, m) holds each entry's terms bond by bond: its
+        products sum them in the order of a per-entry construction (tests/solver/test_problem.py).
         """
         net = self.instance.network
         d, n_nodes = self.dim, net.n_nodes
-        i = net.bonds[self.sites, 0].astype(np.int64)
-        j = net.bonds[self.sites, 1].astype(np.int64)
+        i, j = net.bonds[self.sites].T.astype(np.int64)
         m = i.size
         lo, hi = np.minimum(i, j), np.maximum(i, j)
         nodes = np.arange(n_nodes, dtype=np.int64)
@@ -116,8 +111,7 @@ class Problem:
         indptr = np.zeros(d * n_nodes + 1, dtype=np.int64)
         np.cumsum(counts.ravel(), out=indptr[1:])
         nnz = int(indptr[-1])
-        pair_col = np.repeat(nodes, below + 1)
-        pair_row = pairs.indices.astype(np.int64)
+        pair_col, pair_row = np.repeat(nodes, below + 1), pairs.indices.astype(np.int64)
         off = pair_row != pair_col
         col_off, row_off = pair_col[off], pair_row[off]
         in_column = np.flatnonzero(off) - pairs.indptr[col_off]
@@ -153,11 +147,8 @@ class Problem:
         order = np.argsort(slot, kind="stable")
         rows = np.zeros(nnz + 1, dtype=np.int64)
         np.cumsum(np.bincount(slot, minlength=nnz), out=rows[1:])
-        self._indices = indices
-        self._indptr = indptr.astype(np.int32)
-        self._nnz = nnz
+        self._indices, self._indptr, self._diagonal = indices, indptr.astype(np.int32), diagonal
         self._assemble = sp.csr_matrix((value[order], site[order], rows), shape=(nnz, m))
-        self._diagonal = diagonal
 
     def values(self, weights: np.ndarray, shift: float | None = None) -> np.ndarray:
         """Entries ((nnz,), pattern order) of ``R^T diag(weights) R + shift I`` for ``weights`` (m,)
@@ -194,8 +185,7 @@ class Problem:
         return None
 
     def energy(self, u: np.ndarray) -> float:
-        """The energy ``1/2 sum_b k_b h_b(e_b) e_b^2`` at ``u`` (2N,) (units of ``k_scale
-        scale^2``)."""
+        """The energy ``1/2 sum_b k_b h_b(e_b) e_b^2`` at ``u`` (2N,), units ``k_scale scale^2``."""
         e, _, t = self.state(u)
         return 0.5 * float(np.dot(t, e))
 

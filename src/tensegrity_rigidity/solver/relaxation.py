@@ -92,13 +92,10 @@ def relax(
         The relaxed state and whether its energy is certified.
     """
     tol = opts.tolerances
-    net = instance.network
-    k_sites = net.stiffness_or_ones()[p.sites]
+    k_sites = instance.network.stiffness_or_ones()[p.sites]
     uniform = k_sites.size == 0 or bool(np.all(k_sites == k_sites[0]))
     # with one stiffness the verdict's unit-stiffness problem is the energy's too
-    pe = (
-        p if uniform else Problem(instance, opts.regularization, opts.factorization, tolerances=tol)
-    )
+    pe = p if uniform else Problem(instance, opts.regularization, opts.factorization, False, tol)
     k_unit = float(k_sites[0]) if uniform and k_sites.size else pe.k_scale
     if status == "floppy":
         zeros = np.zeros(p.sites.size)
@@ -107,7 +104,13 @@ def relax(
     u, E, more, t_relaxed, t_n, E_lower = _relaxed(pe, s.u, opts, s.rigid, ipm_start=s.ipm_end)
     extra = 0
     if not energy_certified(E, E_lower, tol.energy_gap):
-        long, extra = _long_relaxation(instance, opts, uniform, u, s.rigid)
+        # the long run (Tolerances.relax_long_ipm) on a matrix shifted by relax_long_shift only
+        pl = Problem(instance, tol.relax_long_shift, opts.factorization, uniform, tol)
+        try:
+            long: tuple | None = _relaxed(pl, u, opts, s.rigid, tol.relax_long_ipm)
+        except ArithmeticError:  # a factorisation failed
+            long = None
+        extra = pl.factorizations
         if long is not None:
             u_2, E_2, more_2, t_relaxed_2, t_n_2, E_lower_2 = long
             more += more_2
@@ -154,8 +157,7 @@ def _relax(
 ) -> tuple[np.ndarray, float, int]:
     """Minimise the energy from ``u`` (2N,): Newton, then (if not stationary) the interior point
     with ``ipm`` = (iterations, tolerance), going on from ``ipm_start`` where it passes through it,
-    and a crossover; then a final crossover where it lowers the force residual. Returns (u, E,
-    iterations)."""
+    and a crossover; a final crossover if it cuts the force residual. Returns (u, E, iterations)."""
 
     def residual(x):
         _, _, t = p.state(x)
@@ -212,24 +214,6 @@ def _relaxed(
     return u, E, more, t_relaxed, t_n, E_lower
 
 
-def _long_relaxation(
-    instance: Instance,
-    opts: SolverOptions,
-    unit_stiffness: bool,
-    u: np.ndarray,
-    certificate: RigidCertificate | None,
-) -> tuple[tuple | None, int]:
-    """The long run (``Tolerances.relax_long_ipm``, shift ``Tolerances.relax_long_shift``) from
-    ``u`` (2N,): what :func:`_relaxed` returns (None where a factorisation failed), and the
-    factorisations spent."""
-    tol = opts.tolerances
-    pl = Problem(instance, tol.relax_long_shift, opts.factorization, unit_stiffness, tol)
-    try:
-        return _relaxed(pl, u, opts, certificate, tol.relax_long_ipm), pl.factorizations
-    except ArithmeticError:
-        return None, pl.factorizations
-
-
 def _balanced_tensions(p: Problem, t: np.ndarray) -> tuple[np.ndarray, float]:
     """The minimiser's tensions ``t`` (m,) moved onto an exact self-stress where purification
     balances them to ``Tolerances.balanced_residual`` (else ``t``; kept as they are, less round-off
@@ -260,8 +244,7 @@ def _exact_residual(p: Problem, t: np.ndarray) -> float:
 
 def _self_stress_bound(p: Problem, t: np.ndarray, residual: float) -> float:
     """Weak-duality bound ``(t . e0)^2 / (2 t . K^-1 t)`` on E* from an admissible self-stress ``t``
-    (m,) of relative force residual ``residual``; 0 unless that is at ``Tolerances.bound_residual``.
-    """
+    (m,) of relative force residual ``residual`` (0 above ``Tolerances.bound_residual``)."""
     work = float(np.dot(t, p.e0))
     if residual > p.tol.bound_residual or work <= 0 or not np.all(np.isfinite(t)):
         return 0.0
@@ -274,6 +257,5 @@ def _energy_lower(
     """Lower bound on E*: the larger of ``tensions_bound`` and the rigid certificate's bound."""
     bound = 0.0
     if certificate is not None:
-        tc = np.asarray(certificate.t, dtype=float)
-        bound = _self_stress_bound(p, tc, certificate.residual)
+        bound = _self_stress_bound(p, np.asarray(certificate.t, dtype=float), certificate.residual)
     return max(bound, tensions_bound)

@@ -100,22 +100,17 @@ def optimal_on_support(p: Problem, t: np.ndarray, rounds: int = 8, steps: int = 
 
 
 def kept(t: np.ndarray, support_tol: float) -> np.ndarray:
-    """The entries ((m,) bool) of ``t`` (m,) that :func:`purify` keeps at ``support_tol``.
-
-    ``|t_b| >= support_tol max |t|``: two tolerances with the same mask purify alike.
-    """
+    """The entries ((m,) bool) of ``t`` (m,) that :func:`purify` keeps at ``support_tol``,
+    ``|t_b| >= support_tol max |t|``: two tolerances with the same mask purify alike."""
     t = np.asarray(t, dtype=float)  # as purify sees it
     return ~(np.abs(t) < support_tol * float(np.abs(t).max(initial=0.0)))
 
 
 def _refine_extended(p: Problem, t, w, solver, steps: int, gain: float = 0.5, dual=False):
-    """Mixed-precision refinement of ``t`` (m,): residuals ``R^T t`` in extended precision,
-    corrections ``w R y`` from the double-precision factorisation ``solver`` (weights ``w``
-    (m,)), the tensions kept in extended precision; at most ``steps``, stopping when a
-    correction does not cut the residual by ``gain`` or would flip a sign. ``dual`` (for
-    :func:`optimal_on_support`): signs may flip, and the net force is dropped from the
-    residual (:func:`_without_net_force`). Returns (m,) longdouble.
-    """
+    """Mixed-precision refinement of ``t`` (m,): extended-precision residuals ``R^T t``, corrections
+    ``w R y`` from the double ``solver`` of weights ``w`` (m,); at most ``steps``, each cutting the
+    residual by ``gain`` and flipping no sign unless ``dual`` (which also drops the net force).
+    Returns (m,) longdouble."""
     x = np.asarray(t, dtype=np.longdouble)
     r = p.exact.forces(x)
     r_norm = float(np.abs(r).sum())
@@ -142,7 +137,6 @@ def rebalance(p: Problem, t: np.ndarray, steps: int = 20) -> np.ndarray | None:
     relative residual, or None when ``t`` is zero or inadmissible.
     """
     shifts = p.tol.rebalance_shifts
-    exact = p.exact
     x = np.array(t, dtype=np.longdouble)
     tf = np.asarray(x, dtype=float)
     t_max = float(np.abs(tf).max(initial=0.0))
@@ -150,7 +144,7 @@ def rebalance(p: Problem, t: np.ndarray, steps: int = 20) -> np.ndarray | None:
         return None
     w = tf * tf
     w[p.rod] += p.tol.rod_weight * t_max**2
-    r = exact.forces(x)
+    r = p.exact.forces(x)
     r_norm = float(np.abs(r).sum())
     best, best_rel = x, r_norm / float(np.abs(x).sum())
     solver, level, fresh = None, 0, False
@@ -173,7 +167,7 @@ def rebalance(p: Problem, t: np.ndarray, steps: int = 20) -> np.ndarray | None:
             trial[hit] = 0.0
             w[hit] = 0.0
             solver = None  # the weights changed
-        r_trial = exact.forces(trial)
+        r_trial = p.exact.forces(trial)
         r_trial_norm = float(np.abs(r_trial).sum())
         if solver is not None and not r_trial_norm < 0.5 * r_norm:
             if not fresh:

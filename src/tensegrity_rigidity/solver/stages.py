@@ -11,6 +11,7 @@ found").
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
@@ -122,9 +123,8 @@ class Search:
 
     def _offer_rigid(self, cert: RigidCertificate, stage: str) -> bool:
         """Keep ``cert`` if it is the best rigid candidate so far; True if it is accepted."""
-        if self.rigid is None or _rigid_key(cert, self.resolution) > _rigid_key(
-            self.rigid, self.resolution
-        ):
+        res = self.resolution
+        if self.rigid is None or _rigid_key(cert, res) > _rigid_key(self.rigid, res):
             self.rigid = cert
         if cert.accepted:
             self.stage = stage
@@ -159,11 +159,10 @@ def _rigid_key(c: RigidCertificate, res: Resolution) -> float:
 class Refiner:
     """How the search cleans candidates before the certificates judge them.
 
-    Tensions are purified at each support tolerance (skipping one that drops the same entries); a
-    rejected best purification with real work left is balanced (:func:`~.selfstress.rebalance`). A
-    floppy candidate within the displacement bound failing by at most ``polish_below`` is polished:
-    :class:`Refine`'s proximal iteration moves it onto the set of rods and one-sided elements within
-    a slack of their bound, in extended precision. Both are bounded by counts per search.
+    Tensions are purified at each support tolerance; the best rejected purification with work left
+    is balanced (:func:`~.selfstress.rebalance`). A floppy candidate within ``U`` failing by at most
+    ``polish_below`` is polished onto its tight set by :class:`Refine`'s proximal iteration, in
+    extended precision. Both are bounded by counts per search.
     """
 
     #: Relative sizes below which approximate tensions are dropped before purification.
@@ -293,8 +292,7 @@ class InteriorPoint:
 
     def run(self, s: Search) -> None:
         def tensions(u, lam):
-            e = s.p.e0 + s.p.R @ u
-            t = s.p.k * e
+            t = s.p.k * (s.p.e0 + s.p.R @ u)
             t[s.p.one_sided] = s.p.sigma[s.p.one_sided] * lam
             return t
 
@@ -306,13 +304,9 @@ class InteriorPoint:
             )
 
         end: list[IpmState] = []
+        at_checkpoint = partial(offer, taus=self.checkpoint_taus)
         u, _, lam, _ = interior_point(
-            s.p,
-            max_iter=self.max_iter,
-            tol=self.tol,
-            checkpoints=self.checkpoints,
-            callback=lambda u, lam: offer(u, lam, self.checkpoint_taus),
-            record=end,
+            s.p, self.max_iter, self.tol, self.checkpoints, at_checkpoint, record=end
         )
         s.ipm_end = end[0]
         offer(u, lam)
@@ -322,11 +316,10 @@ class InteriorPoint:
 class Refine:
     """The minimum-norm zero-violation displacements on the engaged set, in extended precision.
 
-    Near a threshold the energy's minimisers drift to ``1e6``-``1e8`` times the strain, their
-    violations stalling at that size times the round-off. On the engaged set ``A`` proximal steps on
-    one factorisation per round, extrapolated every ``window`` steps, solve ``min |u|`` s.t. ``e0_A
-    + R_A u = 0`` (docs/solver.md); a stalled round offers its least-squares self-stress, and
-    one-sided elements the end point violates join ``A`` for the next.
+    Proximal steps on one factorisation per round, extrapolated every ``window`` steps, solve
+    ``min |u|`` s.t. ``e0_A + R_A u = 0`` on the engaged set ``A`` (docs/solver.md), where the
+    energy's huge minimisers near a threshold stall at their round-off; a stalled round offers its
+    least-squares self-stress, and elements the end point violates join ``A`` for the next.
     """
 
     #: ``mu`` relative to the unit stiffness, tried in turn until a factorisation succeeds.
@@ -342,8 +335,7 @@ class Refine:
 
     def run(self, s: Search) -> None:
         p = s.p
-        e = p.e0 + p.R @ s.u
-        active = p.rod | (p.sigma * e >= 0)
+        active = p.rod | (p.sigma * (p.e0 + p.R @ s.u) >= 0)
         for _ in range(self.rounds):
             solver = p.factor_shifted(active.astype(float), self.shifts)
             if solver is None:
@@ -410,11 +402,9 @@ def _extrapolate(us, rs, residual):
 class Support:
     """The search again on the strongly stressed part of the network.
 
-    Near the threshold the best rigid candidate of the energy stages does real work but stays
-    unbalanced: its many nearly slack one-sided elements keep the interior point from
-    converging. Without the sites whose tension is below ``keep`` times the largest, the
-    network is smaller and its self-stress clean; a self-stress found there is one of the
-    whole network, zero elsewhere, and is checked on it.
+    Near the threshold the nearly slack elements of the best rigid candidate keep the interior
+    point from converging. Without the sites whose tension is below ``keep`` times the largest the
+    network is smaller; a self-stress found there, zero elsewhere, is checked on the whole network.
     """
 
     #: Tensions below this fraction of the largest leave the sub-network.
@@ -437,11 +427,7 @@ class Support:
         kinds = np.zeros_like(net.kinds)
         kinds[stressed] = net.kinds[stressed]
         sub = Problem(
-            Instance(net.with_kinds(kinds), p.instance.strain),
-            p.mu,
-            p.backend,
-            True,
-            tolerances=p.tol,
+            Instance(net.with_kinds(kinds), p.instance.strain), p.mu, p.backend, True, p.tol
         )
         inner = search(sub, s.resolution, self.stages, refiner=s.refiner, polish=s.polish,
                        balance=s.balance)  # fmt: skip
@@ -456,10 +442,9 @@ class LinearProgram:
     """Linear programs of Farkas' lemma, solved by HiGHS with iteration limits.
 
     The verdict LP ``max e0 . t`` over self-stresses with ``|t_b| <= 1`` (:meth:`verdict_lp`): its
-    tensions offered, its row duals offered as displacements and crossed over, its vertex refined in
-    extended precision. Then, up to ``feasibility_sites_max`` sites, the feasibility LP
-    (:func:`_feasibility_lp`): a vertex is a floppy candidate, a dual ray a rigid one. A HiGHS
-    failure leaves the search as it was.
+    tensions, its row duals (displacements, crossed over) and its vertex refined in extended
+    precision offered. Then, up to ``feasibility_sites_max`` sites, the feasibility LP: a vertex is
+    a floppy candidate, a dual ray a rigid one. A HiGHS failure leaves the search as it was.
     """
 
     #: Interior-point iterations of the verdict LP.
@@ -474,16 +459,11 @@ class LinearProgram:
     refine_iterations_per_site: float = 0.25
     #: Solve the verdict LP again without the crossover when its clean-up hits its limit.
     interior_fallback: bool = True
-    #: ``"dual"``, ``"primal"`` or ``"dual+primal"`` (the primal after a dual "Unknown").
-    feasibility_simplex: str = "dual+primal"
     #: Above this many non-empty sites the feasibility LP is not run.
     feasibility_sites_max: int = 24_576
     #: HiGHS's primal feasibility tolerance in the feasibility LP (units of ``max |e0|``).
     feasibility_tolerance: float = 1e-9
     name: str = "lp"
-
-    def __post_init__(self):
-        _simplex_variants(self.feasibility_simplex)
 
     def verdict_lp(self, p: Problem, crossover: bool | None = None):
         """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``, as the
@@ -494,19 +474,13 @@ class LinearProgram:
         lo = np.where(p.sigma > 0, 0.0, -1.0)
         hi = np.where(p.sigma < 0, 0.0, 1.0)
         zeros = np.zeros(A.shape[0])
-        h = _highs(
-            A,
-            -p.e0,
-            lo,
-            hi,
-            zeros,
-            zeros,
-            solver="ipm",
-            run_crossover="on" if (self.refine if crossover is None else crossover) else "off",
-            ipm_iteration_limit=self.max_iter,
-            simplex_iteration_limit=self._refine_budget(p),
-        )
-        return h, A, lo, hi
+        options = {
+            "solver": "ipm",
+            "run_crossover": "on" if (self.refine if crossover is None else crossover) else "off",
+            "ipm_iteration_limit": self.max_iter,
+            "simplex_iteration_limit": self._refine_budget(p),
+        }
+        return _highs(A, -p.e0, lo, hi, zeros, zeros, **options), A, lo, hi
 
     def run(self, s: Search) -> None:
         p = s.p
@@ -529,9 +503,7 @@ class LinearProgram:
         max_iter = self._feasibility_budget(p)
         if max_iter <= 0:
             return
-        vertex, ray = _feasibility_lp(
-            p, max_iter, self.feasibility_simplex, self.feasibility_tolerance
-        )
+        vertex, ray = _feasibility_lp(p, max_iter, tolerance=self.feasibility_tolerance)
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
@@ -597,26 +569,14 @@ def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
     import highspy
 
     f = p.exact.forces(t)
-    d = max(
-        float(np.abs(f).max(initial=0.0)),
-        float(np.max(lo - t, initial=0.0)),
-        float(np.max(t - hi, initial=0.0)),
-    )
+    d = float(np.max(np.r_[np.abs(f), lo - t, t - hi], initial=0.0))  # the largest defect
     if not (np.isfinite(d) and d > 0):
         return None
     rows = np.asarray(-f / d, dtype=float)
-    h = _highs(
-        A,
-        -p.e0,
-        np.asarray((lo - t) / d, dtype=float),
-        np.asarray((hi - t) / d, dtype=float),
-        rows,
-        rows,
-        basis=basis,
-        solver="simplex",
-        simplex_strategy=4,  # primal: the basis stays dual feasible, its values do not
-        simplex_iteration_limit=max_iter,
-    )
+    lo_d, hi_d = np.asarray((lo - t) / d, dtype=float), np.asarray((hi - t) / d, dtype=float)
+    # the primal simplex: the basis stays dual feasible, its values do not
+    options = {"solver": "simplex", "simplex_strategy": 4, "simplex_iteration_limit": max_iter}
+    h = _highs(A, -p.e0, lo_d, hi_d, rows, rows, basis, **options)
     if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
         return None
     sol = h.getSolution()
@@ -624,49 +584,31 @@ def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
     return t + d * x, np.asarray(sol.row_dual, dtype=float), h.getBasis()
 
 
-def _simplex_variants(name: str) -> tuple[str, ...]:
-    """HiGHS's simplex variants named by ``LinearProgram.feasibility_simplex``, in turn."""
-    table = {"dual": ("dual",), "primal": ("primal",), "dual+primal": ("dual", "primal")}
-    if name not in table:
-        raise InputError(
-            "LinearProgram.feasibility_simplex must be one of "
-            f"{', '.join(map(repr, table))}, got {name!r}"
-        )
-    return table[name]
-
-
 def _feasibility_lp(
     p: Problem,
     max_iter: int,
-    simplex: str = "dual",
-    tolerance: float = LinearProgram.feasibility_tolerance,
-) -> tuple[np.ndarray | None, np.ndarray | None]:
+    variants=("dual", "primal"),
+    tolerance=LinearProgram.feasibility_tolerance,
+):
     """The feasibility LP ``{u : e0 + R u admissible}`` by HiGHS's simplex, one thread.
 
-    Rows in site order (rods ``R u = -e0``, cables ``<=``, struts ``>=``), free columns; each
-    variant of ``simplex`` runs at most ``max_iter`` iterations, the next only after status
-    "Unknown"; ``tolerance``: HiGHS's primal feasibility tolerance. Returns ``(vertex, ray)``: a
-    vertex (2N,) when feasible; when proved infeasible, minus its dual ray (m,), tensions with ``R^T
-    t = 0`` up to round-off, admissible signs and positive work by Farkas' lemma (purified and
-    checked by the caller).
+    Rows in site order (rods ``R u = -e0``, cables ``<=``, struts ``>=``), free columns; the simplex
+    ``variants`` in turn, the next only after status "Unknown", each at most ``max_iter`` iterations
+    at HiGHS's primal feasibility ``tolerance``. Returns ``(vertex, ray)``: a vertex (2N,) when
+    feasible; when infeasible, minus the dual ray (m,): by Farkas' lemma admissible tensions doing
+    positive work with ``R^T t = 0`` up to round-off (the caller purifies and checks them).
     """
     import highspy
 
-    A = p.R.tocsc()
-    inf = highspy.kHighsInf
-    for variant in _simplex_variants(simplex):
-        h = _highs(
-            A,
-            np.zeros(A.shape[1]),
-            np.full(A.shape[1], -inf),
-            np.full(A.shape[1], inf),
-            np.where(p.sigma > 0, -inf, -p.e0),
-            np.where(p.sigma < 0, inf, -p.e0),
-            solver="simplex",
-            simplex_iteration_limit=max_iter,
-            primal_feasibility_tolerance=tolerance,
-            simplex_strategy=4 if variant == "primal" else 1,
-        )
+    A, inf = p.R.tocsc(), highspy.kHighsInf
+    n = A.shape[1]
+    free = (np.zeros(n), np.full(n, -inf), np.full(n, inf))  # cost and bounds of the columns
+    rows = (np.where(p.sigma > 0, -inf, -p.e0), np.where(p.sigma < 0, inf, -p.e0))
+    options = {"solver": "simplex", "simplex_iteration_limit": max_iter}
+    for variant in variants:
+        strategy = 4 if variant == "primal" else 1
+        options |= {"primal_feasibility_tolerance": tolerance, "simplex_strategy": strategy}
+        h = _highs(A, *free, *rows, **options)
         status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kOptimal:
             return np.asarray(h.getSolution().col_value, dtype=float), None
