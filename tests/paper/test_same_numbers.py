@@ -24,6 +24,17 @@ RELEASE = json.loads((Path(__file__).with_name("data") / "release_claims.json").
 #: relative tolerance of a value or an error against the release's (the arithmetic is the same;
 #: only the order of floating-point sums may differ)
 RTOL = 1e-9
+#: relative tolerance, of the value's magnitude, of the end points of iterative fits (the scaling
+#: collapse, the extrapolations to n -> infinity, the per-size transitions): scipy's least squares
+#: and minimize stop at relative tolerances of 1e-8, so a CPU whose BLAS kernels round otherwise
+#: (AVX2 against the release's AVX-512) moves them, and their bootstrap errors, within that
+FIT_RTOL = 1e-6
+
+
+def _fitted(m) -> bool:
+    """Whether the measurement ``m`` is the end point of an iterative fit."""
+    label, claim = m["label"], m["claim"]
+    return claim.startswith(("collapse", "st_sr")) or "extrapolated to n -> infinity" in label
 
 
 @pytest.fixture(scope="module")
@@ -61,6 +72,11 @@ def test_every_value_and_error_is_the_release_s(measured):
     for ours, theirs in zip(measured, RELEASE["measurements"], strict=True):
         for field in ("value", "err"):
             a, b = ours[field], np.asarray(theirs[field], float)
-            if a.shape != b.shape or not np.allclose(a, b, rtol=RTOL, atol=0, equal_nan=True):
+            if a.shape != b.shape:
+                differ.append((ours["study"], ours["claim"], ours["label"], field, a, b))
+                continue
+            scale = np.abs(np.asarray(theirs["value"], float)) if _fitted(ours) else 0.0
+            tol = np.maximum(RTOL * np.abs(b), FIT_RTOL * scale)
+            if not np.all((np.abs(a - b) <= tol) | (np.isnan(a) & np.isnan(b))):
                 differ.append((ours["study"], ours["claim"], ours["label"], field, a, b))
     assert not differ, differ[:5]
