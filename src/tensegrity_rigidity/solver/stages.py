@@ -605,10 +605,9 @@ def _feasibility_lp(
     free = (np.zeros(n), np.full(n, -inf), np.full(n, inf))  # cost and bounds of the columns
     rows = (np.where(p.sigma > 0, -inf, -p.e0), np.where(p.sigma < 0, inf, -p.e0))
     options = {"solver": "simplex", "simplex_iteration_limit": max_iter}
+    options["primal_feasibility_tolerance"] = tolerance
     for variant in variants:
-        strategy = 4 if variant == "primal" else 1
-        options |= {"primal_feasibility_tolerance": tolerance, "simplex_strategy": strategy}
-        h = _highs(A, *free, *rows, **options)
+        h = _highs(A, *free, *rows, **options, simplex_strategy=4 if variant == "primal" else 1)
         status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kOptimal:
             return np.asarray(h.getSolution().col_value, dtype=float), None
