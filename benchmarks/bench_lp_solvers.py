@@ -72,7 +72,7 @@ def highs(A, c, lo, hi, mode, limit):
     h = highspy.Highs()
     options = {"output_flag": False, "threads": 1, "time_limit": limit}
     if mode == "barrier":
-        options |= {"solver": "ipm", "run_crossover": "on"}
+        options |= {"solver": "ipx", "run_crossover": "on"}
     else:
         options |= {"solver": "simplex", "simplex_strategy": 1}
     for key, value in options.items():

@@ -463,7 +463,22 @@ class LinearProgram:
     feasibility_sites_max: int = 24_576
     #: HiGHS's primal feasibility tolerance in the feasibility LP (units of ``max |e0|``).
     feasibility_tolerance: float = 1e-9
+    #: HiGHS's interior point of the verdict LP, named, never HiGHS's "ipm", which runs HiPO
+    #: instead of IPX whenever the plugin ``highspy-extras`` is installed: :data:`INTERIOR_POINTS`.
+    interior: str = "ipx"
     name: str = "lp"
+
+    def __post_init__(self):
+        if self.interior not in INTERIOR_POINTS:
+            raise InputError(
+                f"LinearProgram.interior must be one of {', '.join(INTERIOR_POINTS)}, "
+                f"got {self.interior!r}"
+            )
+        if self.interior == "hipo" and not hipo_available():
+            raise InputError(
+                "LinearProgram.interior = 'hipo' needs HiGHS's HiPO, which the package "
+                "highspy-extras provides: pip install highspy-extras"
+            )
 
     def verdict_lp(self, p: Problem, crossover: bool | None = None):
         """The verdict LP ``max e0 . t`` over self-stresses with admissible ``|t_b| <= 1``, as the
@@ -475,7 +490,7 @@ class LinearProgram:
         hi = np.where(p.sigma < 0, 0.0, 1.0)
         zeros = np.zeros(A.shape[0])
         options = {
-            "solver": "ipm",
+            "solver": self.interior,
             "run_crossover": "on" if (self.refine if crossover is None else crossover) else "off",
             "ipm_iteration_limit": self.max_iter,
             "simplex_iteration_limit": self._refine_budget(p),
@@ -537,6 +552,20 @@ class LinearProgram:
             if s.offer_t(admissible, self.name, as_is=True) or s.offer_u(u, self.name):
                 return True
         return False
+
+
+#: HiGHS's interior points the verdict LP may name: IPX (built into highspy) and HiPO (the plugin
+#: ``highspy-extras``); their crossovers and iterates differ, so the choice enters the options.
+INTERIOR_POINTS = ("ipx", "hipo")
+
+
+def hipo_available() -> bool:
+    """Whether HiGHS can run its HiPO interior point here (the plugin ``highspy-extras``)."""
+    try:
+        import highspy_extras  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 def _highs(A, cost, col_lower, col_upper, row_lower, row_upper, basis=None, **options):
