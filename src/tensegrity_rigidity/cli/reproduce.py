@@ -6,7 +6,7 @@ from .common import check_out, interrupt_status
 
 
 def add_parser(sub) -> None:
-    from ..paper.reproduce import EXPECTED
+    from ..paper.run_times import EXPECTED
 
     p = sub.add_parser(
         "reproduce",
