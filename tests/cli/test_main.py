@@ -20,19 +20,65 @@ def test_sample_then_solve_json(tmp_path, capsys):
     assert data["rigid"] is True and data["energy"] > 0
 
 
-@pytest.mark.parametrize(
-    ("p_r", "status", "rejected"), [("0.9", "rigid", "violation"), ("0.3", "floppy", "work")]
-)
-def test_solve_text_marks_the_rejected_candidate(tmp_path, capsys, p_r, status, rejected):
+@pytest.mark.parametrize(("p_r", "status"), [("0.9", "rigid"), ("0.3", "floppy")])
+def test_solve_text_shows_the_deciding_certificate_and_names_the_other_candidate(
+    tmp_path, capsys, p_r, status
+):
+    """The text form led with 'violation ... (best candidate, rejected)' for a rigid sample,
+    which read like a failure: it now names the certificate that decided, and the other side's
+    best candidate as what it is."""
     out = tmp_path / "s.npz"
     assert main(["sample", str(out), "--n", "6", "--p-r", p_r, "--phi", "dilation"]) == 0
     capsys.readouterr()
     assert main(["solve", str(out)]) == 0
-    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
-    assert lines["status"].split() == ["status", status]
-    assert lines[rejected].endswith("(best candidate, rejected)")
-    accepted = "work" if status == "rigid" else "violation"
-    assert not lines[accepted].endswith("rejected)")
+    lines = capsys.readouterr().out.splitlines()
+    first = {k: v.strip() for k, v in (line.split("  ", 1) for line in lines)}
+    assert lines[0].split() == ["status", status]
+    kind, other = ("self-stress", "floppy") if status == "rigid" else ("displacement", "rigid")
+    assert lines[1].split()[:2] == ["certificate", kind]
+    assert f"{other} candidate" in first
+    candidate = first[f"{other} candidate"]
+    assert candidate == "none found" or candidate.endswith(f"rejected: the sample is {status})")
+    assert "rejected" not in lines[1]
+
+
+def _result(status: str, **kw):
+    import numpy as np
+
+    from tensegrity_rigidity.solver.core import SolveResult
+
+    fields = dict(
+        energy=0.0,
+        energy_lower=0.0,
+        affine_energy=1.0,
+        rigid=status == "rigid",
+        decided=status != "undecided",
+        tensions=np.zeros(3),
+        displacements=np.zeros((1, 2)),
+        extensions=np.zeros(3),
+        work=0.1,
+        force_residual=1e-3,
+        violation=2e-9,
+        displacement_size=5.0,
+        iterations=3,
+        factorizations=4,
+        method="lp" if status != "undecided" else "undecided",
+        min_norm_ok=False,
+    )
+    return SolveResult(**(fields | kw))
+
+
+def test_solve_text_of_an_undecided_sample_shows_both_candidates_and_why():
+    from tensegrity_rigidity.cli.main import solve_text
+
+    text = solve_text(_result("undecided", reason="within resolution", message="because"))
+    lines = {line.split("  ")[0]: line for line in text.splitlines()}
+    assert lines["status"].split(None, 1) == ["status", "undecided (within resolution)"]
+    assert "none accepted" in lines["certificate"]
+    assert "work 0.1, force residual 0.001" in lines["rigid candidate"]
+    assert "violation 2e-09, size 5" in lines["floppy candidate"]
+    assert lines["message"].endswith("because")
+    assert "not certified minimum-norm" in lines["displacements"]
 
 
 @pytest.mark.parametrize("cmd", [[], ["sample"], ["solve"], ["sweep"], ["reproduce"], ["info"]])

@@ -154,23 +154,69 @@ def _cmd_solve(args) -> int:
         }
         print(json.dumps(safe, indent=2, allow_nan=False))
     else:
-        # the other kind's best candidate failed its certificate: say so beside its numbers
-        rejected = {
-            "rigid": ("violation", "displacement_size"),
-            "floppy": ("work", "force_residual"),
-            "undecided": ("work", "force_residual", "violation", "displacement_size"),
-        }[result.status]
-        width = max(map(len, summary))
-        for key, value in summary.items():
-            shown = f"{value:.6g}" if isinstance(value, float) else value
-            note = "  (best candidate, rejected)" if key in rejected else ""
-            print(f"{key:<{width}}  {shown}{note}")
+        print(solve_text(result))
     if args.plot is not None:
         from ..paper.plotting import plot_solution
 
         plot_solution(instance, result, args.plot)
         print(f"wrote {args.plot}", file=sys.stderr)
     return 0
+
+
+def _g(x: float) -> str:
+    return f"{x:.6g}" if math.isfinite(x) else "none"
+
+
+def solve_text(result) -> str:
+    """``solve``'s text form: the verdict, the certificate that decided it, then the other
+    side's best candidate, named as such (a rigid sample has no floppy certificate, so its
+    best displacement is rejected by construction, and the other way round).
+
+    Energies are in units of stiffness x length^2 and displacements in the positions' units:
+    with unit stiffness, a lattice constant 1 and strain magnitude gamma, E scales as gamma^2
+    and u as gamma.
+    """
+    stress = f"work {_g(result.work)}, force residual {_g(result.force_residual)}"
+    if not math.isfinite(result.force_residual):
+        stress = "none found"
+    shift = f"violation {_g(result.violation)}, size {_g(result.displacement_size)}"
+    if not math.isfinite(result.violation):
+        shift = "none found"
+    status = result.status
+    lines = [("status", status + (f" ({result.reason})" if result.reason else ""))]
+    if status == "rigid":
+        lines.append(("certificate", f"self-stress from the {result.method} stage: {stress}"))
+        if math.isfinite(result.violation):
+            shift += " (the best displacement found, rejected: the sample is rigid)"
+        lines.append(("floppy candidate", shift))
+    elif status == "floppy":
+        lines.append(("certificate", f"displacement from the {result.method} stage: {shift}"))
+        if math.isfinite(result.force_residual):
+            stress += " (the best self-stress found, rejected: the sample is floppy)"
+        lines.append(("rigid candidate", stress))
+    else:
+        lines += [
+            ("certificate", "none accepted (see message)"),
+            ("rigid candidate", stress),
+            ("floppy candidate", shift),
+        ]
+    displacements = (
+        "minimum-norm, certified" if result.min_norm_ok else "not certified minimum-norm"
+    )
+    lines += [
+        ("energy", f"{_g(result.energy)} (certified lower bound {_g(result.energy_lower)})"),
+        ("affine_energy", _g(result.affine_energy)),
+        ("displacements", displacements),
+        (
+            "work spent",
+            f"{result.iterations} Newton iterations, {result.factorizations} "
+            f"factorizations, {result.seconds:.3g} s",
+        ),
+    ]
+    if result.message:
+        lines.append(("message", result.message))
+    width = max(len(key) for key, _ in lines)
+    return "\n".join(f"{key:<{width}}  {value}" for key, value in lines)
 
 
 def build_parser() -> argparse.ArgumentParser:
