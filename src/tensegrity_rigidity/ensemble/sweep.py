@@ -38,6 +38,7 @@ from .executors import open_pool
 from .runner import run_chunk
 from .spec import GridPoint, Spec, load_spec
 from .store import ResultStore, load_source
+from .summary import phi_name
 
 #: memory of one row in a loaded frame (25 columns; measured 218 bytes)
 ROW_MEMORY_BYTES = 300
@@ -458,7 +459,8 @@ def load_results(
     Returns
     -------
     pandas.DataFrame
-        One row per sample (empty when there are none).
+        One row per sample (empty when there are none). Beside ``phi`` (radians), ``strain``
+        names it: "dilation", "shear", "compression", or the angle to 4 digits.
 
     Raises
     ------
@@ -476,7 +478,10 @@ def load_results(
         if spec is not None:
             df = store.rows_of(spec, df)
     keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed", "sample") if c in df]
-    return df.sort_values(keys, kind="stable").reset_index(drop=True)
+    df = df.sort_values(keys, kind="stable").reset_index(drop=True)
+    if "phi" in df and "strain" not in df:  # derived on reading: the stored parts are unchanged
+        df.insert(df.columns.get_loc("phi") + 1, "strain", df["phi"].map(phi_name))
+    return df
 
 
 def describe(out: str | os.PathLike) -> dict:
