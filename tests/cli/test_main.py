@@ -132,3 +132,30 @@ def test_n_help_says_n_cubed_nodes_for_fcc(capsys):
     with pytest.raises(SystemExit):
         main(["sample", "--help"])
     assert "n^3 nodes with --lattice fcc" in " ".join(capsys.readouterr().out.split())
+
+
+def test_info_on_the_output_of_reproduce_summarises_its_sweeps(tmp_path, capsys):
+    """info on a reproduce directory failed with 'no _spec.json'; only its sub-folders worked."""
+    from tensegrity_rigidity.ensemble.spec import parse_spec
+    from tensegrity_rigidity.ensemble.sweep import run_sweep
+
+    out = tmp_path / "results"
+    grid = parse_spec({"n": 4, "p_r": [0.5, 0.8], "samples": 3})
+    run_sweep(grid, out / "studies" / "fig_a", executor="serial", progress=False)
+    threshold = parse_spec({"n": 4, "p_t": 0.1, "samples": 2, "threshold": {"path": "p_r"}})
+    run_sweep(threshold, out / "studies" / "fig_b", executor="serial", progress=False)
+    (out / "studies" / "fig_c").mkdir()  # a sweep not started yet: no rows, no spec
+    (out / "report.md").write_text("# report\n")
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert text.splitlines()[0] == (
+        f"{out}: the output of reproduce, 2 sweeps under studies/, report.md written"
+    )
+    assert "samples   8 of 8 done (0 undecided); 0 chunks missing" in text
+    rows = {line.split()[0]: line.split() for line in text.splitlines()[4:]}
+    assert rows["fig_a"][1:5] == ["grid", "6", "/", "6"]
+    assert rows["fig_b"][1:5] == ["threshold", "2", "/", "2"]
+    assert main(["info", str(out), "--rows", "1"]) == 0
+    assert "... 1 more sweep (--rows to show them)" in capsys.readouterr().out
+    assert main(["info", str(out / "studies" / "fig_a")]) == 0  # one sweep: as before
+    assert "grid sweep, 2 grid points x 3 samples" in capsys.readouterr().out
