@@ -15,6 +15,7 @@ from ..ensemble.executors import local_workers
 from ..errors import InputError
 from .budget import estimate
 from .figures import all_figures
+from .progress import OverallProgress
 from .registry import STUDIES
 from .report import write_report
 from .run_times import EXPECTED  # noqa: F401 (re-exported: each scale's run time)
@@ -86,7 +87,8 @@ def reproduce(
     scheduler : str, optional
         Address of a running Dask scheduler, instead of local processes.
     progress : bool, optional
-        Progress bars (default: when stderr is a terminal).
+        One progress bar over all studies, with the time left (default: when stderr is a
+        terminal); without it, one line per study.
     studies : list of str, optional
         Run only these studies (names of :data:`~tensegrity_rigidity.paper.registry.STUDIES`)
         instead of the scale's.
@@ -126,24 +128,37 @@ def reproduce(
         )
     found = read_evidence(evidence) if evidence is not None else None
     local = workers is None or workers == "serial" or isinstance(workers, int)
+    w = 1  # on a Dask cluster the bar needs only the work, not the worker count
     if scheduler is None and local:
         w = 1 if workers == "serial" else local_workers(workers)
         if isinstance(workers, int):
             workers = w  # capped once at the usable cores (one warning), not per study
-        est = estimate(sc, w, names)
+    est = estimate(sc, w, names, out=out)
+    if scheduler is None and local:
         print(
-            f"scale {scale}: estimated {est.wall_seconds / 60:.0f} min for all of it on {w} "
-            "worker(s) (paper.budget; stored samples are reused)",
+            f"scale {scale}: estimated {est.wall_seconds / 60:.0f} min on {w} worker(s) for the "
+            "samples not stored yet (from per-sample costs, not a measurement)",
             file=sys.stderr,
             flush=True,
         )
-    for i, name in enumerate(names, 1):
-        print(f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True)
-        start = time.perf_counter()
-        results[name] = STUDIES[name](
-            out, sc, workers=workers, scheduler=scheduler, progress=progress
-        )
-        timings[name] = time.perf_counter() - start
+    show = sys.stderr.isatty() if progress is None else bool(progress)
+    bar = OverallProgress(est, show)  # one bar with the time left, not one per sweep
+    try:
+        for i, name in enumerate(names, 1):
+            if show:
+                bar.study(i, len(names), name)
+            else:
+                print(
+                    f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True
+                )
+            start = time.perf_counter()
+            results[name] = STUDIES[name](
+                out, sc, workers=workers, scheduler=scheduler, progress=bar if show else False
+            )
+            timings[name] = time.perf_counter() - start
+            bar.study_done(name)
+    finally:
+        bar.close()
     if found is not None:
         print(
             f"read the finite-size evidence of --scale {found[0]} in {evidence}",
