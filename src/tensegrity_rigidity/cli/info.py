@@ -69,12 +69,12 @@ def _run(args) -> int:
 
 
 def _sub_sweeps(root: Path) -> list[Path]:
-    """The sweep directories of a ``reproduce`` output directory (``root/studies/*``), or of a
-    directory of sweeps; empty when ``root`` is itself a sweep's directory or neither."""
-    if not root.is_dir() or (root / SPEC_FILE).exists():
+    """The sweep directories of a ``reproduce`` output directory (``root/studies/*``); empty
+    when ``root`` is not one (a sweep's own directory, or neither)."""
+    studies = root / "studies"
+    if not studies.is_dir() or (root / SPEC_FILE).exists():
         return []
-    parent = root / "studies" if (root / "studies").is_dir() else root
-    return sorted(d for d in parent.iterdir() if d.is_dir() and (d / SPEC_FILE).exists())
+    return sorted(d for d in studies.iterdir() if d.is_dir() and (d / SPEC_FILE).exists())
 
 
 def _kind(spec) -> str:
@@ -117,10 +117,7 @@ def _reproduction(root: Path, sweeps: list[Path], max_rows: int) -> int:
         )
     reports = [name for name in ("report.md", "report.html") if (root / name).is_file()]
     written = f"{' and '.join(reports)} written" if reports else "no report yet"
-    if sweeps[0].parent == root:
-        print(f"{root}: {len(sweeps)} sweeps")
-    else:
-        print(f"{root}: the output of reproduce, {len(sweeps)} sweeps under studies/, {written}")
+    print(f"{root}: the output of reproduce, {len(sweeps)} sweeps under studies/, {written}")
     print(f"  samples   {done} of {total} done ({undecided} undecided); {missing} chunks missing")
     print(
         f"  stored    {format_bytes(size)}"

@@ -222,13 +222,17 @@ def solve_text(result) -> str:
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every command. It imports no numerical library (each command
     imports what it needs when it runs), so that ``--help`` answers at once."""
-    from .. import __version__
+    import tensegrity_rigidity
 
     parser = argparse.ArgumentParser(
         prog="tensegrity-rigidity",
         description="Exact rigidity of random periodic tensegrity networks.",
     )
-    parser.add_argument("--version", action="version", version=f"tensegrity-rigidity {__version__}")
+    parser.add_argument(
+        "--version",
+        action="version",
+        version=f"tensegrity-rigidity {tensegrity_rigidity.__version__}",
+    )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_sample(sub)
     _add_solve(sub)
