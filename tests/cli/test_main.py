@@ -20,19 +20,65 @@ def test_sample_then_solve_json(tmp_path, capsys):
     assert data["rigid"] is True and data["energy"] > 0
 
 
-@pytest.mark.parametrize(
-    ("p_r", "status", "rejected"), [("0.9", "rigid", "violation"), ("0.3", "floppy", "work")]
-)
-def test_solve_text_marks_the_rejected_candidate(tmp_path, capsys, p_r, status, rejected):
+@pytest.mark.parametrize(("p_r", "status"), [("0.9", "rigid"), ("0.3", "floppy")])
+def test_solve_text_shows_the_deciding_certificate_and_names_the_other_candidate(
+    tmp_path, capsys, p_r, status
+):
+    """The text form led with 'violation ... (best candidate, rejected)' for a rigid sample,
+    which read like a failure: it now names the certificate that decided, and the other side's
+    best candidate as what it is."""
     out = tmp_path / "s.npz"
     assert main(["sample", str(out), "--n", "6", "--p-r", p_r, "--phi", "dilation"]) == 0
     capsys.readouterr()
     assert main(["solve", str(out)]) == 0
-    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
-    assert lines["status"].split() == ["status", status]
-    assert lines[rejected].endswith("(best candidate, rejected)")
-    accepted = "work" if status == "rigid" else "violation"
-    assert not lines[accepted].endswith("rejected)")
+    lines = capsys.readouterr().out.splitlines()
+    first = {k: v.strip() for k, v in (line.split("  ", 1) for line in lines)}
+    assert lines[0].split() == ["status", status]
+    kind, other = ("self-stress", "floppy") if status == "rigid" else ("displacement", "rigid")
+    assert lines[1].split()[:2] == ["certificate", kind]
+    assert f"{other} candidate" in first
+    candidate = first[f"{other} candidate"]
+    assert candidate == "none found" or candidate.endswith(f"rejected: the sample is {status})")
+    assert "rejected" not in lines[1]
+
+
+def _result(status: str, **kw):
+    import numpy as np
+
+    from tensegrity_rigidity.solver.core import SolveResult
+
+    fields = dict(
+        energy=0.0,
+        energy_lower=0.0,
+        affine_energy=1.0,
+        rigid=status == "rigid",
+        decided=status != "undecided",
+        tensions=np.zeros(3),
+        displacements=np.zeros((1, 2)),
+        extensions=np.zeros(3),
+        work=0.1,
+        force_residual=1e-3,
+        violation=2e-9,
+        displacement_size=5.0,
+        iterations=3,
+        factorizations=4,
+        method="lp" if status != "undecided" else "undecided",
+        min_norm_ok=False,
+    )
+    return SolveResult(**(fields | kw))
+
+
+def test_solve_text_of_an_undecided_sample_shows_both_candidates_and_why():
+    from tensegrity_rigidity.cli.main import solve_text
+
+    text = solve_text(_result("undecided", reason="within resolution", message="because"))
+    lines = {line.split("  ")[0]: line for line in text.splitlines()}
+    assert lines["status"].split(None, 1) == ["status", "undecided (within resolution)"]
+    assert "none accepted" in lines["certificate"]
+    assert "work 0.1, force residual 0.001" in lines["rigid candidate"]
+    assert "violation 2e-09, size 5" in lines["floppy candidate"]
+    assert lines["message"].endswith("because")
+    assert "not certified minimum-norm" in lines["displacements"]
 
 
 @pytest.mark.parametrize("cmd", [[], ["sample"], ["solve"], ["sweep"], ["reproduce"], ["info"]])
@@ -69,3 +115,47 @@ def test_foreign_warnings_name_their_category_and_place():
     out = io.StringIO()
     _one_line_warning(UndecidedWarning("undecided sample: x"), UndecidedWarning, __file__, 1, out)
     assert out.getvalue() == "warning: undecided sample: x\n"
+
+
+def test_theta_with_the_fcc_lattice_is_refused_in_one_line(tmp_path, capsys):
+    """--theta rotates a 2D strain's principal axes; on the FCC lattice it was ignored."""
+    out = tmp_path / "s.npz"
+    cmd = ["sample", str(out), "--n", "2", "--p-r", "0.5", "--lattice", "fcc", "--theta", "0.3"]
+    assert main(cmd) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: --theta") and len(err.splitlines()) == 1
+    assert not out.exists()
+    assert main(cmd[:-2]) == 0 and out.exists()
+
+
+def test_n_help_says_n_cubed_nodes_for_fcc(capsys):
+    with pytest.raises(SystemExit):
+        main(["sample", "--help"])
+    assert "n^3 nodes with --lattice fcc" in " ".join(capsys.readouterr().out.split())
+
+
+def test_info_on_the_output_of_reproduce_summarises_its_sweeps(tmp_path, capsys):
+    """info on a reproduce directory failed with 'no _spec.json'; only its sub-folders worked."""
+    from tensegrity_rigidity.ensemble.spec import parse_spec
+    from tensegrity_rigidity.ensemble.sweep import run_sweep
+
+    out = tmp_path / "results"
+    grid = parse_spec({"n": 4, "p_r": [0.5, 0.8], "samples": 3})
+    run_sweep(grid, out / "studies" / "fig_a", executor="serial", progress=False)
+    threshold = parse_spec({"n": 4, "p_t": 0.1, "samples": 2, "threshold": {"path": "p_r"}})
+    run_sweep(threshold, out / "studies" / "fig_b", executor="serial", progress=False)
+    (out / "studies" / "fig_c").mkdir()  # a sweep not started yet: no rows, no spec
+    (out / "report.md").write_text("# report\n")
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert text.splitlines()[0] == (
+        f"{out}: the output of reproduce, 2 sweeps under studies/, report.md written"
+    )
+    assert "samples   8 of 8 done (0 undecided); 0 chunks missing" in text
+    rows = {line.split()[0]: line.split() for line in text.splitlines()[4:]}
+    assert rows["fig_a"][1:5] == ["grid", "6", "/", "6"]
+    assert rows["fig_b"][1:5] == ["threshold", "2", "/", "2"]
+    assert main(["info", str(out), "--rows", "1"]) == 0
+    assert "... 1 more sweep (--rows to show them)" in capsys.readouterr().out
+    assert main(["info", str(out / "studies" / "fig_a")]) == 0  # one sweep: as before
+    assert "grid sweep, 2 grid points x 3 samples" in capsys.readouterr().out

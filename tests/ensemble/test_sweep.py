@@ -311,3 +311,21 @@ def test_ctrl_c_stops_cleanly_and_keeps_finished_chunks(tmp_path):
     assert kept and not list(out.glob(".*.tmp"))
     subprocess.run(cmd, check=True, capture_output=True)
     pd.testing.assert_frame_equal(_frame(out), _frame_of_fresh(spec, tmp_path / "clean"))
+
+
+def test_rows_name_their_strain_beside_phi_without_storing_it(tmp_path):
+    """phi is stored in radians (0, 1.5708, 3.1416) where specs and the command line use
+    names: load_results adds the name, derived on reading, so stored parts are unchanged and
+    results written before it read the same way."""
+    from tensegrity_rigidity.ensemble.store import ResultStore
+
+    spec = parse_spec(
+        {"n": 4, "p_r": 0.6, "phi": ["dilation", "shear", "compression", 0.5], "samples": 2}
+    )
+    run_sweep(spec, tmp_path / "s", executor="serial", progress=False)
+    rows = load_results(tmp_path / "s")
+    assert list(rows.columns).index("strain") == list(rows.columns).index("phi") + 1
+    names = dict(zip(rows.phi, rows.strain, strict=True))
+    assert names == {0.0: "dilation", np.pi / 2: "shear", np.pi: "compression", 0.5: "0.5"}
+    assert "strain" not in ResultStore(tmp_path / "s").read()
+    assert rows.phi.dtype == float

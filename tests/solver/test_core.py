@@ -822,3 +822,21 @@ def test_an_undecided_verdict_says_whether_it_is_within_resolution_or_not_resolv
     weak = decide(inst, SolverOptions(stages=("affine",), min_norm=False))
     assert weak.status == "undecided" and weak.reason == "not resolved"
     assert decide(inst).reason == ""
+
+
+def test_reprs_are_a_few_lines_with_the_arrays_by_shape():
+    """print(decide(inst)) printed 13 KB of tensions and displacements."""
+    from tensegrity_rigidity import decide, lattice_instance, solve
+
+    inst = lattice_instance(n=12, p_r=0.6, p_t=0.2, f_c=0.5, phi="shear", seed=2)
+    for result in (decide(inst), solve(inst)):
+        text = repr(result)
+        assert len(text) < 800 and len(text.splitlines()) <= 6, text
+        assert f"status={result.status!r}" in text
+        assert "array>" in text
+    res = solve(inst)
+    text = repr(res)
+    assert f"energy={res.energy:.6g}" in text
+    assert "<(144, 2) float64 array>" in text and "<(432,) float64 array>" in text
+    assert f"method={res.method!r}" in text
+    assert "accepted=True" in repr(decide(inst))

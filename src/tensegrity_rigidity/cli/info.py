@@ -2,16 +2,24 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
+#: the file that makes a directory a sweep's results directory
+SPEC_FILE = "_spec.json"
+
 
 def add_parser(sub) -> None:
     p = sub.add_parser(
         "info",
         help="say what a results directory holds",
         description="Print the spec of a results directory, how many of its samples are done "
-        "and undecided, how many chunks a re-run would compute, and P per grid point.",
+        "and undecided, how many chunks a re-run would compute, and P per grid point. On the "
+        "output directory of reproduce: the same counts per sweep of its studies.",
     )
-    p.add_argument("dir", help="results directory of a sweep")
-    p.add_argument("--rows", type=int, default=40, help="grid points shown in the table")
+    p.add_argument("dir", help="results directory of a sweep, or the output directory of reproduce")
+    p.add_argument(
+        "--rows", type=int, default=40, help="grid points (or sweeps) shown in the table"
+    )
     p.set_defaults(handler=_run)
 
 
@@ -23,6 +31,9 @@ def _run(args) -> int:
 
     if args.rows < 1:
         raise InputError(f"--rows must be at least 1, got {args.rows}")
+    sweeps = _sub_sweeps(Path(args.dir))
+    if sweeps:
+        return _reproduction(Path(args.dir), sweeps, args.rows)
     d = describe(args.dir)
     spec = d["spec"]
 
@@ -54,4 +65,70 @@ def _run(args) -> int:
     if d["writer"]:
         print(f"  writer    being written now by {d['writer']}")
     print(format_table(probability_table(d["frame"]), max_rows=args.rows))
+    return 0
+
+
+def _sub_sweeps(root: Path) -> list[Path]:
+    """The sweep directories of a ``reproduce`` output directory (``root/studies/*``); empty
+    when ``root`` is not one (a sweep's own directory, or neither)."""
+    studies = root / "studies"
+    if not studies.is_dir() or (root / SPEC_FILE).exists():
+        return []
+    return sorted(d for d in studies.iterdir() if d.is_dir() and (d / SPEC_FILE).exists())
+
+
+def _kind(spec) -> str:
+    if spec.mode == "threshold":
+        method = (spec.threshold or {}).get("method")
+        return "threshold (pebble)" if method == "pebble" else "threshold"
+    return "grid (paper's verdict)" if spec.verdict == "paper" else "grid"
+
+
+def _reproduction(root: Path, sweeps: list[Path], max_rows: int) -> int:
+    """``info`` on the output directory of ``reproduce``: one line per sweep and the totals."""
+    from ..ensemble.sweep import describe
+    from ..errors import InputError
+    from ..model.limits import format_bytes
+
+    lines, done, total, undecided, missing, size, damaged = [], 0, 0, 0, 0, 0, 0
+    for path in sweeps:
+        try:
+            d = describe(path)
+        except InputError as exc:
+            lines.append((path.name, "unreadable", "-", "-", "-", str(exc)))
+            continue
+        done, total, undecided = done + d["done"], total + d["total"], undecided + d["undecided"]
+        missing, size, damaged = (
+            missing + d["chunks_missing"],
+            size + d["bytes"],
+            damaged + len(d["damaged"]),
+        )
+        note = "being written now" if d["writer"] else ""
+        note = f"{len(d['damaged'])} damaged parts" if d["damaged"] else note
+        lines.append(
+            (
+                path.name,
+                _kind(d["spec"]),
+                f"{d['done']} / {d['total']}",
+                str(d["undecided"]),
+                str(d["chunks_missing"]),
+                note,
+            )
+        )
+    reports = [name for name in ("report.md", "report.html") if (root / name).is_file()]
+    written = f"{' and '.join(reports)} written" if reports else "no report yet"
+    print(f"{root}: the output of reproduce, {len(sweeps)} sweeps under studies/, {written}")
+    print(f"  samples   {done} of {total} done ({undecided} undecided); {missing} chunks missing")
+    print(
+        f"  stored    {format_bytes(size)}"
+        + (f", {damaged} damaged parts (a re-run redoes them)" if damaged else "")
+    )
+    head = ("sweep", "mode", "done / asked", "undecided", "chunks missing", "")
+    shown = [head, *lines[:max_rows]]
+    widths = [max(len(row[i]) for row in shown) for i in range(len(head))]
+    for row in shown:
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip())
+    if len(lines) > max_rows:
+        more = len(lines) - max_rows
+        print(f"... {more} more {'sweep' if more == 1 else 'sweeps'} (--rows to show them)")
     return 0

@@ -33,7 +33,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .. import interrupts
-from ..errors import TensegrityError
+from ..errors import InputError, TensegrityError
 from . import info as info_cli
 from . import reproduce as reproduce_cli
 from . import sweep as sweep_cli
@@ -47,7 +47,12 @@ def _add_sample(sub) -> None:
         description="Draw a random strained lattice sample and save it as .npz.",
     )
     p.add_argument("out", help="output file (.npz)")
-    p.add_argument("--n", type=int, default=16, help="linear size: n x n nodes (default 16)")
+    p.add_argument(
+        "--n",
+        type=int,
+        default=16,
+        help="linear size: n x n nodes, n^3 nodes with --lattice fcc (default 16)",
+    )
     p.add_argument("--delta", type=float, default=None, help="node disorder (default 0.2)")
     p.add_argument("--p-r", type=float, required=True, help="rod probability")
     p.add_argument(
@@ -62,7 +67,10 @@ def _add_sample(sub) -> None:
         help="strain type: angle or dilation|shear|compression (default shear)",
     )
     p.add_argument(
-        "--theta", type=float, default=0.0, help="principal-axis angle in radians (default 0)"
+        "--theta",
+        type=float,
+        default=None,
+        help="principal-axis angle in radians (default 0); 2D lattices only",
     )
     p.add_argument("--gamma", type=float, default=1.0, help="strain magnitude (default 1)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -97,6 +105,11 @@ def _cmd_sample(args) -> int:
     from ..model.io import save_instance
 
     check_out(args.out, "the output file")
+    if args.theta is not None and args.lattice == "fcc":
+        raise InputError(
+            "--theta sets the principal axes of a 2D strain; with --lattice fcc the axes are "
+            "the coordinate axes: leave --theta out"
+        )
     from ..model.lattice import DEFAULT_DELTA
     from ..model.network import Element
     from ..model.sampling import lattice_instance
@@ -107,7 +120,7 @@ def _cmd_sample(args) -> int:
         args.p_t,
         args.f_c,
         phi=args.phi,
-        theta=args.theta,
+        theta=0.0 if args.theta is None else args.theta,
         gamma=args.gamma,
         delta=DEFAULT_DELTA if args.delta is None else args.delta,
         seed=args.seed,
@@ -141,17 +154,7 @@ def _cmd_solve(args) -> int:
         }
         print(json.dumps(safe, indent=2, allow_nan=False))
     else:
-        # the other kind's best candidate failed its certificate: say so beside its numbers
-        rejected = {
-            "rigid": ("violation", "displacement_size"),
-            "floppy": ("work", "force_residual"),
-            "undecided": ("work", "force_residual", "violation", "displacement_size"),
-        }[result.status]
-        width = max(map(len, summary))
-        for key, value in summary.items():
-            shown = f"{value:.6g}" if isinstance(value, float) else value
-            note = "  (best candidate, rejected)" if key in rejected else ""
-            print(f"{key:<{width}}  {shown}{note}")
+        print(solve_text(result))
     if args.plot is not None:
         from ..paper.plotting import plot_solution
 
@@ -160,10 +163,75 @@ def _cmd_solve(args) -> int:
     return 0
 
 
+def _g(x: float) -> str:
+    return f"{x:.6g}" if math.isfinite(x) else "none"
+
+
+def solve_text(result) -> str:
+    """``solve``'s text form: the verdict, the certificate that decided it, then the other
+    side's best candidate, named as such (a rigid sample has no floppy certificate, so its
+    best displacement is rejected by construction, and the other way round).
+
+    Energies are in units of stiffness x length^2 and displacements in the positions' units:
+    with unit stiffness, a lattice constant 1 and strain magnitude gamma, E scales as gamma^2
+    and u as gamma.
+    """
+    stress = f"work {_g(result.work)}, force residual {_g(result.force_residual)}"
+    if not math.isfinite(result.force_residual):
+        stress = "none found"
+    shift = f"violation {_g(result.violation)}, size {_g(result.displacement_size)}"
+    if not math.isfinite(result.violation):
+        shift = "none found"
+    status = result.status
+    lines = [("status", status + (f" ({result.reason})" if result.reason else ""))]
+    if status == "rigid":
+        lines.append(("certificate", f"self-stress from the {result.method} stage: {stress}"))
+        if math.isfinite(result.violation):
+            shift += " (the best displacement found, rejected: the sample is rigid)"
+        lines.append(("floppy candidate", shift))
+    elif status == "floppy":
+        lines.append(("certificate", f"displacement from the {result.method} stage: {shift}"))
+        if math.isfinite(result.force_residual):
+            stress += " (the best self-stress found, rejected: the sample is floppy)"
+        lines.append(("rigid candidate", stress))
+    else:
+        lines += [
+            ("certificate", "none accepted (see message)"),
+            ("rigid candidate", stress),
+            ("floppy candidate", shift),
+        ]
+    displacements = (
+        "minimum-norm, certified" if result.min_norm_ok else "not certified minimum-norm"
+    )
+    lines += [
+        ("energy", f"{_g(result.energy)} (certified lower bound {_g(result.energy_lower)})"),
+        ("affine_energy", _g(result.affine_energy)),
+        ("displacements", displacements),
+        (
+            "work spent",
+            f"{result.iterations} Newton iterations, {result.factorizations} "
+            f"factorizations, {result.seconds:.3g} s",
+        ),
+    ]
+    if result.message:
+        lines.append(("message", result.message))
+    width = max(len(key) for key, _ in lines)
+    return "\n".join(f"{key:<{width}}  {value}" for key, value in lines)
+
+
 def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every command. It imports no numerical library (each command
+    imports what it needs when it runs), so that ``--help`` answers at once."""
+    import tensegrity_rigidity
+
     parser = argparse.ArgumentParser(
         prog="tensegrity-rigidity",
         description="Exact rigidity of random periodic tensegrity networks.",
+    )
+    parser.add_argument(
+        "--version",
+        action="version",
+        version=f"tensegrity-rigidity {tensegrity_rigidity.__version__}",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_sample(sub)
@@ -195,14 +263,31 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 _START_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
-def _preload() -> None:
-    """Import the numerical stack (run while :data:`_START_SIGNALS` are blocked).
+#: what each command imports before it runs (modules of this package, relative to it)
+_PRELOAD = {
+    "sample": (".model.io", ".model.sampling"),
+    "solve": (".model.io", ".solver.core"),
+    "info": (".ensemble.sweep",),
+    "sweep": (".ensemble.sweep", ".solver.core"),
+    "reproduce": (".paper.reproduce",),
+}
+
+
+def _preload(args: argparse.Namespace) -> None:
+    """Import what the command needs (run while :data:`_START_SIGNALS` are blocked).
 
     A signal that lands inside a C extension's initialisation comes out as a ``SystemError``
-    with a traceback, not as an interrupt; blocked, it waits until the imports are done.
+    with a traceback, not as an interrupt; blocked, it waits until the imports are done. Only
+    the command's own modules are imported: ``solve`` needs neither pandas nor matplotlib
+    (unless it plots).
     """
-    from ..ensemble import sweep  # noqa: F401 (NumPy, SciPy, pandas, pyarrow)
-    from ..solver import core  # noqa: F401 (the LP and factorisation libraries)
+    import importlib
+
+    modules = list(_PRELOAD.get(args.command, ()))
+    if getattr(args, "plot", None) is not None:
+        modules.append(".paper.plotting")
+    for name in modules:
+        importlib.import_module(name, __name__.partition(".")[0])
 
 
 def _interrupt_behind(exc: BaseException) -> BaseException | None:
@@ -234,7 +319,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         try:
             args = build_parser().parse_args(argv)
             handler = getattr(args, "handler", None) or COMMANDS[args.command]
-            _preload()
+            _preload(args)
         finally:
             if start_mask is not None:  # delivers a signal that arrived meanwhile
                 signal.pthread_sigmask(signal.SIG_SETMASK, start_mask)

@@ -6,7 +6,7 @@ from .common import check_out, interrupt_status
 
 
 def add_parser(sub) -> None:
-    from ..paper.reproduce import EXPECTED
+    from ..paper.run_times import EXPECTED
 
     p = sub.add_parser(
         "reproduce",
@@ -26,7 +26,9 @@ def add_parser(sub) -> None:
     p.add_argument("--out", default=None, help="output directory (required unless --estimate)")
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address")
-    p.add_argument("--no-progress", action="store_true", help="no progress bars")
+    p.add_argument(
+        "--no-progress", action="store_true", help="no progress bar (one line per study instead)"
+    )
     p.add_argument(
         "--evidence",
         default=None,

@@ -16,7 +16,9 @@ def add_parser(sub) -> None:
         "larger spec (more samples, more grid values) into the same directory computes only "
         "what is new. One sweep at a time may write a directory.",
     )
-    p.add_argument("spec", help="TOML spec file (see tensegrity_rigidity.ensemble.spec)")
+    p.add_argument(
+        "spec", help="TOML spec file (examples/sweep.toml; docs/guide/sweeps.md lists its keys)"
+    )
     p.add_argument("--out", required=True, help="results directory")
     p.add_argument(
         "--workers",

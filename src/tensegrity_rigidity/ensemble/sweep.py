@@ -18,6 +18,7 @@ import os
 import shutil
 import sys
 import time
+from collections.abc import Callable
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,6 +39,7 @@ from .executors import open_pool
 from .runner import run_chunk
 from .spec import GridPoint, Spec, load_spec
 from .store import ResultStore, load_source
+from .summary import phi_name
 
 #: memory of one row in a loaded frame (25 columns; measured 218 bytes)
 ROW_MEMORY_BYTES = 300
@@ -316,12 +318,25 @@ def _failure_message(failed: list, n_chunks: int, saved: int, root: Path) -> str
     )
 
 
+class _Advance:
+    """A progress bar's ``update`` and ``close`` that report to a caller's function instead."""
+
+    def __init__(self, report: Callable[[Path, int], object], out: Path) -> None:
+        self.report, self.out = report, out
+
+    def update(self, samples: int) -> None:
+        self.report(self.out, samples)
+
+    def close(self) -> None:
+        pass
+
+
 def run_sweep(
     spec: Spec | str | os.PathLike,
     out: str | os.PathLike,
     executor: Any = None,
     scheduler: str | None = None,
-    progress: bool | None = None,
+    progress: bool | Callable[[Path, int], object] | None = None,
     wait_for_workers: float = 60.0,
 ) -> SweepReport:
     """Run (or resume, or grow) a sweep into the directory ``out``.
@@ -339,8 +354,10 @@ def run_sweep(
         "serial" in this process, or an executor or Dask client of your own (not shut down).
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://host:8786``), instead of ``executor``.
-    progress : bool, optional
-        Show a progress bar (default: when stderr is a terminal).
+    progress : bool or callable, optional
+        Show a progress bar (default: when stderr is a terminal). A callable replaces the bar:
+        it is called as ``progress(out, samples)`` each time a chunk of ``samples`` samples is
+        saved (one bar over many sweeps, as ``reproduce`` shows).
     wait_for_workers : float
         Seconds to wait for a first worker of a Dask scheduler that has none.
 
@@ -377,14 +394,17 @@ def run_sweep(
         if not todo:
             return SweepReport(total, reused, 0, 0)
         check_disk(store.root, total - reused, len(todo))
-        show = sys.stderr.isatty() if progress is None else progress
-        bar = tqdm(
-            total=total - reused,
-            unit="sample",
-            disable=not show,
-            dynamic_ncols=True,
-            desc=f"sweep {os.fspath(out)}",
-        )
+        if callable(progress):
+            bar: Any = _Advance(progress, Path(out))
+        else:
+            show = sys.stderr.isatty() if progress is None else progress
+            bar = tqdm(
+                total=total - reused,
+                unit="sample",
+                disable=not show,
+                dynamic_ncols=True,
+                desc=f"sweep {os.fspath(out)}",
+            )
         done_chunks = done_samples = 0
         failed: list[tuple[tuple[GridPoint, list[int]], BaseException]] = []
 
@@ -458,7 +478,8 @@ def load_results(
     Returns
     -------
     pandas.DataFrame
-        One row per sample (empty when there are none).
+        One row per sample (empty when there are none). Beside ``phi`` (radians), ``strain``
+        names it: "dilation", "shear", "compression", or the angle to 4 digits.
 
     Raises
     ------
@@ -476,7 +497,10 @@ def load_results(
         if spec is not None:
             df = store.rows_of(spec, df)
     keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed", "sample") if c in df]
-    return df.sort_values(keys, kind="stable").reset_index(drop=True)
+    df = df.sort_values(keys, kind="stable").reset_index(drop=True)
+    if "phi" in df and "strain" not in df:  # derived on reading: the stored parts are unchanged
+        df.insert(df.columns.get_loc("phi") + 1, "strain", df["phi"].map(phi_name))
+    return df
 
 
 def describe(out: str | os.PathLike) -> dict:

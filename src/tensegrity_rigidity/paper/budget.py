@@ -426,7 +426,7 @@ def estimate(
         if name not in STUDIES:
             raise InputError(f"unknown study {name!r}; choose from {', '.join(STUDIES)}")
         if name not in SWEEPS or name not in ANALYSIS_SECONDS:
-            raise InputError(f"study {name!r} has no work model in paper.budget")
+            raise InputError(f"study {name!r} has no work model: its run time cannot be estimated")
     planned: dict[str, set] = {}
     sweeps, serial, notes = [], {}, []
     for study in names:
@@ -451,7 +451,7 @@ def estimate(
                 pk = spec.point_key(point)
                 done.update((pk, k, spec.angle(k)) for k in ks)
             n = max(spec.grid["n"])
-            note = f"the {mode} cost at n = {n} is extrapolated in n (paper.budget)"
+            note = f"the {mode} cost at n = {n} is extrapolated in n from the measured sizes"
             if ext and note not in notes:
                 notes.append(note)
             sweeps.append(
@@ -574,8 +574,8 @@ def describe(est: Estimate, errors: pd.DataFrame | None = None) -> str:
     """The estimate as printed by ``reproduce --estimate``: counts, times, error bars."""
     lines = [
         f"scale {est.scale} on {est.workers} worker(s): estimated {est.wall_seconds / 60:.0f} "
-        f"min wall ({est.cpu_seconds / 60:.0f} CPU min); an estimate from per-sample costs "
-        "(paper.budget), not a measurement",
+        f"min wall ({est.cpu_seconds / 60:.0f} CPU min); an estimate from measured per-sample "
+        "costs, not a measurement of this run",
     ]
     if est.budget_minutes is not None and est.workers == 2:
         verdict = "OVER BUDGET" if est.over_budget else "within"

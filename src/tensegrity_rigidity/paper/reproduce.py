@@ -15,30 +15,11 @@ from ..ensemble.executors import local_workers
 from ..errors import InputError
 from .budget import estimate
 from .figures import all_figures
+from .progress import OverallProgress
 from .registry import STUDIES
 from .report import write_report
+from .run_times import EXPECTED  # noqa: F401 (re-exported: each scale's run time)
 from .studies import SCALES, STORED
-
-#: wall times of each scale on 2 cores of the reference machine: measured where stated, else the
-#: estimate of :mod:`~tensegrity_rigidity.paper.budget` (``reproduce --estimate``; the tests keep
-#: the two in step) until someone times a run
-EXPECTED = {
-    "tiny": "about a minute",
-    "quick": "8 min 33 s measured from a clean clone at fe7943b, install included "
-    "(estimated 8 minutes)",
-    "paper": "33 min 12 s measured from a clean clone at ef3ed37 (estimated 33 minutes)",
-    "fss": "97 minutes measured in one run at 13780ee, energy grids included (estimated 119 "
-    "minutes); resumable: re-run to continue",
-    "pc": "the rods-only study by the pebble game (n = 32 to 512; p_c, nu, fractal dimensions): "
-    "7 minutes measured on 2 idle cores (estimated 19 minutes)",
-    "3d": "beyond the paper, the disordered FCC lattice in 3D (n = 4 to 10, rods-only "
-    "thresholds to 12): 74 minutes measured in three invocations beside other runs (load 10 to "
-    "20 on 2 cores; estimated 29 minutes)",
-    "tiny-3d": "the 3D study at n = 2, 3, 4 with a few samples: about 15 seconds",
-    "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 62 CPU hours "
-    "(--estimate --workers N gives the wall time on N workers)",
-}
-
 
 #: the studies ``evidence`` reads from a finished finite-size run
 EVIDENCE_STUDIES = ("fss", "delta")
@@ -106,7 +87,8 @@ def reproduce(
     scheduler : str, optional
         Address of a running Dask scheduler, instead of local processes.
     progress : bool, optional
-        Progress bars (default: when stderr is a terminal).
+        One progress bar over all studies, with the time left (default: when stderr is a
+        terminal); without it, one line per study.
     studies : list of str, optional
         Run only these studies (names of :data:`~tensegrity_rigidity.paper.registry.STUDIES`)
         instead of the scale's.
@@ -146,24 +128,37 @@ def reproduce(
         )
     found = read_evidence(evidence) if evidence is not None else None
     local = workers is None or workers == "serial" or isinstance(workers, int)
+    w = 1  # on a Dask cluster the bar needs only the work, not the worker count
     if scheduler is None and local:
         w = 1 if workers == "serial" else local_workers(workers)
         if isinstance(workers, int):
             workers = w  # capped once at the usable cores (one warning), not per study
-        est = estimate(sc, w, names)
+    est = estimate(sc, w, names, out=out)
+    if scheduler is None and local:
         print(
-            f"scale {scale}: estimated {est.wall_seconds / 60:.0f} min for all of it on {w} "
-            "worker(s) (paper.budget; stored samples are reused)",
+            f"scale {scale}: estimated {est.wall_seconds / 60:.0f} min on {w} worker(s) for the "
+            "samples not stored yet (from per-sample costs, not a measurement)",
             file=sys.stderr,
             flush=True,
         )
-    for i, name in enumerate(names, 1):
-        print(f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True)
-        start = time.perf_counter()
-        results[name] = STUDIES[name](
-            out, sc, workers=workers, scheduler=scheduler, progress=progress
-        )
-        timings[name] = time.perf_counter() - start
+    show = sys.stderr.isatty() if progress is None else bool(progress)
+    bar = OverallProgress(est, show)  # one bar with the time left, not one per sweep
+    try:
+        for i, name in enumerate(names, 1):
+            if show:
+                bar.study(i, len(names), name)
+            else:
+                print(
+                    f"[{i}/{len(names)}] study {name} (scale {scale})", file=sys.stderr, flush=True
+                )
+            start = time.perf_counter()
+            results[name] = STUDIES[name](
+                out, sc, workers=workers, scheduler=scheduler, progress=bar if show else False
+            )
+            timings[name] = time.perf_counter() - start
+            bar.study_done(name)
+    finally:
+        bar.close()
     if found is not None:
         print(
             f"read the finite-size evidence of --scale {found[0]} in {evidence}",

@@ -41,6 +41,21 @@ class Resolution:
     displacement: float = 1e8
 
 
+def short_repr(obj, fields: list[tuple[str, object]]) -> str:
+    """``Name(field=value, ...)`` with arrays shown by shape and dtype only (a repr of a few
+    lines instead of every tension and displacement), floats to 6 digits."""
+
+    def show(value: object) -> str:
+        if isinstance(value, np.ndarray):
+            return f"<{value.shape} {value.dtype} array>"
+        if isinstance(value, (float, np.floating)):
+            return f"{float(value):.6g}"
+        return repr(value)
+
+    inner = ", ".join(f"{name}={show(value)}" for name, value in fields)
+    return f"{type(obj).__name__}({inner})"
+
+
 @dataclass(frozen=True)
 class FloppyCertificate:
     """A displacement checked against the resolution model.
@@ -61,6 +76,11 @@ class FloppyCertificate:
     violation: float
     size: float
     accepted: bool
+
+    def __repr__(self) -> str:
+        return short_repr(
+            self, [(k, getattr(self, k)) for k in ("accepted", "violation", "size", "u")]
+        )
 
 
 @dataclass(frozen=True)
@@ -83,6 +103,11 @@ class RigidCertificate:
     work: float
     residual: float
     accepted: bool
+
+    def __repr__(self) -> str:
+        return short_repr(
+            self, [(k, getattr(self, k)) for k in ("accepted", "work", "residual", "t")]
+        )
 
 
 def _two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -21,7 +21,7 @@ from ..errors import InputError, UndecidedWarning
 from ..model.limits import check_energy_scale
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
 from ..model.network import Instance
-from .certificates import FloppyCertificate, RigidCertificate, undecided_reason
+from .certificates import FloppyCertificate, RigidCertificate, short_repr, undecided_reason
 from .displacements import MinimumNorm, minimum_norm
 from .linalg import one_blas_thread
 from .options import SolverOptions
@@ -71,6 +71,16 @@ class Verdict:
     def decided(self) -> bool:
         """Whether a certificate was accepted (False within resolution of the boundary)."""
         return self.status != "undecided"
+
+    def __repr__(self) -> str:
+        """Status, stage, the two certificates (arrays by shape), work spent; a few lines."""
+        head = short_repr(self, [(k, getattr(self, k)) for k in ("status", "stage", "reason")])
+        rest = [f"    rigid={self.rigid!r}", f"    floppy={self.floppy!r}"]
+        rest.append(
+            f"    scale={self.scale:.6g}, factorizations={self.factorizations}, "
+            f"iterations={self.iterations}, message={self.message!r}"
+        )
+        return head[:-1] + ",\n" + ",\n".join(rest) + ")"
 
 
 @dataclass(frozen=True)
@@ -149,6 +159,23 @@ class SolveResult:
     def status(self) -> str:
         """ "rigid", "floppy" or "undecided"."""
         return "undecided" if not self.decided else ("rigid" if self.rigid else "floppy")
+
+    def __repr__(self) -> str:
+        """Verdict, energies, certificate residuals, work spent and the arrays' shapes (the
+        arrays themselves are attributes); a few lines instead of every tension."""
+        groups = [
+            ("status", "method", "reason"),
+            ("energy", "energy_lower", "affine_energy"),
+            ("work", "force_residual", "violation", "displacement_size"),
+            ("min_norm_ok", "iterations", "factorizations", "seconds"),
+            ("tensions", "displacements", "extensions"),
+        ]
+        lines = [short_repr(self, [(k, getattr(self, k)) for k in g])[:-1] for g in groups]
+        name = type(self).__name__ + "("
+        body = [lines[0]] + ["    " + line[len(name) :] for line in lines[1:]]
+        if self.message:
+            body.append(f"    message={self.message!r}")
+        return ",\n".join(body) + ")"
 
     def summary(self) -> dict:
         """Scalars of the result as a JSON-ready dict.
