@@ -678,11 +678,12 @@ def _search(s: _System, n_nodes: int, opts: JammingOptions):
     lam, v, lu, mu = _smallest_eigen(G, opts.eigen_iterations)
     x = np.zeros(s.n_cols)
     x[s.keep] = v
-    if offer(x):
-        return None, best, "", ""
+    y_ld = None if y is None else _project_stress(s, y, lu)
+    if offer(x):  # a flex; the forces still say whether some motion opens a contact
+        forces = None if y_ld is None else _jammed_certificate(s, y_ld, -math.inf, tau)
+        return forces, best, "", ""
     cert = None
-    if y is not None and np.isfinite(lam) and lam > 0:
-        y_ld = _project_stress(s, y, lu)
+    if y_ld is not None and np.isfinite(lam) and lam > 0:
         sigma = -math.inf
         for fraction in (0.5, 0.125):
             bound = _certified_lambda(G, G_ld, fraction * lam, gram_err)
