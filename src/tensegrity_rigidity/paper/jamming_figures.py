@@ -24,8 +24,10 @@ def plot_packing(
     path: str | os.PathLike | None = None,
     ax=None,
 ):
-    """Draw a 2D packing: disks (rattlers hollow and grey), contacts as lines whose width is the
-    certificate's contact force (red: compressed), across the periodic boundary as well.
+    """Draw a 2D packing: disks (rattlers hollow), contacts as lines whose width is the
+    certificate's contact force, across the periodic boundary as well. The forces are the
+    certificate's (the self-stress that maximises the smallest force); on an isostatic backbone
+    they are the packing's contact forces, on a hyperstatic one one admissible set of them.
 
     Parameters
     ----------
