@@ -15,6 +15,7 @@ PAGES = [
     "docs/guide/thresholds.md",
     "docs/guide/three-dimensions.md",
     "docs/guide/rigid-clusters.md",
+    "docs/guide/packings.md",
 ]
 
 

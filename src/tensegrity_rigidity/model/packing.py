@@ -25,6 +25,15 @@ from scipy.spatial import cKDTree
 from ..errors import InputError
 from .network import Element, PeriodicNetwork, _as_float_array
 
+__all__ = [
+    "CRYSTALS",
+    "DEFAULT_CONTACT_TOLERANCE",
+    "Packing",
+    "contact_network",
+    "crystal_packing",
+    "packing_fraction",
+]
+
 #: Default contact tolerance, in units of the mean diameter: gaps up to it count as contacts. Far
 #: above the round-off of a crystal's exact contacts (about 1e-16) and far below any real gap.
 DEFAULT_CONTACT_TOLERANCE = 1e-9

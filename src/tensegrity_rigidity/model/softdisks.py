@@ -21,6 +21,18 @@ from scipy.spatial import cKDTree
 from ..errors import InputError
 from .packing import Packing
 
+__all__ = [
+    "DIAMETER_RATIO",
+    "FIRE",
+    "GRADIENT_TOL",
+    "SoftPacking",
+    "bidisperse_radii",
+    "box_side",
+    "jammed_packing",
+    "minimise",
+    "soft_packing",
+]
+
 #: Diameter ratio of the large to the small particles (O'Hern et al. 2003).
 DIAMETER_RATIO = 1.4
 #: Largest force component at which the minimisation stops (units of the energy scale over
