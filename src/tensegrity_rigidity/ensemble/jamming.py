@@ -34,7 +34,24 @@ COLUMNS = (
 
 
 def sample_rng(seed: int, n: int, phi: float, sample: int) -> np.random.Generator:
-    """The generator of one sample: a function of ``(seed, n, phi, sample)`` only."""
+    """The generator of one sample: a function of ``(seed, n, phi, sample)`` only.
+
+    Parameters
+    ----------
+    seed : int
+        Root seed of the study.
+    n : int
+        Particles.
+    phi : float
+        Packing fraction (rounded to 1e-6).
+    sample : int
+        Sample index.
+
+    Returns
+    -------
+    numpy.random.Generator
+        ``default_rng([seed, n, round(phi 1e6), sample])``.
+    """
     return np.random.default_rng([int(seed), int(n), int(round(phi * 1e6)), int(sample)])
 
 
@@ -48,6 +65,23 @@ def jamming_row(
     options: JammingOptions | None = None,
 ) -> dict:
     """Draw, minimise and test one packing.
+
+    Parameters
+    ----------
+    n : int
+        Particles.
+    phi : float
+        Packing fraction.
+    sample : int
+        Sample index.
+    seed : int
+        Root seed (:func:`sample_rng`).
+    dim : int
+        2 or 3.
+    ratio : float
+        Diameter ratio.
+    options : JammingOptions, optional
+        The tests' resolution.
 
     Returns
     -------
@@ -138,9 +172,14 @@ def jamming_samples(
 
 
 def load_costs() -> dict:
-    """The per-sample cost model measured by ``benchmarks/bench_jamming.py``: for the packing and
-    for the two tests, ``seconds = a N^b`` per dimension (``{"2": {"packing": [a, b], ...}}``),
-    with the machine and date it was measured on."""
+    """The per-sample cost model measured by ``benchmarks/bench_jamming.py``.
+
+    Returns
+    -------
+    dict
+        Per dimension, for the packing and for the two tests, ``seconds = a N^b`` (``{"2":
+        {"packing": [a, b], "tests": [a, b]}, ...}``), and ``measured``: where and when.
+    """
     text = resources.files("tensegrity_rigidity.ensemble").joinpath("data/jamming_costs.json")
     return json.loads(text.read_text())
 
@@ -183,5 +222,11 @@ def estimate_cost(sizes, phis, samples: int, dim: int = 2, workers: int = 1) -> 
 
 
 def default_workers() -> int:
-    """Processes to use: the CPUs this process may run on."""
+    """Processes to use.
+
+    Returns
+    -------
+    int
+        The CPUs this process may run on.
+    """
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1

@@ -155,6 +155,11 @@ def write_gsd(path: str | os.PathLike, packing: Packing) -> None:
 def network_to_networkx(network: PeriodicNetwork):
     """The network as a ``networkx.MultiDiGraph``.
 
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        ``N`` nodes, ``m`` bond sites.
+
     Returns
     -------
     networkx.MultiDiGraph

@@ -84,12 +84,30 @@ class Packing:
         return packing_fraction(self.radii, self.box)
 
     def contact_network(self, tolerance: float = DEFAULT_CONTACT_TOLERANCE) -> PeriodicNetwork:
-        """The contacts as a network of struts (:func:`contact_network`)."""
+        """The contacts as a network of struts (:func:`contact_network`).
+
+        Parameters
+        ----------
+        tolerance : float
+            Largest gap of a contact, in units of the mean diameter.
+
+        Returns
+        -------
+        PeriodicNetwork
+            One strut per contact (and per periodic image of a pair).
+        """
         return contact_network(self.positions, self.radii, self.box, tolerance=tolerance)
 
 
 def packing_fraction(radii, box) -> float:
-    """Packing fraction of particles with ``radii`` (N,) in a box (d, d).
+    """Packing fraction of particles with ``radii`` in a box.
+
+    Parameters
+    ----------
+    radii : (N,) float
+        Radii.
+    box : (d, d) float
+        Lattice vectors as rows.
 
     Returns
     -------

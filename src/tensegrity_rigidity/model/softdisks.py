@@ -66,13 +66,41 @@ class SoftPacking:
 
 
 def bidisperse_radii(n: int, ratio: float = DIAMETER_RATIO) -> np.ndarray:
-    """Radii (n,) of ``n // 2`` small (diameter 1) then ``n - n // 2`` large particles."""
+    """Radii of ``n // 2`` small (diameter 1) then ``n - n // 2`` large particles.
+
+    Parameters
+    ----------
+    n : int
+        Particles.
+    ratio : float
+        Diameter ratio of large to small.
+
+    Returns
+    -------
+    (n,) float
+        The radii.
+    """
     small = n // 2
     return np.r_[np.full(small, 0.5), np.full(n - small, 0.5 * ratio)]
 
 
 def box_side(radii: np.ndarray, phi: float, dim: int) -> float:
-    """Side of the cubic box in which particles of ``radii`` (N,) fill the fraction ``phi``."""
+    """Side of the cubic box in which particles of ``radii`` fill the fraction ``phi``.
+
+    Parameters
+    ----------
+    radii : (N,) float
+        Radii.
+    phi : float
+        Packing fraction.
+    dim : int
+        2 or 3.
+
+    Returns
+    -------
+    float
+        The side ``L`` with ``sum v(a_i) = phi L^d``.
+    """
     volume = np.pi * radii**2 if dim == 2 else 4.0 * np.pi * radii**3 / 3.0
     return float((volume.sum() / phi) ** (1.0 / dim))
 
@@ -134,6 +162,17 @@ def minimise(
 ) -> tuple[np.ndarray, float, float, int]:
     """Minimise the overlap energy from ``positions`` (N, d) in a cubic box of ``side`` by FIRE,
     until every force component is below :data:`GRADIENT_TOL` or after ``max_steps`` steps.
+
+    Parameters
+    ----------
+    positions : (N, d) float
+        Start.
+    radii : (N,) float
+        Radii.
+    side : float
+        Side of the cubic box.
+    max_steps : int
+        Most FIRE steps.
 
     Returns
     -------

@@ -31,6 +31,7 @@ import scipy.sparse.linalg as spla
 from ..errors import InputError
 from ..model.network import Element, PeriodicNetwork
 from .certificates import EPS, WITHIN_RESOLUTION, bond_vectors
+from .linalg import one_blas_thread
 
 #: The jamming categories of Torquato and Stillinger, weakest first.
 KINDS = ("local", "collective", "strict")
@@ -157,6 +158,8 @@ class JammingResult:
         Why (undecided, or every particle a rattler).
     dim : int
         Dimension d.
+    n_sites : int
+        Sites ``m`` of the tested network.
     """
 
     status: str
@@ -205,8 +208,14 @@ class JammingResult:
         return 2.0 * self.excess_contacts / n if n else math.nan
 
     def contact_forces(self) -> np.ndarray:
-        """Forces ((m,) float, >= 0) of the accepted or best jammed candidate on every site of the
-        network (zero on rattlers' contacts; ``local``: the larger of the two ends)."""
+        """Forces of the accepted or best jammed candidate on every site of the network.
+
+        Returns
+        -------
+        (m,) float
+            Non-negative forces (zero on rattlers' contacts and empty sites; ``local``: the
+            larger of the two ends); all zero without a jammed candidate.
+        """
         out = np.zeros(self.n_sites)
         c = self.jammed
         if c is not None:
@@ -219,7 +228,18 @@ class JammingResult:
 
 
 def strain_components(dim: int) -> list[tuple[int, int]]:
-    """The independent components ``(a, b)`` of a symmetric strain: the diagonal, then ``a < b``."""
+    """The independent components of a symmetric strain.
+
+    Parameters
+    ----------
+    dim : int
+        Dimension d.
+
+    Returns
+    -------
+    list of (int, int)
+        ``(a, a)`` for the diagonal, then ``(a, b)`` with ``a < b``: ``d (d + 1) / 2`` pairs.
+    """
     return [(a, a) for a in range(dim)] + [(a, b) for a in range(dim) for b in range(a + 1, dim)]
 
 
@@ -629,7 +649,8 @@ def jamming(
         why = "every particle is a rattler (fewer than d + 1 contacts, removed iteratively)"
         return replace(base, status="unjammed", message=why)
     s = _System(network, kind, backbone, nodes)
-    jammed, motion, reason, message = _search(s, network.n_nodes, opts)
+    with one_blas_thread():  # the same last bits whatever the thread settings
+        jammed, motion, reason, message = _search(s, network.n_nodes, opts)
     base = replace(base, jammed=jammed, unjamming=motion)
     if motion is not None and motion.accepted:
         return replace(base, status="unjammed", certificate=motion)
