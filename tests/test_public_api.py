@@ -44,6 +44,13 @@ NEEDED = {
     "PeriodicNetwork",
     "strain_tensor",
     "DEFAULT_DELTA",
+    "contact_network",
+    "crystal_packing",
+    "read_gsd",
+    "jamming",
+    "JammingResult",
+    "kagome_lattice",
+    "honeycomb_lattice",
 }
 
 

@@ -9,6 +9,10 @@ The top level holds what a user needs (listed in ``__all__``):
 * its verdict: :func:`solve` (the relaxed state and its certificate, a :class:`SolveResult`),
   :func:`decide` (the certified :class:`Verdict` only), :class:`SolverOptions`, and the
   nonaffinity of a solved sample (:func:`nonaffinity`);
+* packings and their jamming: :func:`contact_network` (the contacts of a periodic packing as
+  struts), :func:`crystal_packing`, :func:`read_gsd` (a GSD frame), the certified test
+  :func:`jamming` (local, collective, strict; a :class:`JammingResult`), the builders
+  :func:`kagome_lattice` and :func:`honeycomb_lattice`;
 * rods-only networks combinatorially: :func:`rigid_clusters` (a pebble game on the fixed box:
   rigid clusters, overconstrained bonds, floppy modes, strain rigidity; a
   :class:`RigidClusters`);
@@ -52,23 +56,29 @@ if TYPE_CHECKING:
         run_sweep,
     )
     from .ensemble.thresholds import Threshold, find_threshold
+    from .model.interop import read_gsd
     from .model.io import load_instance, save_instance
     from .model.lattice import (
         DEFAULT_DELTA,
+        honeycomb_lattice,
+        kagome_lattice,
         random_periodic_network,
         square_lattice,
         triangular_lattice,
     )
     from .model.network import Element, Instance, PeriodicNetwork
+    from .model.packing import contact_network, crystal_packing
     from .model.sampling import lattice_instance
     from .model.strain import strain_tensor
     from .solver.core import SolveResult, SolverOptions, Verdict, decide, solve
+    from .solver.jamming import JammingResult, jamming
 
 __all__ = [
     "DEFAULT_DELTA",
     "Element",
     "InputError",
     "Instance",
+    "JammingResult",
     "PeriodicNetwork",
     "RigidClusters",
     "SolveResult",
@@ -82,8 +92,13 @@ __all__ = [
     "Threshold",
     "UndecidedWarning",
     "Verdict",
+    "contact_network",
+    "crystal_packing",
     "decide",
     "find_threshold",
+    "honeycomb_lattice",
+    "jamming",
+    "kagome_lattice",
     "lattice_instance",
     "load_instance",
     "load_results",
@@ -91,6 +106,7 @@ __all__ = [
     "nonaffinity",
     "parse_spec",
     "random_periodic_network",
+    "read_gsd",
     "rigid_clusters",
     "run_sweep",
     "save_instance",
@@ -117,6 +133,10 @@ _LAZY = {
         ("DEFAULT_DELTA", "random_periodic_network", "square_lattice", "triangular_lattice"),
         ".model.lattice",
     ),
+    **dict.fromkeys(("kagome_lattice", "honeycomb_lattice"), ".model.lattice"),
+    **dict.fromkeys(("contact_network", "crystal_packing"), ".model.packing"),
+    "read_gsd": ".model.interop",
+    **dict.fromkeys(("JammingResult", "jamming"), ".solver.jamming"),
     **dict.fromkeys(("Element", "Instance", "PeriodicNetwork"), ".model.network"),
     "lattice_instance": ".model.sampling",
     "strain_tensor": ".model.strain",

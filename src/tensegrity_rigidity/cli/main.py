@@ -6,6 +6,7 @@
 ``tensegrity-rigidity sweep``   run a TOML parameter sweep into a Parquet dataset
 ``tensegrity-rigidity info``    say what a results directory holds
 ``tensegrity-rigidity reproduce``  run every study of the paper and write the report
+``tensegrity-rigidity jamming`` test whether a packing (GSD frame or instance file) is jammed
 
 Exit status and messages:
 
@@ -35,6 +36,7 @@ from pathlib import Path
 from .. import interrupts
 from ..errors import InputError, TensegrityError
 from . import info as info_cli
+from . import jamming as jamming_cli
 from . import reproduce as reproduce_cli
 from . import sweep as sweep_cli
 from .common import Terminated, check_out, on_sigterm
@@ -239,6 +241,7 @@ def build_parser() -> argparse.ArgumentParser:
     sweep_cli.add_parser(sub)
     info_cli.add_parser(sub)
     reproduce_cli.add_parser(sub)
+    jamming_cli.add_parser(sub)
     return parser
 
 

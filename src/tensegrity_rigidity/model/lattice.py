@@ -1,5 +1,5 @@
-"""Builders of periodic networks: the paper's triangular lattice, a square lattice, the FCC
-lattice in 3D, random networks.
+"""Builders of periodic networks: the paper's triangular lattice, a square lattice, the kagome and
+honeycomb lattices of topological mechanics, the FCC lattice in 3D, random networks.
 
 Every builder takes an explicit ``numpy.random.Generator``; nothing here touches global random
 state. Builders return networks with all bond sites *empty*; elements are placed afterwards by
@@ -233,6 +233,107 @@ def square_lattice(
     if diagonals and delta >= CROSSING_DELTA["square+diagonals"]:
         _warn_if_crossing(net, delta, "square+diagonals")
     return net
+
+
+#: Kagome lattice with nearest-neighbour distance 1: cell vectors (rows), the three nodes of a cell
+#: (fractional coordinates) and its six bonds ``(node a, node b, cell step of b)``.
+KAGOME_CELL = (
+    np.array([[2.0, 0.0], [1.0, np.sqrt(3.0)]]),
+    np.array([[0.0, 0.0], [0.5, 0.0], [0.0, 0.5]]),
+    (
+        (0, 1, (0, 0)),
+        (0, 2, (0, 0)),
+        (1, 2, (0, 0)),
+        (1, 0, (1, 0)),
+        (2, 0, (0, 1)),
+        (1, 2, (1, -1)),
+    ),
+)
+#: Honeycomb lattice with nearest-neighbour distance 1: cell vectors, two nodes, three bonds.
+HONEYCOMB_CELL = (
+    np.array([[np.sqrt(3.0), 0.0], [np.sqrt(3.0) / 2.0, 1.5]]),
+    np.array([[0.0, 0.0], [1.0 / 3.0, 1.0 / 3.0]]),
+    ((0, 1, (0, 0)), (1, 0, (1, 0)), (1, 0, (0, 1))),
+)
+
+
+def _decorated_lattice(n: int, cell, delta: float, rng) -> PeriodicNetwork:
+    """n x n cells of a lattice with a basis: node ``(c, a)`` (index ``c nb + a`` for cell
+    ``c = i n + j`` and basis node ``a`` of ``nb``), the bonds of the cell's table in turn, each
+    over every cell."""
+    n = _check_size(n)
+    delta = _check_delta(delta)
+    vectors, basis, table = cell
+    nb = len(basis)
+    coords, _, _ = _grid_bonds(n, [(0, 0)])
+    cell_index = coords @ np.array([n, 1])
+    positions = ((coords[:, None, :] + basis[None, :, :]) @ vectors).reshape(-1, 2)
+    bonds, shifts = [], []
+    for a, b, step in table:
+        moved = coords + np.asarray(step)
+        bonds.append(np.c_[cell_index * nb + a, ((moved % n) @ np.array([n, 1])) * nb + b])
+        shifts.append(moved // n)
+    if delta > 0:
+        if rng is None:
+            raise InputError("a random generator (rng) is needed when delta > 0")
+        positions = positions + rng.uniform(-delta, delta, size=positions.shape)
+    bonds_all = np.concatenate(bonds)
+    kinds = np.full(len(bonds_all), Element.EMPTY, dtype=np.int64)
+    return PeriodicNetwork(n * vectors, positions, bonds_all, np.concatenate(shifts), kinds)
+
+
+def kagome_lattice(
+    n: int, delta: float = 0.0, rng: np.random.Generator | None = None
+) -> PeriodicNetwork:
+    """The periodic kagome lattice: n x n cells of three nodes, 6 n^2 empty bond sites.
+
+    Corner-sharing triangles with nearest-neighbour distance 1 (:data:`KAGOME_CELL`: cell vectors
+    ``(2, 0)``, ``(1, sqrt 3)``), every node with four neighbours: Maxwell's count is exactly
+    balanced (``z = 2d``), the lattice of topological mechanics. Node ``a`` of cell ``(i, j)`` has
+    index ``(i n + j) 3 + a``; site ``k n^2 + c`` is bond ``k`` of the cell table in cell ``c``.
+
+    Parameters
+    ----------
+    n : int
+        Cells along each cell vector, at least 2.
+    delta : float
+        Uniform kick in ``[-delta, delta]`` per coordinate, ``0 <= delta < 0.5`` (default 0, the
+        perfect lattice; no check for crossing bonds).
+    rng : numpy.random.Generator, optional
+        Source of the kicks; required when ``delta > 0``.
+
+    Returns
+    -------
+    PeriodicNetwork
+        ``3 n^2`` nodes, ``6 n^2`` empty sites, box rows ``n (2, 0)`` and ``n (1, sqrt 3)``.
+    """
+    return _decorated_lattice(n, KAGOME_CELL, delta, rng)
+
+
+def honeycomb_lattice(
+    n: int, delta: float = 0.0, rng: np.random.Generator | None = None
+) -> PeriodicNetwork:
+    """The periodic honeycomb lattice: n x n cells of two nodes, 3 n^2 empty bond sites.
+
+    Nearest-neighbour distance 1 (:data:`HONEYCOMB_CELL`: cell vectors ``(sqrt 3, 0)``,
+    ``(sqrt 3 / 2, 3 / 2)``), three neighbours per node. Node ``a`` of cell ``(i, j)`` has index
+    ``(i n + j) 2 + a``; site ``k n^2 + c`` is bond ``k`` of the cell table in cell ``c``.
+
+    Parameters
+    ----------
+    n : int
+        Cells along each cell vector, at least 2.
+    delta : float
+        Uniform kick in ``[-delta, delta]`` per coordinate, ``0 <= delta < 0.5`` (default 0).
+    rng : numpy.random.Generator, optional
+        Source of the kicks; required when ``delta > 0``.
+
+    Returns
+    -------
+    PeriodicNetwork
+        ``2 n^2`` nodes, ``3 n^2`` empty sites.
+    """
+    return _decorated_lattice(n, HONEYCOMB_CELL, delta, rng)
 
 
 def fcc_lattice(
