@@ -313,7 +313,10 @@ def inverted_tetrahedra(net: PeriodicNetwork) -> int:
     n_nodes = net.n_nodes
     if net.dim != 3 or net.n_sites != 6 * n_nodes:
         return 0
-    d = net.bond_vectors()
+    # in units of a power of two near the box's size (exact): triple products of bonds of
+    # 1e-170 or 1e150 would under- or overflow and read as flat tetrahedra
+    _, exponent = np.frexp(float(np.abs(net.box).max()))
+    d = np.ldexp(net.bond_vectors(), -int(exponent))
     up = [d[s * n_nodes : (s + 1) * n_nodes] for s in range(3)]
     # the node x - a_s is the first node of site s ending at x
     down = []
