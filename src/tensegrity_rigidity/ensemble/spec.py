@@ -77,7 +77,8 @@ import math
 import os
 import tomllib
 import warnings
-from dataclasses import asdict, dataclass, field, fields, is_dataclass
+from dataclasses import dataclass, field, fields, is_dataclass, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -178,6 +179,9 @@ class GridPoint:
     f_c: float
     phi: float
     seed: int
+
+
+_POINT_FIELDS = tuple(f.name for f in fields(GridPoint))
 
 
 def _plain(obj: Any) -> Any:
@@ -367,10 +371,37 @@ class Spec:
         str
             24 hexadecimal digits, stored in every row as ``point_key``.
         """
-        p = asdict(point)
+        p = {name: getattr(point, name) for name in _POINT_FIELDS}
         if self.mode == "threshold":
             p["p_r"] = None  # NaN is not JSON
-        return _digest({"settings": self.settings(), "point": p})[:24]
+        # the digest of {"settings": ..., "point": p} exactly as json.dumps(..., sort_keys=True)
+        # writes it, with the settings encoded once per spec instead of once per point (a grid
+        # of 200,000 points spent 50 s here)
+        text = '{"point": ' + json.dumps(p, sort_keys=True) + ', "settings": '
+        return hashlib.sha256((text + self._settings_json + "}").encode()).hexdigest()[:24]
+
+    @cached_property
+    def _settings_json(self) -> str:
+        """:meth:`settings` as JSON with sorted keys (computed once: the spec is frozen)."""
+        return json.dumps(self.settings(), sort_keys=True)
+
+    def at(self, point: GridPoint) -> Spec:
+        """This spec with a grid of one point: what a task needs to compute a chunk there.
+
+        Parameters
+        ----------
+        point : GridPoint
+            A point of this spec's grid.
+
+        Returns
+        -------
+        Spec
+            The same settings, samples and options (so the same rows and point keys), its
+            grid lists of one value each: a task carries its chunk, not the whole grid (which
+            took 1.8 MB per task at 200,000 values of ``p_r``).
+        """
+        grid = {key: [getattr(point, key)] for key in self.grid}
+        return replace(self, grid=grid)
 
     def canonical(self) -> dict:
         """A plain, sorted description of the whole spec (JSON-ready).

@@ -280,9 +280,12 @@ def _lost_with(exc: BaseException) -> str | None:
         return "a worker process died (killed, or out of memory)"
     if name == "KilledWorker":
         return "a Dask worker died (killed, or out of memory)"
-    if name in ("CancelledError", "FutureCancelledError", "CommClosedError") or isinstance(
-        exc, cf.CancelledError
-    ):
+    if name in (
+        "CancelledError",
+        "FutureCancelledError",
+        "CommClosedError",
+        "ClosedClientError",
+    ) or isinstance(exc, cf.CancelledError):
         return "the Dask scheduler or its workers went away"
     return None
 
@@ -399,36 +402,63 @@ def run_sweep(
                 interrupted,
             )
 
-        futures: dict = {}
+        futures: dict = {}  # the tasks submitted and not yet saved (at most pool.window)
+        tasks = iter(todo)
+
+        lost: list[BaseException] = []  # why the pool can run nothing more, once it cannot
+
+        def submit_more() -> None:
+            # each task carries its grid point, not the grid: pickling the whole spec made
+            # every task as large as the grid (1.8 MB at 200,000 values of p_r)
+            while len(futures) < pool.window:
+                chunk = next(tasks, None)
+                if chunk is None:
+                    return
+                if lost:  # a worker or the scheduler is gone: the rest is not computed
+                    failed.extend((c, lost[0]) for c in [chunk, *tasks])
+                    return
+                try:
+                    futures[pool.submit(run_chunk, spec.at(chunk[0]), *chunk)] = chunk
+                except Exception as exc:  # noqa: BLE001 (a broken pool: nothing more runs)
+                    failed.extend((c, exc) for c in [chunk, *tasks])
+                    return
+
+        def save(fut, chunk: tuple[GridPoint, list[int]]) -> None:
+            nonlocal done_chunks, done_samples
+            try:
+                frame = fut.result()
+            except Exception as exc:  # noqa: BLE001 (reported below, the rest is saved)
+                failed.append((chunk, exc))
+                if _lost_with(exc) is not None:
+                    lost.append(exc)
+                interrupts.check()
+                return
+            try:
+                with interrupts.deferred():  # saved and counted, or neither
+                    store.write(frame)
+                    done_chunks += 1
+                    done_samples += len(chunk[1])
+            except OSError as exc:
+                pool.cancel(futures)
+                bar.close()
+                raise SweepFailed(
+                    f"cannot write {store.root} ({exc.strerror or exc}); "
+                    f"{total - reused - done_samples} samples not saved, the "
+                    f"{reused + done_samples} finished are kept: free space and run the "
+                    "same command again to resume",
+                    report(),
+                    exit_status=2,
+                ) from None
+            bar.update(len(chunk[1]))
+            interrupts.check()  # a SIGTERM whose exception was swallowed in a C extension
+
         try:
             pool.start(len(todo))  # local processes: at most one per chunk
-            for p, ks in todo:
-                futures[pool.submit(run_chunk, spec, p, ks)] = (p, ks)
-            for fut in pool.as_completed(list(futures)):
-                chunk = futures[fut]
-                try:
-                    frame = fut.result()
-                except Exception as exc:  # noqa: BLE001 (reported below, the rest is saved)
-                    failed.append((chunk, exc))
-                    interrupts.check()
-                    continue
-                try:
-                    store.write(frame)
-                except OSError as exc:
-                    pool.cancel(futures)
-                    bar.close()
-                    raise SweepFailed(
-                        f"cannot write {store.root} ({exc.strerror or exc}); "
-                        f"{total - reused - done_samples} samples not saved, the "
-                        f"{reused + done_samples} finished are kept: free space and run the "
-                        "same command again to resume",
-                        report(),
-                        exit_status=2,
-                    ) from None
-                done_chunks += 1
-                done_samples += len(chunk[1])
-                bar.update(len(chunk[1]))
-                interrupts.check()  # a SIGTERM whose exception was swallowed in a C extension
+            submit_more()
+            while futures:
+                for fut in pool.wait_first(list(futures)):
+                    save(fut, futures.pop(fut))
+                submit_more()
         except KeyboardInterrupt as exc:
             pool.cancel(futures)
             bar.close()
