@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..model.limits import check_memory, stage_bytes
 from ..model.network import Element, Instance, PeriodicNetwork
 from . import pebble
 
@@ -105,13 +106,16 @@ def game_arrays(network: PeriodicNetwork) -> tuple[np.ndarray, ...]:
     ------
     InputError
         When the network is not two-dimensional (generic rigidity in 3D is not a count: no
-        pebble game decides it), or too large for the kernel's packed potentials.
+        pebble game decides it), too large for the kernel's packed potentials, or for this
+        machine's memory (the measured cost per node, :mod:`~tensegrity_rigidity.model.limits`).
     """
     if network.dim != 2:
         raise InputError(
             f"the pebble game decides 2D networks; this one is {network.dim}-dimensional "
             "(use the certified verdict: decide, or find_threshold with method 'lp')"
         )
+    need = stage_bytes("clusters", network.n_nodes, dim=2)
+    check_memory(need, f"the pebble game on {network.n_nodes:,} nodes")
     shifts = network.shifts
     largest = int(np.abs(shifts).max(initial=0))
     if network.n_nodes >= pebble.MAX_NODES or largest >= pebble.MAX_SHIFT:

@@ -29,10 +29,11 @@ from tqdm.auto import tqdm
 from .. import interrupts
 from ..errors import InputError, SpecError, TensegrityError
 from ..model.limits import (
-    BUILD_BYTES_PER_NODE,
-    SOLVE_BYTES_PER_NODE,
     format_bytes,
+    lattice_dimension,
+    lattice_nodes,
     physical_memory,
+    stage_bytes,
 )
 from .executors import open_pool
 from .runner import run_chunk
@@ -167,9 +168,9 @@ def estimate(spec: Spec) -> dict:
 
     Notes
     -----
-    CPU seconds per solve follow the benchmark medians (4 ms at n = 16, 0.37 s at n = 128 on
-    the reference machine: about ``4e-3 (n / 16)^2.2``); a threshold costs about
-    ``log2(3 n^2) + 2`` solves.
+    The memory of one sample is :func:`sample_bytes`. CPU seconds per solve follow the
+    benchmark medians (4 ms at n = 16, 0.37 s at n = 128 on the reference machine: about
+    ``4e-3 (n / 16)^2.2``); a threshold costs about ``log2(3 n^2) + 2`` solves.
     """
     rows = spec.n_samples()
     n_max = max(spec.grid["n"])
@@ -183,13 +184,37 @@ def estimate(spec: Spec) -> dict:
     return {
         "rows": rows,
         "points": spec.n_points(),
-        "sample_bytes": (BUILD_BYTES_PER_NODE + SOLVE_BYTES_PER_NODE) * float(n_max) ** 2,
+        "sample_bytes": sample_bytes(spec, n_max),
         "n_max": n_max,
         "rows_bytes": ROW_MEMORY_BYTES * float(rows),
         "disk_bytes": ROW_DISK_BYTES * float(rows)
         + PART_DISK_BYTES * float(spec.n_points()) * math.ceil(spec.samples / spec.chunk_size),
         "cpu_seconds": cpu,
     }
+
+
+def sample_bytes(spec: Spec, n: int) -> float:
+    """Memory of one sample of ``spec`` at linear size ``n``: building it, then its work.
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep: its lattice fixes the nodes (``n^2``, or ``n^3`` on the FCC lattice) and
+        the measured costs (:mod:`~tensegrity_rigidity.model.limits`), its mode the work (a
+        solve, a threshold search, or the pebble game).
+    n : int
+        Linear size.
+
+    Returns
+    -------
+    float
+        Bytes.
+    """
+    work = "solve"
+    if spec.threshold is not None:
+        work = "clusters" if spec.threshold.get("method") == "pebble" else "threshold"
+    nodes = lattice_nodes(spec.lattice, n)
+    return stage_bytes("build", nodes, spec.lattice) + stage_bytes(work, nodes, spec.lattice)
 
 
 def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = None) -> dict:
@@ -220,9 +245,11 @@ def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = N
     have = worker_memory or physical_memory()
     if est["sample_bytes"] > have:
         where = "a Dask worker has" if worker_memory else "this machine has"
+        n = est["n_max"]
         raise SpecError(
-            f"n = {est['n_max']} needs about {format_bytes(est['sample_bytes'])} of memory per "
-            f"sample; {where} {format_bytes(have)}"
+            f"n = {n} needs about {format_bytes(est['sample_bytes'])} of memory per sample "
+            f"({n}^{lattice_dimension(spec.lattice)} nodes of the {spec.lattice} lattice); "
+            f"{where} {format_bytes(have)}"
         )
     ram = physical_memory()
     if est["rows_bytes"] > ram:

@@ -44,6 +44,7 @@ import numpy as np
 from ..combinatorics.clusters import SpanningCluster, spanning_cluster
 from ..errors import InputError
 from ..model.elements import check_probabilities
+from ..model.limits import check_memory, stage_bytes
 from ..model.network import Element, Instance, PeriodicNetwork
 from ..solver.certificates import NOT_RESOLVED
 from ..solver.core import SolverOptions, Verdict, decide
@@ -307,11 +308,16 @@ def find_threshold(
         uniforms, ``p_t`` or ``f_c`` that :func:`check_sample` refuses.
     """
     u, v, p_t, f_c = check_sample(network, u, v, p_t, f_c, path)
+    if method == "lp":  # (the pebble game checks its own)
+        need = stage_bytes("threshold", network.n_nodes, dim=network.dim)
+        check_memory(need, f"a threshold search on {network.n_nodes:,} nodes")
     if method == "pebble":
         return _pebble_threshold(network, u, v, p_t, f_c, path)
     if method != "lp":
         raise InputError(f"unknown threshold method {method!r}; use 'lp' or 'pebble'")
     opts = options or SolverOptions(min_norm=False)
+    if not isinstance(opts, SolverOptions):
+        raise InputError(f"options must be a SolverOptions, got {type(opts).__name__}")
     ev = EventPath(u, v, path, p_t, f_c)
     n_ev = ev.n_events
     status: dict[int, str] = {}

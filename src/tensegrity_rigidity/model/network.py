@@ -17,6 +17,7 @@ included). It is exactly what an instance file stores (see :mod:`tensegrity_rigi
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from enum import IntEnum
 
@@ -62,6 +63,118 @@ class Element(IntEnum):
     ROD = 1
     CABLE = 2
     STRUT = 3
+
+
+#: Longest value quoted in an error message (longer ones are cut, so that the message stays
+#: one short line whatever was passed: an array, a whole table).
+_SHOWN_CHARACTERS = 60
+
+
+def show(value) -> str:
+    """``repr(value)`` on one line, cut to a readable length, for an error message.
+
+    Parameters
+    ----------
+    value : object
+        Whatever was passed.
+
+    Returns
+    -------
+    str
+        Its repr with runs of white space as one space, at most about 60 characters.
+    """
+    text = " ".join(repr(value).split())
+    if len(text) > _SHOWN_CHARACTERS:
+        text = text[: _SHOWN_CHARACTERS - 3] + "..."
+    return text
+
+
+def check_real(name: str, value) -> float:
+    """A finite real number: a Python or NumPy scalar, not a bool, a string or an array.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : object
+        What was passed.
+
+    Returns
+    -------
+    float
+        The value as a float.
+
+    Raises
+    ------
+    InputError
+        One sentence naming the argument and quoting the value.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+        raise InputError(f"{name} must be a number, got {show(value)}")
+    if isinstance(value, (complex, np.complexfloating)):
+        raise InputError(f"{name} must be a real number, got {show(value)}")
+    try:
+        out = float(value)
+    except OverflowError:
+        out = math.inf
+    if not math.isfinite(out):
+        raise InputError(f"{name} must be finite, got {show(value)}")
+    return out
+
+
+def check_count(name: str, value, least: int = 0) -> int:
+    """An integer (Python or NumPy, not a bool or a float) of at least ``least``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : object
+        What was passed.
+    least : int
+        The smallest value accepted.
+
+    Returns
+    -------
+    int
+        The value.
+
+    Raises
+    ------
+    InputError
+        One sentence naming the argument and quoting the value.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{name} must be an integer, got {show(value)}")
+    if value < least:
+        raise InputError(f"{name} must be at least {least}, got {show(value)}")
+    return int(value)
+
+
+def check_generator(rng) -> np.random.Generator:
+    """A NumPy random generator.
+
+    Parameters
+    ----------
+    rng : object
+        What was passed.
+
+    Returns
+    -------
+    numpy.random.Generator
+        ``rng``.
+
+    Raises
+    ------
+    InputError
+        On anything else (a seed: wrap it, ``numpy.random.default_rng(seed)``).
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise InputError(
+            f"rng must be a numpy.random.Generator, got {show(rng)} (for a seed s, pass "
+            "numpy.random.default_rng(s))"
+        )
+    return rng
 
 
 def _as_float_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray:
