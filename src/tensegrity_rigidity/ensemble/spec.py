@@ -75,6 +75,7 @@ import itertools
 import json
 import math
 import os
+import sys
 import tomllib
 import warnings
 from dataclasses import dataclass, field, fields, is_dataclass, replace
@@ -85,7 +86,8 @@ from typing import Any
 from ..errors import InputError, SpecError
 from ..model.lattice import CROSSING_DELTA
 from ..model.limits import check_gamma
-from ..model.sampling import LATTICES
+from ..model.network import show
+from ..model.sampling import LATTICE_DIMENSIONS, LATTICES
 from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
 
@@ -94,6 +96,7 @@ FLAT_KEYS = GRID_KEYS + ("samples", "verdict")
 VERDICTS = ("exact", "paper")
 #: how threshold mode finds a sample's threshold (:func:`~.thresholds.find_threshold`)
 THRESHOLD_METHODS = ("lp", "pebble")
+THRESHOLD_PATHS = ("p_r", "total")
 SECTIONS = {
     "lattice": {"kind"},
     "strain": {"gamma", "angles"},
@@ -182,6 +185,10 @@ class GridPoint:
 
 
 _POINT_FIELDS = tuple(f.name for f in fields(GridPoint))
+#: the largest finite double: an integer beyond it is not a number a float key can hold
+_LARGEST_FLOAT = sys.float_info.max
+#: the largest integer a row stores (int64 columns)
+_LARGEST_INT = 2**63 - 1
 
 
 def _plain(obj: Any) -> Any:
@@ -445,12 +452,30 @@ def _as_list(key: str, value) -> list:
 
 def _number(key: str, value, integer: bool = False):
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SpecError(f"'{key}' must be a number, got {value!r}")
+        raise SpecError(f"'{key}' must be a number, got {show(value)}")
+    if isinstance(value, int):  # exact (TOML's are 64-bit, a dict's may be larger)
+        if integer:
+            if abs(value) > _LARGEST_INT:
+                raise SpecError(f"'{key}' must lie within 64-bit integers, got {show(value)}")
+            return value
+        if abs(value) > _LARGEST_FLOAT:
+            raise SpecError(f"'{key}' must be finite, got {show(value)}")
+        return float(value)
     if not math.isfinite(value):
-        raise SpecError(f"'{key}' must be finite, got {value!r}")
+        raise SpecError(f"'{key}' must be finite, got {show(value)}")
     if integer and value != int(value):
-        raise SpecError(f"'{key}' must be an integer, got {value!r}")
+        raise SpecError(f"'{key}' must be an integer, got {show(value)}")
+    if integer and abs(value) > _LARGEST_INT:
+        raise SpecError(f"'{key}' must lie within 64-bit integers, got {show(value)}")
     return int(value) if integer else float(value)
+
+
+def _choice(what: str, value, allowed) -> str:
+    """``value`` if it is one of the strings ``allowed``, else one line naming them."""
+    if not isinstance(value, str) or value not in allowed:
+        names = ", ".join(repr(a) for a in allowed)
+        raise SpecError(f"{what} must be one of {names}, got {show(value)}")
+    return value
 
 
 def parse_spec(data: dict) -> Spec:
@@ -503,13 +528,10 @@ def parse_spec(data: dict) -> Spec:
                 )
     threshold = None
     if "threshold" in data:
-        path = data["threshold"].get("path", "p_r")
-        if path not in ("p_r", "total"):
-            raise SpecError(f"[threshold] path must be 'p_r' or 'total', got {path!r}")
+        path = _choice("[threshold] path", data["threshold"].get("path", "p_r"), THRESHOLD_PATHS)
         threshold = {"path": path}
         method = data["threshold"].get("method", "lp")
-        if method not in THRESHOLD_METHODS:
-            raise SpecError(f"[threshold] method must be 'lp' or 'pebble', got {method!r}")
+        method = _choice("[threshold] method", method, THRESHOLD_METHODS)
         if method != "lp":  # recorded only when not the default: older specs keep their settings
             threshold["method"] = method
         if "p_r" in data:
@@ -537,9 +559,7 @@ def parse_spec(data: dict) -> Spec:
     for sd in grid["seed"]:
         if sd < 0:
             raise SpecError(f"'seed' must be a non-negative integer, got {sd}")
-    lattice = data.get("lattice", {}).get("kind", "triangular")
-    if lattice not in LATTICES:
-        raise SpecError(f"[lattice] kind must be one of {', '.join(LATTICES)}, got {lattice!r}")
+    lattice = _choice("[lattice] kind", data.get("lattice", {}).get("kind", "triangular"), LATTICES)
     for d in grid["delta"]:
         if not 0 <= d < 0.5:
             raise SpecError(f"'delta' must lie in [0, 0.5), got {d}")
@@ -570,12 +590,16 @@ def parse_spec(data: dict) -> Spec:
     except InputError as exc:
         raise SpecError(str(exc)) from None
     angles = data.get("strain", {}).get("angles", "golden")
-    if angles not in ANGLE_SEQUENCES:
-        raise SpecError(f"[strain] angles must be 'golden' or 'uniform', got {angles!r}")
+    angles = _choice("[strain] angles", angles, ANGLE_SEQUENCES)
+    if angles != "golden" and LATTICE_DIMENSIONS[lattice] == 3:
+        raise SpecError(
+            f"[strain] angles = {angles!r} sets 2D principal axes; on the {lattice} lattice "
+            "sample k's axes are sequence_rotation(k) (remove the key)"
+        )
     solver = dict(data.get("solver", {}))
     for key, value in solver.items():
         if isinstance(value, float) and not math.isfinite(value):
-            raise SpecError(f"[solver] {key} must be finite, got {value!r}")
+            raise SpecError(f"[solver] {key} must be finite, got {show(value)}")
     try:
         SolverOptions(**solver)
     except (TypeError, InputError) as exc:
@@ -592,9 +616,7 @@ def parse_spec(data: dict) -> Spec:
             UserWarning,
             stacklevel=2,
         )
-    verdict = data.get("verdict", "exact")
-    if verdict not in VERDICTS:
-        raise SpecError(f"'verdict' must be one of {', '.join(VERDICTS)}, got {verdict!r}")
+    verdict = _choice("'verdict'", data.get("verdict", "exact"), VERDICTS)
     if verdict != "exact" and threshold is not None:
         raise SpecError("verdict = 'paper' needs grid mode: remove the [threshold] section")
     return Spec(grid, samples, lattice, gamma, solver, chunk, threshold, angles, verdict)
@@ -605,7 +627,7 @@ def _check_distinct(key: str, values: list) -> None:
     seen = set()
     for v in values:
         if v in seen:
-            raise SpecError(f"'{key}' lists the value {v!r} twice; give each value once")
+            raise SpecError(f"'{key}' lists the value {show(v)} twice; give each value once")
         seen.add(v)
 
 
@@ -628,6 +650,8 @@ def load_spec(path: str | os.PathLike) -> Spec:
         If the file cannot be read, is not UTF-8 or TOML, or is not a valid spec (one
         sentence, prefixed with the path).
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise SpecError(f"a spec file's path must be a str or path, got {show(path)}")
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")

@@ -390,6 +390,11 @@ def run_sweep(
         Chunks failed or could not be saved; finished chunks are kept.
     """
     source = None
+    if not isinstance(spec, (Spec, str, os.PathLike)):
+        raise SpecError(
+            f"spec must be a Spec (parse_spec(dict)) or the path of a TOML file, got "
+            f"{type(spec).__name__}"
+        )
     if not isinstance(spec, Spec):
         source = load_source(spec)
         spec = load_spec(spec)
@@ -529,11 +534,25 @@ def load_results(
     if df.empty:
         return df
     if not all_rows:
-        spec = spec or store.recorded_spec()
+        spec = spec or _recorded_spec(store)
         if spec is not None:
             df = store.rows_of(spec, df)
     keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed", "sample") if c in df]
     return df.sort_values(keys, kind="stable").reset_index(drop=True)
+
+
+def _recorded_spec(store: ResultStore) -> Spec | None:
+    """The directory's latest spec, refused in one line when no sweep could have run it (its
+    rows could not even be listed: a ``_spec.json`` edited by hand)."""
+    spec = store.recorded_spec()
+    if spec is not None:
+        try:
+            check_size(spec, store.root)
+        except SpecError as exc:
+            raise InputError(
+                f"{store.root / '_spec.json'} asks for more than fits: {exc}"
+            ) from None
+    return spec
 
 
 def describe(out: str | os.PathLike) -> dict:
@@ -561,7 +580,7 @@ def describe(out: str | os.PathLike) -> dict:
     store = ResultStore(out)
     if not store.root.is_dir():
         raise InputError(f"{store.root}: no such results directory")
-    spec = store.recorded_spec()
+    spec = _recorded_spec(store)
     if spec is None:
         raise InputError(f"{store.root}: not a results directory (no _spec.json)")
     everything, damaged, size = store.scan()

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import InputError
 from .limits import check_memory, format_bytes
-from .network import Instance
+from .network import Instance, show
 
 REQUIRED_KEYS = ("box", "positions", "bonds", "shifts", "kinds", "strain")
 OPTIONAL_KEYS = ("stiffness",)
@@ -162,6 +162,8 @@ def load_instance(path: str | os.PathLike) -> Instance:
         If the file is missing, unreadable or corrupt, keys are missing or unknown, a member's
         header declares more data than it holds, or the arrays do not describe a valid instance.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"an instance file's path must be a str or path, got {show(path)}")
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path}: is a directory, not an instance file")
