@@ -46,7 +46,7 @@ def _add_sample(sub) -> None:
         help="write a random lattice instance (.npz)",
         description="Draw a random strained lattice sample and save it as .npz.",
     )
-    p.add_argument("out", help="output file (.npz)")
+    p.add_argument("out", help="output file (.npz; a regular file or a new name)")
     p.add_argument("--n", type=int, default=16, help="linear size: n x n nodes (default 16)")
     p.add_argument("--delta", type=float, default=None, help="node disorder (default 0.2)")
     p.add_argument("--p-r", type=float, required=True, help="rod probability")
@@ -87,16 +87,18 @@ def _add_solve(sub) -> None:
         "--plot",
         metavar="FIGURE",
         default=None,
-        help="also draw the network to FIGURE (.png, .svg, .pdf): rods solid, cables dashed, "
+        help="also draw the network to FIGURE (.png, .svg, .pdf; a regular file or a new name): "
+        "rods solid, cables dashed, "
         "struts hollow, coloured by tension (red pulls, blue pushes), line width |t|, "
         "displacements as arrows",
     )
 
 
 def _cmd_sample(args) -> int:
-    from ..model.io import save_instance
+    from ..model.io import check_output_file, save_instance
 
     check_out(args.out, "the output file")
+    check_output_file(args.out, "the output file")  # before any work: a device, a FIFO, a link
     from ..model.lattice import DEFAULT_DELTA
     from ..model.network import Element
     from ..model.sampling import lattice_instance
@@ -128,8 +130,10 @@ def _cmd_solve(args) -> int:
     from ..solver.core import solve
 
     if args.plot is not None:  # refuse a bad figure path before any work
+        from ..model.io import check_output_file
         from ..paper.plotting import check_plot_path
 
+        check_output_file(args.plot, "the figure path", "network.png")
         check_plot_path(args.plot)
     instance = load_instance(args.file)
     result = solve(instance)
@@ -153,9 +157,13 @@ def _cmd_solve(args) -> int:
             note = "  (best candidate, rejected)" if key in rejected else ""
             print(f"{key:<{width}}  {shown}{note}")
     if args.plot is not None:
+        from ..model.io import atomic_output
         from ..paper.plotting import plot_solution
 
-        plot_solution(instance, result, args.plot)
+        with atomic_output(
+            args.plot, "the figure path", "network.png"
+        ) as tmp:  # whole, or no file at all
+            plot_solution(instance, result, tmp)
         print(f"wrote {args.plot}", file=sys.stderr)
     return 0
 
