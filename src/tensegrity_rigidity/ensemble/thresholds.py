@@ -241,11 +241,11 @@ def check_sample(
     for name, value in (("u", u), ("v", v)):
         try:
             raw = np.asarray(value)
-            arr = np.array(raw, dtype=float)
         except (TypeError, ValueError):
             raise InputError(f"{name} must be an array of {m} uniforms in [0, 1)") from None
         if raw.dtype.kind not in "iuf":
             raise InputError(f"{name} must hold real numbers, got dtype {raw.dtype}")
+        arr = np.array(raw, dtype=float)
         if arr.shape != (m,):
             raise InputError(
                 f"{name} must have shape ({m},), one uniform per site of the network, "

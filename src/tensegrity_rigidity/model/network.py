@@ -236,7 +236,9 @@ def vector_norms(v: np.ndarray) -> np.ndarray:
     if v.shape[1] == 2:
         return np.hypot(v[:, 0], v[:, 1])
     v = np.asarray(v, dtype=float)
-    return norms_from_squares(v, np.einsum("bi,bi->b", v, v))
+    with np.errstate(over="ignore"):  # such rows are computed again, scaled
+        squares = np.einsum("bi,bi->b", v, v)
+    return norms_from_squares(v, squares)
 
 
 def norms_from_squares(v: np.ndarray, squares: np.ndarray) -> np.ndarray:
