@@ -10,11 +10,24 @@ again there, at the latest one chunk later. When the handler runs inside a final
 raise the exception and prints it as "Exception ignored in ...", with a traceback;
 :func:`quiet_unraisable` wraps ``sys.unraisablehook`` so that a :class:`Terminated` lost there
 is not printed (the recorded request still raises it at the next :func:`check`).
+
+A few lines must not be cut in two by an interrupt: a sweep writes a part, lists it and counts
+it; an interrupt between listing and counting made its last line say "3 samples saved" beside
+4 on disk. :func:`deferred` holds SIGINT and SIGTERM back for such a block and delivers them
+after it.
 """
 
 from __future__ import annotations
 
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 _requested = False
+
+#: the signals :func:`deferred` holds back
+_DEFERRED = (signal.SIGINT, signal.SIGTERM)
 
 
 class Terminated(KeyboardInterrupt):
@@ -59,3 +72,35 @@ def quiet_unraisable(hook):
             hook(unraisable)
 
     return quiet
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM back while the block runs; deliver them after it.
+
+    A signal that arrives inside the block is recorded; when the block ends (normally or by
+    an exception) the handlers in place before are restored and the first recorded signal is
+    passed to its handler (raising :class:`Terminated` or ``KeyboardInterrupt``), or raised
+    again when that handler is the default. Outside the main thread (where handlers cannot be
+    set) the block runs as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[signal.Signals] = []
+
+    def hold(signum, frame) -> None:
+        caught.append(signal.Signals(signum))
+
+    previous = {sig: signal.signal(sig, hold) for sig in _DEFERRED}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        if caught:
+            handler = previous[caught[0]]
+            if callable(handler):
+                handler(caught[0], None)
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(caught[0])

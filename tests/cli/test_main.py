@@ -117,17 +117,6 @@ def test_foreign_warnings_name_their_category_and_place():
     assert out.getvalue() == "warning: undecided sample: x\n"
 
 
-def test_theta_with_the_fcc_lattice_is_refused_in_one_line(tmp_path, capsys):
-    """--theta rotates a 2D strain's principal axes; on the FCC lattice it was ignored."""
-    out = tmp_path / "s.npz"
-    cmd = ["sample", str(out), "--n", "2", "--p-r", "0.5", "--lattice", "fcc", "--theta", "0.3"]
-    assert main(cmd) == 2
-    err = capsys.readouterr().err.strip()
-    assert err.startswith("error: --theta") and len(err.splitlines()) == 1
-    assert not out.exists()
-    assert main(cmd[:-2]) == 0 and out.exists()
-
-
 def test_n_help_says_n_cubed_nodes_for_fcc(capsys):
     with pytest.raises(SystemExit):
         main(["sample", "--help"])

@@ -280,3 +280,76 @@ def test_info_says_what_a_directory_holds(tmp_path, capsys):
         assert err == f"error: --rows must be at least 1, got {rows}"
     assert main(["info", str(out), "--rows", "1"]) == 0
     assert "... 3 more grid points" in capsys.readouterr().out
+
+
+# --------------------------------------------------------------------------- output paths
+
+
+def _special_nodes(tmp_path):
+    """(name, path, check it is unchanged) of nodes that are not regular files."""
+    import stat
+
+    fifo = tmp_path / "fifo.npz"
+    os.mkfifo(fifo)
+    target = tmp_path / "target.npz"
+    target.write_bytes(b"the link's target")
+    link = tmp_path / "link.npz"
+    link.symlink_to(target)
+    nodes = [
+        ("FIFO", fifo, lambda: stat.S_ISFIFO(os.lstat(fifo).st_mode)),
+        (
+            "symbolic link",
+            link,
+            lambda: link.is_symlink() and target.read_bytes() == b"the link's target",
+        ),
+    ]
+    device = tmp_path / "null.npz"
+    try:  # a character device like /dev/null (root only): never touch the real /dev
+        os.mknod(device, 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+        nodes.append(("device", device, lambda: stat.S_ISCHR(os.lstat(device).st_mode)))
+    except (PermissionError, AttributeError, OSError):
+        pass
+    return nodes
+
+
+def test_outputs_are_regular_files_only(tmp_path, capsys, instance_file):
+    """`sample /dev/full` as root replaced the device node by a regular file (and a FIFO or a
+    symbolic link too): the output is written beside the path and renamed over it. Such paths
+    are refused before any work, in one line, and left as they were."""
+    nodes = _special_nodes(tmp_path)
+    for name, path, unchanged in nodes:
+        code = main(["sample", str(path), "--n", "4", "--p-r", "0.5"])
+        err = _one_error(capsys, code)
+        assert "regular files only" in err, (name, err)
+        plot = path.with_suffix(".png")
+        os.rename(path, plot)
+        code = main(["solve", str(instance_file), "--plot", str(plot)])
+        err = _one_error(capsys, code)
+        assert "regular files only" in err and "rigid" not in capsys.readouterr().out, err
+        os.rename(plot, path)
+        assert unchanged(), name
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_a_figure_on_a_full_disk_leaves_no_file(tmp_path, capsys, instance_file, monkeypatch):
+    """`--plot` on a full disk left a 0-byte figure: now nothing, and one line."""
+    from matplotlib.figure import Figure
+
+    def full(self, fname, *args, **kwargs):
+        with open(fname, "wb") as fh:
+            fh.write(b"\x89PNG partial")  # what the disk took before it was full
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(Figure, "savefig", full)
+    figure = tmp_path / "f.png"
+    err = _one_error(capsys, main(["solve", str(instance_file), "--plot", str(figure)]))
+    assert "No space left on device" in err and str(figure) in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.npz"]
+
+
+def test_sample_refuses_a_theta_the_fcc_lattice_would_ignore(tmp_path, capsys):
+    out = tmp_path / "s.npz"
+    args = ["sample", str(out), "--n", "3", "--p-r", "0.6", "--lattice", "fcc"]
+    err = _one_error(capsys, main(args + ["--theta", "0.5"]))
+    assert "theta" in err and "ignored in 3D" in err and not out.exists()
+    assert main(args) == 0 and out.exists()

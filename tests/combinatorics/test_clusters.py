@@ -250,3 +250,27 @@ def test_labelling_can_stop_after_the_first_seeded_cluster():
     one = pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, sites, out, 1)
     np.testing.assert_array_equal(one >= 0, every == every[sites[0]])
     assert every.max() > 0  # there were others to leave out
+
+
+@pytest.mark.parametrize(
+    "order, match",
+    [
+        ([0, 1, 10**6], "out of range"),
+        ([-1, 0], "out of range"),
+        ([0, 0, 1], "twice"),
+        ([0.0, 1.0], "integer"),
+        ([[0, 1]], "1D"),
+        (["a"], "integer"),
+    ],
+)
+def test_orders_the_kernel_cannot_take_are_refused(order, match):
+    """The compiled pebble game does not check its indices: a site past the network read and
+    wrote outside its arrays. Every entry into it checks the order first."""
+    from tensegrity_rigidity.combinatorics.clusters import spanning_cluster
+
+    net = lattice_instance(4, 0.0, seed=1).network
+    for entry in (first_wrapping, spanning_cluster):
+        with pytest.raises(InputError, match=match):
+            entry(net, np.array(order))
+    with pytest.raises(InputError, match="PeriodicNetwork"):
+        first_wrapping("net", np.arange(3))

@@ -123,3 +123,71 @@ def test_bad_pebble_specs_are_refused(extra, needle):
         extra = extra.replace("p_t = 0.2\n", "")
     with pytest.raises(SpecError, match=needle):
         parse_spec(tomllib.loads(text + extra))
+
+
+def _bad_uniforms():
+    """(name, u, v) of uniforms no sample of the network has: each must be refused."""
+    rng = np.random.default_rng(774)
+    net, u, v = lattice_geometry(4, DEFAULT_DELTA, rng)
+    m = net.n_sites
+    cases = {
+        "more": (np.r_[u, rng.random(5000)], np.r_[v, rng.random(5000)]),
+        "fewer": (u[: m // 2], v[: m // 2]),
+        "v longer": (u, np.r_[v, 0.5]),
+        "2d": (u[None, :], v),
+        "nan": (np.r_[np.nan, u[1:]], v),
+        "nan in v": (u, np.r_[v[:-1], np.nan]),
+        "inf": (np.r_[np.inf, u[1:]], v),
+        "1.5": (np.r_[1.5, u[1:]], v),
+        "1.0": (np.r_[1.0, u[1:]], v),
+        "negative": (np.r_[-0.1, u[1:]], v),
+        "complex": (u + 0j, v),
+        "strings": (np.array(["a"] * m), v),
+        "none": (None, v),
+    }
+    return net, cases
+
+
+@pytest.mark.parametrize("method", ["pebble", "lp"])
+@pytest.mark.parametrize("case", list(_bad_uniforms()[1]))
+def test_uniforms_that_do_not_fit_the_network_are_refused_before_any_kernel(method, case):
+    """More uniforms than sites made the pebble kernel index sites that do not exist (a
+    segmentation fault); fewer gave a subset's threshold; NaN or 1.5 were taken by both
+    methods. Each is one InputError now."""
+    net, cases = _bad_uniforms()
+    u, v = cases[case]
+    with pytest.raises(InputError, match=r"^[^\n]*$"):
+        find_threshold(net, u, v, np.eye(2), 0.0, 0.5, method=method)
+
+
+@pytest.mark.parametrize(
+    "p_t, f_c", [(2.0, 0.5), (-0.1, 0.5), (0.0, 5.0), (0.0, np.nan), ("x", 0.5)]
+)
+def test_probabilities_of_a_threshold_path_are_checked(p_t, f_c):
+    rng = np.random.default_rng(775)
+    net, u, v = lattice_geometry(4, DEFAULT_DELTA, rng)
+    for method in ("lp", "pebble"):
+        with pytest.raises(InputError, match="p_t|f_c"):
+            find_threshold(net, u, v, np.eye(2), p_t, f_c, method=method)
+
+
+def test_more_uniforms_than_sites_does_not_kill_the_interpreter(tmp_path):
+    """The crash itself, in a child process (exit 139 before the fix)."""
+    import subprocess
+    import sys
+
+    script = (
+        "import numpy as np\n"
+        "from tensegrity_rigidity import InputError, find_threshold\n"
+        "from tensegrity_rigidity.model.sampling import lattice_geometry\n"
+        "net, u, v = lattice_geometry(6, 0.1, np.random.default_rng(0))\n"
+        "r = np.random.default_rng(1)\n"
+        "try:\n"
+        "    find_threshold(net, r.random(200000), r.random(200000), np.eye(2), 0, 0.5,\n"
+        "                   method='pebble')\n"
+        "except InputError as exc:\n"
+        "    print('refused:', exc)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr[-500:]
+    assert out.stdout.startswith("refused: u must have shape")

@@ -741,3 +741,117 @@ def test_read_only_out_is_one_line(tmp_path):
         assert list(ro.iterdir()) == []
     finally:
         ro.chmod(0o755)
+
+
+#: values of p_r in the large grid: every task used to pickle the whole spec (here 90 kB,
+#: more than a pipe holds), so a killed pool left its queue feeder blocked for ever
+LARGE_GRID = 10_000
+
+
+@linux_only
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_large_sweep_exits_on_a_signal_to_its_process_group(tmp_path, sig):
+    """A batch scheduler's SIGTERM (or a terminal's Ctrl-C) reaches the whole process group:
+    with a large grid the sweep printed "terminated ... saved", then an InvalidStateError
+    traceback from the process pool, and never exited. Now: one line, 143 / 130, every
+    finished chunk kept, no process left behind."""
+    values = ", ".join(f"{0.5 + 0.2 * i / LARGE_GRID:.6f}" for i in range(LARGE_GRID))
+    spec = _write(tmp_path, f"n = 4\np_r = [{values}]\nsamples = 1\n")
+    out = tmp_path / "large"
+    proc = subprocess.Popen(
+        _cmd(spec, out, 2),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        _wait_for_parts(out, 2, proc, timeout=120)
+        family = _descendants(proc.pid)
+        os.killpg(proc.pid, sig)
+        _, err = proc.communicate(timeout=60)  # it never exited
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+    assert proc.returncode == (143 if sig == signal.SIGTERM else 130), err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err and "Error" not in err, err
+    word = "terminated" if sig == signal.SIGTERM else "interrupted"
+    assert lines[0].startswith(f"{word}: ") and "saved" in lines[0], err
+    saved = int(lines[0].split(": ")[1].split()[0])
+    assert saved >= 2 and len(load_results(out)) == saved
+    deadline = time.time() + 10
+    while time.time() < deadline and any(_alive(w) for w in family):
+        time.sleep(0.1)
+    assert not [w for w in family if _alive(w)]
+
+
+def test_a_task_carries_its_grid_point_not_the_grid():
+    """What a task pickles does not grow with the grid."""
+    import pickle
+
+    from tensegrity_rigidity import parse_spec
+
+    small = parse_spec({"n": 4, "p_r": [0.5, 0.6], "samples": 2})
+    large = parse_spec({"n": 4, "p_r": [0.5 + i * 1e-6 for i in range(LARGE_GRID)], "samples": 2})
+    point = large.points()[17]
+    task = pickle.dumps((large.at(point), point, [1, 2]))
+    assert len(task) <= len(pickle.dumps((small, point, [1, 2]))) + 200
+    assert large.at(point).point_key(point) == large.point_key(point)
+    assert large.at(point).points() == [point]
+
+
+@linux_only
+def test_aborting_a_local_pool_after_a_stop_raises_nothing_in_its_threads(monkeypatch):
+    """A sweep that stops cancels its futures, then aborts the pool (its workers killed, or
+    already dead from a group SIGTERM). Cancelled futures still queued in the executor made its
+    own thread fail with InvalidStateError when it marked them broken, before it closed its
+    queues: a traceback, then an interpreter that waited for those queues at exit."""
+    import threading
+
+    from tensegrity_rigidity.ensemble.executors import _LocalPool
+
+    errors = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: errors.append(args.exc_value))
+    pool = _LocalPool(2)
+    pool.start(64)
+    futures = [pool.submit(time.sleep, 5) for _ in range(64)]
+    time.sleep(0.2)  # two running, the rest queued
+    pool.cancel(futures)
+    executor = pool._executor
+    for proc in list(executor._processes.values()):  # the group SIGTERM
+        os.kill(proc.pid, signal.SIGTERM)
+    executor._executor_manager_thread.join(timeout=30)  # it saw the workers die
+    pool.close(abort=True)
+    assert errors == []
+    assert all(f.done() for f in futures)
+
+
+@pytest.mark.parametrize(
+    "data",
+    [
+        {"n": [4, 8], "p_r": [0.5, 0.7], "p_t": [0.0, 0.2], "phi": ["shear", 1.3], "samples": 3},
+        {"n": 4, "p_t": 0.0, "samples": 3, "threshold": {"path": "p_r", "method": "pebble"}},
+        {"n": 4, "p_t": 0.1, "samples": 3, "threshold": {"path": "total"}},
+        {"n": 3, "p_r": 0.6, "samples": 2, "lattice": {"kind": "fcc"}, "solver": {"max_iter": 9}},
+    ],
+)
+def test_point_keys_are_still_the_digest_of_the_settings_and_the_point(data):
+    """Point keys encode the settings once per spec now; every stored row's key must stay
+    what the whole record's JSON digest was (the committed reports are keyed by it)."""
+    import hashlib
+    import json
+    from dataclasses import asdict
+
+    from tensegrity_rigidity import parse_spec
+
+    spec = parse_spec(data)
+    for point in spec.points():
+        p = asdict(point)
+        if spec.mode == "threshold":
+            p["p_r"] = None
+        record = {"settings": spec.settings(), "point": p}
+        want = hashlib.sha256(json.dumps(record, sort_keys=True).encode()).hexdigest()[:24]
+        assert spec.point_key(point) == want

@@ -11,6 +11,7 @@ from tensegrity_rigidity import (
     InputError,
     Instance,
     PeriodicNetwork,
+    decide,
     lattice_instance,
     load_instance,
     random_periodic_network,
@@ -25,6 +26,7 @@ from tensegrity_rigidity.model.lattice import (
     inverted_tetrahedra,
 )
 from tensegrity_rigidity.model.mechanics import affine_extensions, rigidity_matrix
+from tensegrity_rigidity.model.network import norms_from_squares, vector_norms
 from tensegrity_rigidity.model.strain import check_rotation, sequence_rotation
 
 
@@ -180,3 +182,50 @@ def test_3d_instances_round_trip_through_files(tmp_path):
     net = random_periodic_network(12, 40, rng, dim=3)
     assert net.dim == 3 and net.shifts.shape == (40, 3)
     assert np.all(net.bond_lengths() > 0)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-170, 1.3e154, 1e200, 1e300])
+def test_fcc_boxes_at_extreme_scales_keep_their_lengths_and_verdicts(scale):
+    """3D bond lengths must not square into under- or overflow: a box of 1e-170 was refused
+    as "bond 0 has zero length" and boxes around 1.3e154 or beyond left rigid samples
+    undecided, where 2D (hypot) kept them."""
+    inst = lattice_instance(3, 0.7, 0.2, f_c=0.5, phi="dilation", lattice="fcc", seed=1)
+    net = inst.network
+    scaled = PeriodicNetwork(
+        net.box * scale, net.positions * scale, net.bonds, net.shifts, net.kinds
+    )
+    assert np.allclose(scaled.bond_lengths() / scale, net.bond_lengths(), rtol=1e-14, atol=0)
+    assert inverted_tetrahedra(scaled) == inverted_tetrahedra(net) == 0
+    e0 = affine_extensions(scaled, inst.strain)
+    assert np.allclose(e0 / scale, affine_extensions(net, inst.strain), rtol=1e-12, atol=0)
+    a = decide(inst)
+    b = decide(Instance(scaled, inst.strain / scale))
+    assert a.status == "rigid"
+    assert (a.status, a.stage) == (b.status, b.stage)
+
+
+def test_3d_norms_at_ordinary_scales_are_the_plain_formula_bit_for_bit():
+    """The scaled norm rescales only rows out of range: everywhere else it is the plain
+    square root of the sum of squares, so no ordinary verdict moves by a bit."""
+    rng = np.random.default_rng(3)
+    v = rng.normal(size=(2000, 3)) * 10.0 ** rng.uniform(-100, 100, size=(2000, 1))
+    assert np.array_equal(vector_norms(v), np.sqrt(np.einsum("bi,bi->b", v, v)))
+    ld = v.astype(np.longdouble)
+    squares = (ld * ld).sum(axis=1)
+    assert np.array_equal(norms_from_squares(ld, squares), np.sqrt(squares))
+
+
+@pytest.mark.parametrize("exponent", [-1040, -1000, -520, -300, 300, 511, 600, 1020])
+def test_3d_norms_keep_their_digits_at_any_scale(exponent):
+    rng = np.random.default_rng(4)
+    v = rng.normal(size=(50, 3))
+    want = np.sqrt(np.einsum("bi,bi->b", v, v))
+    got = vector_norms(np.ldexp(v, exponent))
+    # exact below the subnormal range; there the components themselves lost digits
+    rtol = 1e-15 if exponent > -1000 else 1e-9
+    assert np.allclose(np.ldexp(got, -exponent), want, rtol=rtol, atol=0)
+    for scale in (1e-170, 1e200):
+        d = v * scale
+        with np.errstate(over="ignore"):  # the squares overflow: that is the case tested
+            squares = (d * d).sum(axis=1)
+        assert np.allclose(norms_from_squares(d, squares) / scale, want, rtol=1e-15)

@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.network import Element, Instance
+from ..errors import InputError
+from ..model.network import Element, Instance, check_real
 from ..solver.core import SolveResult
 
 
@@ -62,6 +63,7 @@ def nonaffinity(instance: Instance, result: SolveResult, gamma: float | None = N
     vanishing background stiffness. Near the transition Gamma is heavy-tailed over samples:
     report medians and quantiles beside means.
     """
+    _check_pair(instance, result)
     u = result.displacements
     return _per_node_strain(instance, float(np.sum(u * u)), gamma)
 
@@ -85,14 +87,27 @@ def nonaffinity_lower(instance: Instance, result: SolveResult, gamma: float | No
         certified (near a sample's own threshold), the bound from its multipliers; NaN where
         no projection ran.
     """
+    _check_pair(instance, result)
     return _per_node_strain(instance, float(result.min_norm_lower), gamma)
+
+
+def _check_pair(instance: Instance, result: SolveResult) -> None:
+    """Refuse a result that is not a solve of ``instance`` (its displacements' shape)."""
+    if not isinstance(instance, Instance) or not isinstance(result, SolveResult):
+        raise InputError("nonaffinity takes an Instance and the SolveResult of solve(instance)")
+    net = instance.network
+    if np.shape(result.displacements) != (net.n_nodes, net.dim):
+        raise InputError(
+            f"the result's displacements have shape {np.shape(result.displacements)}, not the "
+            f"instance's ({net.n_nodes}, {net.dim}): pass the result of solve(instance)"
+        )
 
 
 def _per_node_strain(instance: Instance, squares: float, gamma: float | None) -> float:
     """``squares / (l^2 gamma^2 N)`` (0 when the strain magnitude is 0): :func:`nonaffinity`
     of displacements whose squares sum to ``squares``."""
     net = instance.network
-    g = strain_magnitude(instance.strain) if gamma is None else float(gamma)
+    g = strain_magnitude(instance.strain) if gamma is None else check_real("gamma", gamma)
     if g == 0:
         return 0.0
     ell = float(net.bond_lengths().mean())

@@ -34,7 +34,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .. import interrupts
-from ..errors import InputError, TensegrityError
+from ..errors import TensegrityError
 from . import info as info_cli
 from . import jamming as jamming_cli
 from . import reproduce as reproduce_cli
@@ -48,7 +48,7 @@ def _add_sample(sub) -> None:
         help="write a random lattice instance (.npz)",
         description="Draw a random strained lattice sample and save it as .npz.",
     )
-    p.add_argument("out", help="output file (.npz)")
+    p.add_argument("out", help="output file (.npz; a regular file or a new name)")
     p.add_argument(
         "--n",
         type=int,
@@ -97,21 +97,18 @@ def _add_solve(sub) -> None:
         "--plot",
         metavar="FIGURE",
         default=None,
-        help="also draw the network to FIGURE (.png, .svg, .pdf): rods solid, cables dashed, "
-        "struts hollow, coloured by tension (red pulls, blue pushes), line width |t|, "
+        help="also draw the network to FIGURE (.png, .svg, .pdf; a regular file or a new name): "
+        "rods solid, cables dashed, "
+        "struts hollow, coloured by tension (vermillion pulls, blue pushes), line width |t|, "
         "displacements as arrows",
     )
 
 
 def _cmd_sample(args) -> int:
-    from ..model.io import save_instance
+    from ..model.io import check_output_file, save_instance
 
     check_out(args.out, "the output file")
-    if args.theta is not None and args.lattice == "fcc":
-        raise InputError(
-            "--theta sets the principal axes of a 2D strain; with --lattice fcc the axes are "
-            "the coordinate axes: leave --theta out"
-        )
+    check_output_file(args.out, "the output file")  # before any work: a device, a FIFO, a link
     from ..model.lattice import DEFAULT_DELTA
     from ..model.network import Element
     from ..model.sampling import lattice_instance
@@ -143,8 +140,10 @@ def _cmd_solve(args) -> int:
     from ..solver.core import solve
 
     if args.plot is not None:  # refuse a bad figure path before any work
+        from ..model.io import check_output_file
         from ..paper.plotting import check_plot_path
 
+        check_output_file(args.plot, "the figure path", "network.png")
         check_plot_path(args.plot)
     instance = load_instance(args.file)
     result = solve(instance)
@@ -158,9 +157,13 @@ def _cmd_solve(args) -> int:
     else:
         print(solve_text(result))
     if args.plot is not None:
+        from ..model.io import atomic_output
         from ..paper.plotting import plot_solution
 
-        plot_solution(instance, result, args.plot)
+        with atomic_output(
+            args.plot, "the figure path", "network.png"
+        ) as tmp:  # whole, or no file at all
+            plot_solution(instance, result, tmp)
         print(f"wrote {args.plot}", file=sys.stderr)
     return 0
 

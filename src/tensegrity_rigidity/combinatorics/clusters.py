@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..model.limits import check_memory, stage_bytes
 from ..model.network import Element, Instance, PeriodicNetwork
 from . import pebble
 
@@ -60,8 +61,32 @@ def _as_network(network) -> PeriodicNetwork:
     if isinstance(network, Instance):
         return network.network
     if not isinstance(network, PeriodicNetwork):
-        raise InputError("rigid_clusters needs a PeriodicNetwork or an Instance")
+        raise InputError(f"needs a PeriodicNetwork or an Instance, got {type(network).__name__}")
     return network
+
+
+def _check_order(network: PeriodicNetwork, order) -> np.ndarray:
+    """``order`` as the kernel takes it: distinct site indices in ``[0, m)``, int64.
+
+    The compiled kernel does not check its indices (an index past the sites reads and writes
+    outside its arrays), so every entry into it is checked here first.
+    """
+    m = network.n_sites
+    try:
+        raw = np.asarray(order)
+    except (TypeError, ValueError):
+        raise InputError("order must be a 1D array of bond site indices") from None
+    if raw.ndim != 1:
+        raise InputError(f"order must be a 1D array of bond site indices, got shape {raw.shape}")
+    if raw.size and raw.dtype.kind not in "iu":
+        raise InputError(f"order must hold integer site indices, got dtype {raw.dtype}")
+    if raw.size and (int(raw.min()) < 0 or int(raw.max()) >= m):
+        bad = raw[(raw < 0) | (raw >= m)][0]
+        raise InputError(f"order holds site {bad}, out of range for {m} bond sites")
+    arr = np.ascontiguousarray(raw, dtype=np.int64)
+    if np.unique(arr).size != arr.size:
+        raise InputError("order must not add a bond site twice")
+    return arr
 
 
 def game_arrays(network: PeriodicNetwork) -> tuple[np.ndarray, ...]:
@@ -81,13 +106,16 @@ def game_arrays(network: PeriodicNetwork) -> tuple[np.ndarray, ...]:
     ------
     InputError
         When the network is not two-dimensional (generic rigidity in 3D is not a count: no
-        pebble game decides it), or too large for the kernel's packed potentials.
+        pebble game decides it), too large for the kernel's packed potentials, or for this
+        machine's memory (the measured cost per node, :mod:`~tensegrity_rigidity.model.limits`).
     """
     if network.dim != 2:
         raise InputError(
             f"the pebble game decides 2D networks; this one is {network.dim}-dimensional "
             "(use the certified verdict: decide, or find_threshold with method 'lp')"
         )
+    need = stage_bytes("clusters", network.n_nodes, dim=2)
+    check_memory(need, f"the pebble game on {network.n_nodes:,} nodes")
     shifts = network.shifts
     largest = int(np.abs(shifts).max(initial=0))
     if network.n_nodes >= pebble.MAX_NODES or largest >= pebble.MAX_SHIFT:
@@ -121,8 +149,9 @@ def first_wrapping(network: PeriodicNetwork, order: np.ndarray) -> int:
         The smallest ``q`` such that the rods ``order[: q + 1]`` resist a generic strain, -1 if
         even all of them do not. One incremental pass of the pebble game, stopped there.
     """
+    network = _as_network(network)
+    order = _check_order(network, order)
     eu, ev, gx, gy = game_arrays(network)
-    order = np.ascontiguousarray(order, dtype=np.int64)
     _, first, _, _ = pebble.play(network.n_nodes, eu, ev, gx, gy, order, True, False)
     return int(first)
 
@@ -172,8 +201,9 @@ def spanning_cluster(network: PeriodicNetwork, order: np.ndarray) -> SpanningClu
         the circuits tracked; then only the cluster of the threshold bond is grown, not every
         cluster (which costs far more at large n, the clusters being many).
     """
+    network = _as_network(network)
+    order = _check_order(network, order)
     eu, ev, gx, gy = game_arrays(network)
-    order = np.ascontiguousarray(order, dtype=np.int64)
     _, first, out, over = pebble.play(network.n_nodes, eu, ev, gx, gy, order, True, True)
     if first < 0:
         empty = np.zeros(0, dtype=np.int64)

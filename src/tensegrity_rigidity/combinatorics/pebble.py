@@ -12,6 +12,11 @@ integer vector. The balancedness of a bond set is read off the potentials met wh
 bonds in the lift (docs/guide/rigid-clusters.md states the rules and why they are right).
 
 Bond status codes (:data:`INDEPENDENT` ...) are what :func:`play` returns per site.
+
+The compiled functions do not check their indices (an order naming a site past ``m`` reads and
+writes outside the arrays: a segmentation fault, or a wrong answer): call them through
+:mod:`~tensegrity_rigidity.combinatorics.clusters`, whose every entry checks the network and
+the order first.
 """
 
 from __future__ import annotations

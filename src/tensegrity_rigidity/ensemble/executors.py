@@ -2,8 +2,10 @@
 
 :func:`open_pool` turns what the user gave (``None``/an int = local processes, ``"serial"``, a
 ``concurrent.futures.Executor``, a ``distributed.Client`` or a scheduler address) into a small
-:class:`Pool` with ``submit``, ``as_completed`` and ``cancel``. Results are returned to the
-calling process, which alone writes files, so workers need no shared file system.
+:class:`Pool` with ``submit``, ``wait_first`` and ``cancel``. Results are returned to the
+calling process, which alone writes files, so workers need no shared file system. A pool has a
+``window``: how many tasks the sweep keeps submitted at once (a few per worker), so that a grid
+of any size costs memory and time in proportion to the chunks running, not to the grid.
 
 Local processes are bounded: never more than the usable cores (a larger request is capped, with
 one warning line) nor than the chunks to run (the pool starts its processes only once
@@ -29,7 +31,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable
 from contextlib import contextmanager
 from typing import Any
 
@@ -50,20 +52,27 @@ class _LazyFuture:
 
 
 class Pool:
-    """Uniform face of an executor."""
+    """Uniform face of an executor.
+
+    ``wait_first(futures)`` blocks until at least one of ``futures`` is done and returns the
+    done ones; ``window`` is how many tasks to keep submitted at once.
+    """
 
     def __init__(
         self,
         submit: Callable,
-        as_completed: Callable,
+        wait_first: Callable,
         close: Callable | None = None,
         description: str = "",
         worker_memory: int | None = None,
+        window: int = 1,
     ):
-        self._submit, self._as_completed, self._close = submit, as_completed, close
+        self._submit, self._wait_first, self._close = submit, wait_first, close
         self.description = description
         #: memory of one worker in bytes when the executor says (Dask), else None
         self.worker_memory = worker_memory
+        #: tasks kept submitted at once: enough to keep every worker busy
+        self.window = window
 
     def start(self, tasks: int) -> None:
         """Get ready to run ``tasks`` tasks (local processes start here, at most one per task)."""
@@ -71,8 +80,10 @@ class Pool:
     def submit(self, fn: Callable, *args: Any):
         return self._submit(fn, *args)
 
-    def as_completed(self, futures: Iterable) -> Iterator:
-        return self._as_completed(futures)
+    def wait_first(self, futures: list) -> list:
+        """The futures of ``futures`` that are done, in their order (at least one; blocks)."""
+        done = self._wait_first(futures)
+        return [f for f in futures if f in done]
 
     def cancel(self, futures: Iterable) -> None:
         for f in futures:
@@ -82,6 +93,20 @@ class Pool:
         """Release the executor; ``abort`` kills local workers instead of letting them finish."""
         if self._close is not None:
             self._close(abort)
+
+
+#: Tasks kept submitted per worker: one running, the next ready, and some slack for uneven
+#: chunk times; more only costs memory (and pickles) for work nobody may wait for.
+TASKS_PER_WORKER = 4
+
+
+def _first_of(futures: list) -> set:
+    """Serial execution: the first future (computed when its result is asked for)."""
+    return {futures[0]}
+
+
+def _first_completed(futures: list) -> set:
+    return cf.wait(futures, return_when=cf.FIRST_COMPLETED).done
 
 
 _PR_SET_PDEATHSIG = 1  # from <linux/prctl.h>
@@ -155,7 +180,7 @@ class _LocalPool(Pool):
     when that is one)."""
 
     def __init__(self, workers: int):
-        super().__init__(self._submit_local, self._as_completed_local, self._close_local)
+        super().__init__(self._submit_local, self._wait_local, self._close_local)
         self.workers = workers
         self.description = f"{workers} local processes"
         self._executor: cf.ProcessPoolExecutor | None = None
@@ -163,6 +188,7 @@ class _LocalPool(Pool):
     def start(self, tasks: int) -> None:
         count = min(self.workers, max(int(tasks), 1))
         self.description = f"{count} local processes" if count > 1 else "serial"
+        self.window = TASKS_PER_WORKER * count if count > 1 else 1
         if count > 1 and self._executor is None:
             with _signals_blocked():
                 executor = cf.ProcessPoolExecutor(max_workers=count, initializer=_init_worker)
@@ -175,10 +201,17 @@ class _LocalPool(Pool):
             return _LazyFuture(fn, args)
         return self._executor.submit(fn, *args)
 
-    def _as_completed_local(self, futures: Iterable) -> Iterator:
+    def _wait_local(self, futures: list) -> set:
         if self._executor is None:
-            return iter(list(futures))
-        return cf.as_completed(futures)
+            return _first_of(futures)
+        return _first_completed(futures)
+
+    def cancel(self, futures: Iterable) -> None:
+        """Nothing: a sweep that stops raises next, which aborts the pool (its processes are
+        killed, and the executor's own thread fails every future it holds). Cancelling those
+        futures here as well raced with that thread: an ``InvalidStateError`` traceback in it
+        (a group SIGTERM kills the workers at the same moment), after which the pool's queues
+        were never closed and the interpreter waited for them at exit."""
 
     def _close_local(self, abort: bool) -> None:
         if self._executor is not None:
@@ -198,7 +231,11 @@ def _shutdown(executor: cf.Executor, abort: bool) -> None:
 
 
 def _serial_pool() -> Pool:
-    return Pool(lambda fn, *a: _LazyFuture(fn, a), lambda fs: iter(list(fs)), None, "serial")
+    return Pool(lambda fn, *a: _LazyFuture(fn, a), _first_of, None, "serial")
+
+
+#: Tasks kept submitted to an executor that does not say how many workers it has
+UNKNOWN_WORKERS = 4
 
 
 def _futures_pool(executor: cf.Executor, owned: bool) -> Pool:
@@ -206,7 +243,9 @@ def _futures_pool(executor: cf.Executor, owned: bool) -> Pool:
         if owned:
             _shutdown(executor, abort)
 
-    return Pool(executor.submit, cf.as_completed, close, type(executor).__name__)
+    workers = getattr(executor, "_max_workers", None) or UNKNOWN_WORKERS
+    window = TASKS_PER_WORKER * int(workers)
+    return Pool(executor.submit, _first_completed, close, type(executor).__name__, None, window)
 
 
 def _dask_pool(client, owned: bool) -> Pool:
@@ -214,6 +253,22 @@ def _dask_pool(client, owned: bool) -> Pool:
 
     def submit(fn, *args):
         return client.submit(fn, *args, pure=False)
+
+    # one iterator for the whole sweep, each future added once: it also yields the futures
+    # that a scheduler gone away cancelled (distributed.wait raises on those instead)
+    completed = as_completed()
+    waiting: set = set()
+
+    def wait_first(futures: list) -> set:
+        for f in futures:
+            if f not in waiting:
+                waiting.add(f)
+                completed.add(f)
+        done = {next(completed)}
+        if completed.has_ready():
+            done.update(completed.next_batch(block=False))
+        waiting.difference_update(done)
+        return done
 
     def close(abort: bool):
         if not owned:
@@ -237,9 +292,13 @@ def _dask_pool(client, owned: bool) -> Pool:
             for n, level in levels.items():
                 logging.getLogger(n).setLevel(level)
 
-    limits = [w.get("memory_limit") or 0 for w in client.scheduler_info()["workers"].values()]
+    workers = client.scheduler_info()["workers"].values()
+    limits = [w.get("memory_limit") or 0 for w in workers]
     memory = max(limits) if limits and max(limits) > 0 else None
-    return Pool(submit, as_completed, close, f"dask {client.scheduler.address}", memory)
+    # workers may join later: never fewer than for UNKNOWN_WORKERS of them
+    threads = max(sum(int(w.get("nthreads") or 1) for w in workers), UNKNOWN_WORKERS)
+    description = f"dask {client.scheduler.address}"
+    return Pool(submit, wait_first, close, description, memory, TASKS_PER_WORKER * threads)
 
 
 def connect(address: str, timeout: float = 5.0, wait_for_workers: float = 60.0):

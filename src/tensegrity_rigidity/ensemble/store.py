@@ -37,6 +37,7 @@ import contextlib
 import hashlib
 import json
 import os
+import re
 import socket
 import tomllib
 import warnings
@@ -142,6 +143,24 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
+#: what a part's file name looks like (:meth:`ResultStore.part_name`): a name in DIR, never a path
+_PART_NAME = re.compile(r"part-[0-9a-f]{16}-[0-9]{6,}-[0-9a-f]{12}\.parquet")
+
+
+def _valid_entry(entry) -> bool:
+    """Whether a manifest line is an entry this package wrote: a part's name in DIR (a path
+    such as ``../x`` would have a damaged "part" outside DIR deleted), its size, checksum and
+    row count of the right types."""
+    return (
+        isinstance(entry, dict)
+        and isinstance(entry.get("part"), str)
+        and _PART_NAME.fullmatch(entry["part"]) is not None
+        and isinstance(entry.get("bytes"), int)
+        and isinstance(entry.get("sha256"), str)
+        and isinstance(entry.get("rows", 0), int)
+    )
+
+
 def spec_from_canonical(canonical: dict) -> Spec:
     """The :class:`Spec` recorded in a directory's ``_spec.json``."""
     data: dict = dict(canonical["grid"])
@@ -181,6 +200,10 @@ class ResultStore:
     """
 
     def __init__(self, root: str | os.PathLike):
+        if not isinstance(root, (str, os.PathLike)):
+            raise SpecError(
+                f"the results directory must be a str or path, got {type(root).__name__}"
+            )
         if not os.fspath(root):
             raise SpecError("the results directory is empty; give one, e.g. --out runs/a")
         self.root = Path(root)
@@ -267,9 +290,18 @@ class ResultStore:
         return data
 
     def recorded_spec(self) -> Spec | None:
-        """The latest spec run into DIR, or None."""
+        """The latest spec run into DIR, or None; InputError (one line) when it is malformed."""
         data = self.recorded()
-        return None if data is None else spec_from_canonical(data["spec"])
+        if data is None:
+            return None
+        try:
+            return spec_from_canonical(data["spec"])
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            what = f"no {exc}" if isinstance(exc, KeyError) else str(exc).splitlines()[0]
+            raise InputError(
+                f"{self.root / '_spec.json'} does not describe a sweep ({what}); remove it or "
+                "choose another --out"
+            ) from None
 
     def prepare(self, spec: Spec, source_text: str | None = None) -> None:
         """Check that DIR may hold this spec, then make it ready to resume (lock held).
@@ -284,7 +316,9 @@ class ResultStore:
         old = self.recorded()
         if old is not None:
             if old.get("settings_digest") != spec.settings_digest():
-                diff = "; ".join(_differences(old.get("settings", {}), settings)[:3])
+                recorded = old.get("settings")
+                recorded = recorded if isinstance(recorded, dict) else {}
+                diff = "; ".join(_differences(recorded, settings)[:3])
                 raise SpecError(
                     f"{self.root} holds results of a different sweep ({diff}); choose another "
                     "--out or delete that directory"
@@ -350,9 +384,10 @@ class ResultStore:
         for line in text.splitlines():
             try:
                 entry = json.loads(line)
-                entries[entry["part"]] = entry
-            except (ValueError, KeyError, TypeError):
+            except ValueError:
                 continue
+            if _valid_entry(entry):
+                entries[entry["part"]] = entry
         return entries
 
     def check_part(self, entry: dict) -> bytes | None:

@@ -30,10 +30,11 @@ from tqdm.auto import tqdm
 from .. import interrupts
 from ..errors import InputError, SpecError, TensegrityError
 from ..model.limits import (
-    BUILD_BYTES_PER_NODE,
-    SOLVE_BYTES_PER_NODE,
     format_bytes,
+    lattice_dimension,
+    lattice_nodes,
     physical_memory,
+    stage_bytes,
 )
 from .executors import open_pool
 from .runner import run_chunk
@@ -169,9 +170,9 @@ def estimate(spec: Spec) -> dict:
 
     Notes
     -----
-    CPU seconds per solve follow the benchmark medians (4 ms at n = 16, 0.37 s at n = 128 on
-    the reference machine: about ``4e-3 (n / 16)^2.2``); a threshold costs about
-    ``log2(3 n^2) + 2`` solves.
+    The memory of one sample is :func:`sample_bytes`. CPU seconds per solve follow the
+    benchmark medians (4 ms at n = 16, 0.37 s at n = 128 on the reference machine: about
+    ``4e-3 (n / 16)^2.2``); a threshold costs about ``log2(3 n^2) + 2`` solves.
     """
     rows = spec.n_samples()
     n_max = max(spec.grid["n"])
@@ -185,13 +186,37 @@ def estimate(spec: Spec) -> dict:
     return {
         "rows": rows,
         "points": spec.n_points(),
-        "sample_bytes": (BUILD_BYTES_PER_NODE + SOLVE_BYTES_PER_NODE) * float(n_max) ** 2,
+        "sample_bytes": sample_bytes(spec, n_max),
         "n_max": n_max,
         "rows_bytes": ROW_MEMORY_BYTES * float(rows),
         "disk_bytes": ROW_DISK_BYTES * float(rows)
         + PART_DISK_BYTES * float(spec.n_points()) * math.ceil(spec.samples / spec.chunk_size),
         "cpu_seconds": cpu,
     }
+
+
+def sample_bytes(spec: Spec, n: int) -> float:
+    """Memory of one sample of ``spec`` at linear size ``n``: building it, then its work.
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep: its lattice fixes the nodes (``n^2``, or ``n^3`` on the FCC lattice) and
+        the measured costs (:mod:`~tensegrity_rigidity.model.limits`), its mode the work (a
+        solve, a threshold search, or the pebble game).
+    n : int
+        Linear size.
+
+    Returns
+    -------
+    float
+        Bytes.
+    """
+    work = "solve"
+    if spec.threshold is not None:
+        work = "clusters" if spec.threshold.get("method") == "pebble" else "threshold"
+    nodes = lattice_nodes(spec.lattice, n)
+    return stage_bytes("build", nodes, spec.lattice) + stage_bytes(work, nodes, spec.lattice)
 
 
 def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = None) -> dict:
@@ -222,9 +247,11 @@ def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = N
     have = worker_memory or physical_memory()
     if est["sample_bytes"] > have:
         where = "a Dask worker has" if worker_memory else "this machine has"
+        n = est["n_max"]
         raise SpecError(
-            f"n = {est['n_max']} needs about {format_bytes(est['sample_bytes'])} of memory per "
-            f"sample; {where} {format_bytes(have)}"
+            f"n = {n} needs about {format_bytes(est['sample_bytes'])} of memory per sample "
+            f"({n}^{lattice_dimension(spec.lattice)} nodes of the {spec.lattice} lattice); "
+            f"{where} {format_bytes(have)}"
         )
     ram = physical_memory()
     if est["rows_bytes"] > ram:
@@ -282,9 +309,12 @@ def _lost_with(exc: BaseException) -> str | None:
         return "a worker process died (killed, or out of memory)"
     if name == "KilledWorker":
         return "a Dask worker died (killed, or out of memory)"
-    if name in ("CancelledError", "FutureCancelledError", "CommClosedError") or isinstance(
-        exc, cf.CancelledError
-    ):
+    if name in (
+        "CancelledError",
+        "FutureCancelledError",
+        "CommClosedError",
+        "ClosedClientError",
+    ) or isinstance(exc, cf.CancelledError):
         return "the Dask scheduler or its workers went away"
     return None
 
@@ -377,6 +407,11 @@ def run_sweep(
         Chunks failed or could not be saved; finished chunks are kept.
     """
     source = None
+    if not isinstance(spec, (Spec, str, os.PathLike)):
+        raise SpecError(
+            f"spec must be a Spec (parse_spec(dict)) or the path of a TOML file, got "
+            f"{type(spec).__name__}"
+        )
     if not isinstance(spec, Spec):
         source = load_source(spec)
         spec = load_spec(spec)
@@ -419,36 +454,63 @@ def run_sweep(
                 interrupted,
             )
 
-        futures: dict = {}
+        futures: dict = {}  # the tasks submitted and not yet saved (at most pool.window)
+        tasks = iter(todo)
+
+        lost: list[BaseException] = []  # why the pool can run nothing more, once it cannot
+
+        def submit_more() -> None:
+            # each task carries its grid point, not the grid: pickling the whole spec made
+            # every task as large as the grid (1.8 MB at 200,000 values of p_r)
+            while len(futures) < pool.window:
+                chunk = next(tasks, None)
+                if chunk is None:
+                    return
+                if lost:  # a worker or the scheduler is gone: the rest is not computed
+                    failed.extend((c, lost[0]) for c in [chunk, *tasks])
+                    return
+                try:
+                    futures[pool.submit(run_chunk, spec.at(chunk[0]), *chunk)] = chunk
+                except Exception as exc:  # noqa: BLE001 (a broken pool: nothing more runs)
+                    failed.extend((c, exc) for c in [chunk, *tasks])
+                    return
+
+        def save(fut, chunk: tuple[GridPoint, list[int]]) -> None:
+            nonlocal done_chunks, done_samples
+            try:
+                frame = fut.result()
+            except Exception as exc:  # noqa: BLE001 (reported below, the rest is saved)
+                failed.append((chunk, exc))
+                if _lost_with(exc) is not None:
+                    lost.append(exc)
+                interrupts.check()
+                return
+            try:
+                with interrupts.deferred():  # saved and counted, or neither
+                    store.write(frame)
+                    done_chunks += 1
+                    done_samples += len(chunk[1])
+            except OSError as exc:
+                pool.cancel(futures)
+                bar.close()
+                raise SweepFailed(
+                    f"cannot write {store.root} ({exc.strerror or exc}); "
+                    f"{total - reused - done_samples} samples not saved, the "
+                    f"{reused + done_samples} finished are kept: free space and run the "
+                    "same command again to resume",
+                    report(),
+                    exit_status=2,
+                ) from None
+            bar.update(len(chunk[1]))
+            interrupts.check()  # a SIGTERM whose exception was swallowed in a C extension
+
         try:
             pool.start(len(todo))  # local processes: at most one per chunk
-            for p, ks in todo:
-                futures[pool.submit(run_chunk, spec, p, ks)] = (p, ks)
-            for fut in pool.as_completed(list(futures)):
-                chunk = futures[fut]
-                try:
-                    frame = fut.result()
-                except Exception as exc:  # noqa: BLE001 (reported below, the rest is saved)
-                    failed.append((chunk, exc))
-                    interrupts.check()
-                    continue
-                try:
-                    store.write(frame)
-                except OSError as exc:
-                    pool.cancel(futures)
-                    bar.close()
-                    raise SweepFailed(
-                        f"cannot write {store.root} ({exc.strerror or exc}); "
-                        f"{total - reused - done_samples} samples not saved, the "
-                        f"{reused + done_samples} finished are kept: free space and run the "
-                        "same command again to resume",
-                        report(),
-                        exit_status=2,
-                    ) from None
-                done_chunks += 1
-                done_samples += len(chunk[1])
-                bar.update(len(chunk[1]))
-                interrupts.check()  # a SIGTERM whose exception was swallowed in a C extension
+            submit_more()
+            while futures:
+                for fut in pool.wait_first(list(futures)):
+                    save(fut, futures.pop(fut))
+                submit_more()
         except KeyboardInterrupt as exc:
             pool.cancel(futures)
             bar.close()
@@ -493,7 +555,7 @@ def load_results(
     if df.empty:
         return df
     if not all_rows:
-        spec = spec or store.recorded_spec()
+        spec = spec or _recorded_spec(store)
         if spec is not None:
             df = store.rows_of(spec, df)
     keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed", "sample") if c in df]
@@ -501,6 +563,20 @@ def load_results(
     if "phi" in df and "strain" not in df:  # derived on reading: the stored parts are unchanged
         df.insert(df.columns.get_loc("phi") + 1, "strain", df["phi"].map(phi_name))
     return df
+
+
+def _recorded_spec(store: ResultStore) -> Spec | None:
+    """The directory's latest spec, refused in one line when no sweep could have run it (its
+    rows could not even be listed: a ``_spec.json`` edited by hand)."""
+    spec = store.recorded_spec()
+    if spec is not None:
+        try:
+            check_size(spec, store.root)
+        except SpecError as exc:
+            raise InputError(
+                f"{store.root / '_spec.json'} asks for more than fits: {exc}"
+            ) from None
+    return spec
 
 
 def describe(out: str | os.PathLike) -> dict:
@@ -528,7 +604,7 @@ def describe(out: str | os.PathLike) -> dict:
     store = ResultStore(out)
     if not store.root.is_dir():
         raise InputError(f"{store.root}: no such results directory")
-    spec = store.recorded_spec()
+    spec = _recorded_spec(store)
     if spec is None:
         raise InputError(f"{store.root}: not a results directory (no _spec.json)")
     everything, damaged, size = store.scan()

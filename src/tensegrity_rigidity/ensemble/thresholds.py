@@ -43,6 +43,8 @@ import numpy as np
 
 from ..combinatorics.clusters import SpanningCluster, spanning_cluster
 from ..errors import InputError
+from ..model.elements import check_probabilities
+from ..model.limits import check_memory, stage_bytes
 from ..model.network import Element, Instance, PeriodicNetwork
 from ..solver.certificates import NOT_RESOLVED
 from ..solver.core import SolverOptions, Verdict, decide
@@ -199,6 +201,67 @@ class EventPath:
         return int(bad.min(initial=self.n_events + 1))
 
 
+def check_sample(
+    network, u, v, p_t, f_c, path: str = "p_r"
+) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """Validate one sample's path arguments before anything is computed from them.
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        Its number of sites ``m`` fixes the uniforms' shape.
+    u, v : (m,) float
+        Site uniforms: finite, in ``[0, 1)`` (what
+        :func:`~tensegrity_rigidity.model.elements.site_uniforms` draws).
+    p_t, f_c : float
+        Fixed p_t (path "p_r") or fixed total (path "total"), and the cable fraction: each in
+        ``[0, 1]``.
+    path : {"p_r", "total"}
+        The path.
+
+    Returns
+    -------
+    u, v : (m,) float
+        Float copies.
+    p_t, f_c : float
+
+    Raises
+    ------
+    InputError
+        One sentence naming the first argument that is wrong: a uniform array of another
+        length than the network's sites (more would index sites that do not exist, fewer give
+        the threshold of a subset), a NaN or a value outside ``[0, 1)``.
+    """
+    if not isinstance(network, PeriodicNetwork):
+        raise InputError(f"network must be a PeriodicNetwork, got {type(network).__name__}")
+    if path not in ("p_r", "total"):
+        raise InputError(f"unknown threshold path {path!r}; use 'p_r' or 'total'")
+    m = network.n_sites
+    arrays = []
+    for name, value in (("u", u), ("v", v)):
+        try:
+            raw = np.asarray(value)
+        except (TypeError, ValueError):
+            raise InputError(f"{name} must be an array of {m} uniforms in [0, 1)") from None
+        if raw.dtype.kind not in "iuf":
+            raise InputError(f"{name} must hold real numbers, got dtype {raw.dtype}")
+        arr = np.array(raw, dtype=float)
+        if arr.shape != (m,):
+            raise InputError(
+                f"{name} must have shape ({m},), one uniform per site of the network, "
+                f"got {arr.shape}"
+            )
+        bad = np.flatnonzero(~((arr >= 0.0) & (arr < 1.0)))
+        if bad.size:
+            raise InputError(
+                f"{name} must hold uniforms in [0, 1), got {arr[bad[0]]!r} at site {bad[0]}"
+            )
+        arrays.append(arr)
+    # p_t plays p_r + p_t on the "total" path: either way a probability
+    _, p_t, f_c = check_probabilities(0.0, p_t, f_c)
+    return arrays[0], arrays[1], p_t, f_c
+
+
 def find_threshold(
     network: PeriodicNetwork,
     u: np.ndarray,
@@ -241,14 +304,21 @@ def find_threshold(
     Raises
     ------
     InputError
-        On an unknown path or method, or ``"pebble"`` on a path that is not rods-only.
+        On an unknown path or method, ``"pebble"`` on a path that is not rods-only, or
+        uniforms, ``p_t`` or ``f_c`` that :func:`check_sample` refuses.
     """
+    u, v, p_t, f_c = check_sample(network, u, v, p_t, f_c, path)
+    if method == "lp":  # (the pebble game checks its own)
+        need = stage_bytes("threshold", network.n_nodes, dim=network.dim)
+        check_memory(need, f"a threshold search on {network.n_nodes:,} nodes")
     if method == "pebble":
         return _pebble_threshold(network, u, v, p_t, f_c, path)
     if method != "lp":
         raise InputError(f"unknown threshold method {method!r}; use 'lp' or 'pebble'")
     opts = options or SolverOptions(min_norm=False)
-    ev = EventPath(np.asarray(u, float), np.asarray(v, float), path, p_t, f_c)
+    if not isinstance(opts, SolverOptions):
+        raise InputError(f"options must be a SolverOptions, got {type(opts).__name__}")
+    ev = EventPath(u, v, path, p_t, f_c)
     n_ev = ev.n_events
     status: dict[int, str] = {}
     not_resolved: set[int] = set()  # undecided probes the search did not resolve
@@ -371,12 +441,13 @@ def pebble_pass(
         The rigid cluster of the threshold bond just after it was added, with its stressed
         sites (:func:`~tensegrity_rigidity.combinatorics.clusters.spanning_cluster`).
     """
+    u, v, p_t, f_c = check_sample(network, u, v, p_t, f_c, path)
     if path != "p_r" or p_t != 0:
         raise InputError(
             "method 'pebble' follows rods-only paths: use path 'p_r' with p_t = 0 "
             f"(got path {path!r}, p_t = {p_t})"
         )
-    ev = EventPath(np.asarray(u, float), np.asarray(v, float), path, p_t, f_c)
+    ev = EventPath(u, v, path, p_t, f_c)
     added = np.flatnonzero(ev.rod_event < ev.n_events)
     order = added[np.argsort(ev.rod_event[added], kind="stable")]
     cluster = spanning_cluster(network, order)

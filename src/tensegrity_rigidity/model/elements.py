@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .network import Element
+from .network import Element, check_real
 
 
 def check_probabilities(p_r: float, p_t: float, f_c: float) -> tuple[float, float, float]:
@@ -39,12 +39,7 @@ def check_probabilities(p_r: float, p_t: float, f_c: float) -> tuple[float, floa
     """
     out = []
     for name, value in (("p_r", p_r), ("p_t", p_t), ("f_c", f_c)):
-        try:
-            v = float(value)
-        except (TypeError, ValueError):
-            raise InputError(f"{name} must be a number, got {value!r}") from None
-        if not np.isfinite(v):
-            raise InputError(f"{name} must be finite, got {v}")
+        v = check_real(name, value)
         if not 0.0 <= v <= 1.0:
             raise InputError(f"{name} must lie in [0, 1], got {v}")
         out.append(v)

@@ -12,8 +12,11 @@ from __future__ import annotations
 
 import math
 import os
+import stat
 import zipfile
 import zlib
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +24,7 @@ import numpy as np
 
 from ..errors import InputError
 from .limits import check_memory, format_bytes
-from .network import Instance
+from .network import Instance, show
 
 REQUIRED_KEYS = ("box", "positions", "bonds", "shifts", "kinds", "strain")
 OPTIONAL_KEYS = ("stiffness",)
@@ -30,12 +33,114 @@ _NPY_MAGIC = b"\x93NUMPY"
 _READ_ERRORS = (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error)
 
 
+def check_output_file(
+    path: str | os.PathLike, what: str = "the output path", example: str = "sample.npz"
+) -> Path:
+    """Refuse, in one line, a path that output files may not go to.
+
+    Output is written to a temporary file beside the path and renamed over it (so that a
+    failure leaves nothing), which would replace whatever node is there by a regular file: a
+    device (``/dev/full`` as root), a FIFO, a socket, a symbolic link. So an output path must
+    be a regular file or nothing yet, in an existing directory.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file to write.
+    what : str
+        Its name in the message for an empty path ("the figure path").
+    example : str
+        A file name to suggest when the path is a directory.
+
+    Returns
+    -------
+    pathlib.Path
+        The path.
+
+    Raises
+    ------
+    InputError
+        If the path is empty, a directory, a symbolic link, a device, a FIFO or a socket, or
+        its directory does not exist.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"{what} must be a str or path, got {show(path)}")
+    if not os.fspath(path).strip():
+        raise InputError(f"{what} is empty; give a file name")
+    p = Path(path)
+    try:
+        mode = os.lstat(p).st_mode
+    except FileNotFoundError:
+        mode = None
+    except OSError as exc:
+        raise InputError(f"{p}: cannot be written ({exc.strerror or exc})") from None
+    if mode is not None and stat.S_ISLNK(mode):
+        raise InputError(
+            f"{p}: is a symbolic link (to {os.readlink(p)}); output goes to regular files only "
+            "(writing would replace the link by a file): give the target's path"
+        )
+    if mode is not None and stat.S_ISDIR(mode):
+        raise InputError(f"{p}: is a directory; give a file name in it, such as {p / example}")
+    if mode is not None and not stat.S_ISREG(mode):
+        kind = "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else None
+        kind = kind or "a device"
+        raise InputError(
+            f"{p}: is {kind}, not a regular file; output goes to regular files only (writing "
+            "would replace it by a file)"
+        )
+    if not p.parent.is_dir():
+        raise InputError(f"{p}: directory {p.parent} does not exist")
+    return p
+
+
+@contextmanager
+def atomic_output(
+    path: str | os.PathLike, what: str = "the output path", example: str = "sample.npz"
+) -> Iterator[Path]:
+    """Write a file whole or not at all: yield a temporary path beside ``path``, rename it over
+    ``path`` when the block ends, remove it on any failure (a full disk, an interrupt).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file to write (:func:`check_output_file` first).
+    what, example : str
+        As :func:`check_output_file`.
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary file to write: hidden, in the same directory, with the same suffix (a
+        figure's format follows from it).
+
+    Raises
+    ------
+    InputError
+        As :func:`check_output_file`, or when the file cannot be written (one line).
+    """
+    p = check_output_file(path, what, example)
+    tmp = p.with_name(f".{p.stem}.{os.getpid()}.tmp{p.suffix}")
+    try:
+        yield tmp
+        with open(tmp, "rb+") as fh:  # on the disk before it takes the name
+            os.fsync(fh.fileno())
+        check_output_file(p, what, example)  # still no device, FIFO or link there
+        os.replace(tmp, p)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise InputError(f"{p}: cannot write ({exc.strerror or exc})") from None
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
 def save_instance(path: str | os.PathLike, instance: Instance) -> None:
     """Write an instance to ``path`` (.npz), atomically.
 
-    The archive is written to a hidden temporary file next to ``path`` and renamed into place;
-    on any failure (a directory in the way, no permission, a full disk) the temporary file is
-    removed and nothing is left behind.
+    The archive is written to a hidden temporary file next to ``path`` and renamed into place
+    (:func:`atomic_output`); on any failure (a directory in the way, no permission, a full
+    disk) the temporary file is removed and nothing is left behind. ``path`` must be a
+    regular file or not exist (:func:`check_output_file`).
 
     Parameters
     ----------
@@ -49,17 +154,11 @@ def save_instance(path: str | os.PathLike, instance: Instance) -> None:
     Raises
     ------
     InputError
-        If ``path`` is empty, a directory, in a missing directory, or cannot be written.
+        If ``path`` is empty, a directory, a device, a FIFO, a symbolic link, in a missing
+        directory, or cannot be written.
     """
     if not isinstance(instance, Instance):
         raise InputError("save_instance needs an Instance")
-    if not os.fspath(path):
-        raise InputError("the output path is empty")
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"{path}: is a directory; give a file name such as {path}/sample.npz")
-    if not path.parent.is_dir():
-        raise InputError(f"{path}: directory {path.parent} does not exist")
     net = instance.network
     arrays: dict[str, Any] = {
         "box": net.box,
@@ -71,17 +170,8 @@ def save_instance(path: str | os.PathLike, instance: Instance) -> None:
     }
     if net.stiffness is not None:
         arrays["stiffness"] = net.stiffness
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "wb") as fh:
-            np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    except OSError as exc:
-        tmp.unlink(missing_ok=True)
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with atomic_output(path) as tmp, open(tmp, "wb") as fh:
+        np.savez(fh, **arrays)
 
 
 def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, path: Path) -> np.ndarray:
@@ -162,6 +252,8 @@ def load_instance(path: str | os.PathLike) -> Instance:
         If the file is missing, unreadable or corrupt, keys are missing or unknown, a member's
         header declares more data than it holds, or the arrays do not describe a valid instance.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"an instance file's path must be a str or path, got {show(path)}")
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path}: is a directory, not an instance file")

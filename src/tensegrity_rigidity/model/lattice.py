@@ -8,13 +8,22 @@ state. Builders return networks with all bond sites *empty*; elements are placed
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
 
 from ..errors import InputError
-from .limits import BUILD_BYTES_PER_NODE, check_memory
-from .network import Element, PeriodicNetwork
+from .limits import check_memory, stage_bytes
+from .network import (
+    MAX_SHIFT,
+    Element,
+    PeriodicNetwork,
+    check_count,
+    check_generator,
+    check_real,
+    show,
+)
 
 #: Default node disorder of the triangular lattice. The paper does not state its value; 0.2 (in
 #: units of the lattice constant) is large enough to remove the straight lines of the perfect
@@ -44,6 +53,10 @@ class CrossingBondsWarning(UserWarning):
 B1 = np.array([1.0, 0.0])
 B2 = np.array([-0.5, np.sqrt(3.0) / 2.0])
 
+#: bytes per node or bond of a random network (positions, bonds, shifts, kinds and the
+#: generator's draws: at most 9 numbers of 8 bytes per item, with room for temporaries)
+RANDOM_NETWORK_BYTES_PER_ITEM = 200
+
 #: Primitive vectors of the FCC lattice with nearest-neighbour distance 1 (rows).
 FCC_VECTORS = np.array([[0.0, 1.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 0.0]]) / np.sqrt(2.0)
 #: The six bond steps per FCC node, in primitive coordinates: a1, a2, a3, a1 - a2, a1 - a3,
@@ -51,12 +64,19 @@ FCC_VECTORS = np.array([[0.0, 1.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 0.0]]) / np
 FCC_STEPS = ((1, 0, 0), (0, 1, 0), (0, 0, 1), (1, -1, 0), (1, 0, -1), (0, 1, -1))
 
 
-def _check_size(n: int, dim: int = 2) -> int:
+def _check_size(n: int, lattice: str, dim: int = 2, basis: int = 1) -> int:
+    """``n`` as an int, refused in one line unless an integer >= 2 whose lattice of ``n^dim``
+    cells of ``basis`` nodes fits in memory (an unmeasured ``lattice`` is priced as the costliest
+    measured one of its dimension)."""
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
-        raise InputError(f"n must be an integer, got {n!r}")
+        raise InputError(f"n must be an integer, got {show(n)}")
     if n < 2:
         raise InputError(f"n must be at least 2, got {n}")
-    check_memory(BUILD_BYTES_PER_NODE * float(n) ** dim, f"a lattice of n = {n} ({n}^{dim} nodes)")
+    nodes = basis * float(n) ** dim if n < 2**63 else math.inf
+    check_memory(
+        stage_bytes("build", nodes, lattice, dim),
+        f"a lattice of n = {show(n)} ({show(n)}^{dim} nodes)",
+    )
     return int(n)
 
 
@@ -103,9 +123,7 @@ def _warn_if_crossing(net: PeriodicNetwork, delta: float, name: str) -> None:
 
 
 def _check_delta(delta: float) -> float:
-    delta = float(delta)
-    if not np.isfinite(delta):
-        raise InputError("delta must be finite")
+    delta = check_real("delta", delta)
     if delta < 0:
         raise InputError(f"delta must be non-negative, got {delta}")
     if delta >= 0.5:
@@ -171,8 +189,9 @@ def triangular_lattice(
     PeriodicNetwork
         ``n^2`` nodes, ``3 n^2`` empty sites.
     """
-    n = _check_size(n)
+    n = _check_size(n, "triangular")
     delta = _check_delta(delta)
+    rng = None if rng is None else check_generator(rng)
     a, b, bonds, shifts = _periodic_grid_bonds(n, [(1, 0), (0, 1), (1, 1)])
     positions = np.outer(a, B1) + np.outer(b, B2)
     if delta > 0:
@@ -218,8 +237,11 @@ def square_lattice(
     PeriodicNetwork
         ``n^2`` nodes, ``2 n^2`` (or ``3 n^2``) empty sites.
     """
-    n = _check_size(n)
+    n = _check_size(n, "square")
     delta = _check_delta(delta)
+    rng = None if rng is None else check_generator(rng)
+    if not isinstance(diagonals, (bool, np.bool_)):
+        raise InputError(f"diagonals must be True or False, got {show(diagonals)}")
     neighbours = [(1, 0), (0, 1)] + ([(1, 1)] if diagonals else [])
     a, b, bonds, shifts = _periodic_grid_bonds(n, neighbours)
     positions = np.c_[a, b].astype(float)
@@ -257,13 +279,14 @@ HONEYCOMB_CELL = (
 )
 
 
-def _decorated_lattice(n: int, cell, delta: float, rng) -> PeriodicNetwork:
-    """n x n cells of a lattice with a basis: node ``(c, a)`` (index ``c nb + a`` for cell
-    ``c = i n + j`` and basis node ``a`` of ``nb``), the bonds of the cell's table in turn, each
-    over every cell."""
-    n = _check_size(n)
-    delta = _check_delta(delta)
+def _decorated_lattice(n: int, cell, delta: float, rng, name: str) -> PeriodicNetwork:
+    """n x n cells of the lattice ``name`` with a basis: node ``(c, a)`` (index ``c nb + a`` for
+    cell ``c = i n + j`` and basis node ``a`` of ``nb``), the bonds of the cell's table in turn,
+    each over every cell."""
     vectors, basis, table = cell
+    n = _check_size(n, name, basis=len(basis))
+    delta = _check_delta(delta)
+    rng = None if rng is None else check_generator(rng)
     nb = len(basis)
     coords, _, _ = _grid_bonds(n, [(0, 0)])
     cell_index = coords @ np.array([n, 1])
@@ -307,7 +330,7 @@ def kagome_lattice(
     PeriodicNetwork
         ``3 n^2`` nodes, ``6 n^2`` empty sites, box rows ``n (2, 0)`` and ``n (1, sqrt 3)``.
     """
-    return _decorated_lattice(n, KAGOME_CELL, delta, rng)
+    return _decorated_lattice(n, KAGOME_CELL, delta, rng, "kagome")
 
 
 def honeycomb_lattice(
@@ -333,7 +356,7 @@ def honeycomb_lattice(
     PeriodicNetwork
         ``2 n^2`` nodes, ``3 n^2`` empty sites.
     """
-    return _decorated_lattice(n, HONEYCOMB_CELL, delta, rng)
+    return _decorated_lattice(n, HONEYCOMB_CELL, delta, rng, "honeycomb")
 
 
 def fcc_lattice(
@@ -371,8 +394,9 @@ def fcc_lattice(
     >>> net.n_nodes, net.n_sites, net.dim
     (27, 162, 3)
     """
-    n = _check_size(n, dim=3)
+    n = _check_size(n, "fcc", dim=3)
     delta = _check_delta(delta)
+    rng = None if rng is None else check_generator(rng)
     coords, bonds, shifts = _grid_bonds(n, FCC_STEPS)
     positions = coords @ FCC_VECTORS
     if delta > 0:
@@ -414,7 +438,10 @@ def inverted_tetrahedra(net: PeriodicNetwork) -> int:
     n_nodes = net.n_nodes
     if net.dim != 3 or net.n_sites != 6 * n_nodes:
         return 0
-    d = net.bond_vectors()
+    # in units of a power of two near the box's size (exact): triple products of bonds of
+    # 1e-170 or 1e150 would under- or overflow and read as flat tetrahedra
+    _, exponent = np.frexp(float(np.abs(net.box).max()))
+    d = np.ldexp(net.bond_vectors(), -int(exponent))
     up = [d[s * n_nodes : (s + 1) * n_nodes] for s in range(3)]
     # the node x - a_s is the first node of site s ending at x
     down = []
@@ -434,7 +461,7 @@ def random_periodic_network(
     rng: np.random.Generator,
     box: np.ndarray | None = None,
     max_shift: int = 1,
-    dim: int = 2,
+    dim: int | None = None,
 ) -> PeriodicNetwork:
     """A random periodic network: uniform nodes in a (possibly skewed) box, random bond sites.
 
@@ -452,28 +479,49 @@ def random_periodic_network(
         Lattice vectors as rows; a random skewed box of area (volume) about ``n_nodes`` when
         omitted.
     max_shift : int
-        Largest image shift in each direction.
-    dim : int
-        Dimension d (2 or 3) when no box is given.
+        Largest image shift in each direction (at least 1, at most
+        :data:`~.network.MAX_SHIFT`).
+    dim : int, optional
+        Dimension d, 2 or 3: that of ``box`` when one is given (a box of another dimension
+        is refused), else 2.
 
     Returns
     -------
     PeriodicNetwork
         ``n_nodes`` nodes, ``n_bonds`` empty sites.
+
+    Raises
+    ------
+    InputError
+        On counts that are not integers of the right range, a ``box`` whose dimension is not
+        ``dim``, or an ``rng`` that is not a generator.
     """
-    if n_nodes < 1 or n_bonds < 0:
-        raise InputError("n_nodes must be >= 1 and n_bonds >= 0")
+    n_nodes = check_count("n_nodes", n_nodes, least=1)
+    n_bonds = check_count("n_bonds", n_bonds)
+    max_shift = check_count("max_shift", max_shift, least=1)
+    if max_shift > MAX_SHIFT:
+        raise InputError(f"max_shift must be at most {MAX_SHIFT}, got {show(max_shift)}")
+    rng = check_generator(rng)
+    if dim is not None and not (
+        isinstance(dim, (int, np.integer)) and not isinstance(dim, bool) and dim in (2, 3)
+    ):
+        raise InputError(f"dim must be 2 or 3, got {show(dim)}")
+    items = n_nodes + n_bonds
+    check_memory(
+        RANDOM_NETWORK_BYTES_PER_ITEM * (float(items) if items < 2**63 else math.inf),
+        f"a random network of {show(n_nodes)} nodes and {show(n_bonds)} bonds",
+    )
     if box is None:
-        if dim == 2:
+        if dim in (None, 2):
             box = np.array([[1.0, 0.0], [rng.uniform(-0.6, 0.6), rng.uniform(0.6, 1.4)]])
             box = box * np.sqrt(n_nodes)
-        elif dim == 3:
+        else:
             box = np.diag(rng.uniform(0.7, 1.3, 3)) + np.tril(rng.uniform(-0.4, 0.4, (3, 3)), -1)
             box = box * n_nodes ** (1.0 / 3.0)
-        else:
-            raise InputError(f"dim must be 2 or 3, got {dim!r}")
-    box = np.asarray(box, dtype=float)
-    d = box.shape[0] if box.ndim == 2 else dim
+    box = _as_box(box)
+    d = box.shape[0]
+    if dim is not None and d != dim:
+        raise InputError(f"box has shape {box.shape} but dim = {dim}: give a ({dim}, {dim}) box")
     frac = rng.random((n_nodes, d))
     positions = frac @ box
     bonds = rng.integers(0, n_nodes, size=(n_bonds, 2))
@@ -482,3 +530,14 @@ def random_periodic_network(
     shifts[same, 0] = 1
     kinds = np.full(n_bonds, Element.EMPTY, dtype=np.int64)
     return PeriodicNetwork(box, positions, bonds, shifts, kinds)
+
+
+def _as_box(box) -> np.ndarray:
+    """A (2, 2) or (3, 3) array of finite reals (the network checks its volume)."""
+    try:
+        arr = np.asarray(box, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"box must be a (2, 2) or (3, 3) array, got {show(box)}") from None
+    if arr.shape not in ((2, 2), (3, 3)):
+        raise InputError(f"box must have shape (2, 2) or (3, 3), got {arr.shape}")
+    return arr

@@ -4,26 +4,107 @@ Every guard raises :class:`~tensegrity_rigidity.errors.InputError` *before* allo
 sentence that says how much was asked and how much there is, so that a typo such as
 ``n = 100000`` or ``samples = 1e9`` ends in one line instead of an exhausted machine.
 
-The per-node costs below were measured on the triangular lattice (peak resident memory of
-``lattice_instance`` and of :func:`~tensegrity_rigidity.solver.core.solve`, n = 32 .. 1024):
-building costs about 490 bytes per node; a solve 7 to 10 kB per node (CHOLMOD's factor,
-the interior-point work arrays).
+The memory of one sample's work is measured per lattice (so per dimension) and stage by
+``benchmarks/measure_memory.py``, which writes ``memory_costs.toml`` beside this module: bytes
+per node of building a sample, of one solve, of one threshold search and of the pebble game,
+and how the cost per node grows with the size (3D factorisations fill in). A lattice of linear
+size ``n`` has ``n^d`` nodes.
 """
 
 from __future__ import annotations
 
 import math
 import os
+import tomllib
+from importlib import resources
 
 import numpy as np
 
 from ..errors import InputError
+from .network import show
 
-#: bytes per node of building a lattice sample (geometry, bonds, shifts, kinds, uniforms);
-#: measured 490 at n = 1024, rounded up.
-BUILD_BYTES_PER_NODE = 600
-#: bytes per node of one solve (measured 10 kB at n = 32, 8 kB at n = 64, 7.4 kB at n = 128).
-SOLVE_BYTES_PER_NODE = 12_000
+#: Bytes per node of each stage of one sample's work, per lattice: ``dim``, then per stage
+#: (``build``, ``solve``, ``threshold``, ``clusters``) the bytes per node at ``{stage}_nodes``
+#: nodes and the exponent of the growth beyond (read from ``memory_costs.toml``, measured and
+#: written by benchmarks/measure_memory.py).
+MEMORY_COSTS: dict[str, dict] = tomllib.loads(
+    resources.files(__package__).joinpath("memory_costs.toml").read_text(encoding="utf-8")
+)
+#: The stages whose memory is measured.
+STAGES = ("build", "solve", "threshold", "clusters")
+
+
+def lattice_dimension(lattice: str) -> int:
+    """The dimension of a lattice of :data:`MEMORY_COSTS` (2 for another).
+
+    Parameters
+    ----------
+    lattice : str
+        The lattice's name.
+
+    Returns
+    -------
+    int
+        2 or 3.
+    """
+    return int(MEMORY_COSTS.get(lattice, {}).get("dim", 2))
+
+
+def lattice_nodes(lattice: str, n: int) -> float:
+    """Nodes of a lattice of linear size ``n``: ``n^d`` (``n^3`` on the FCC lattice).
+
+    Parameters
+    ----------
+    lattice : str
+        A lattice of :data:`MEMORY_COSTS` (another counts as 2D).
+    n : int
+        Linear size.
+
+    Returns
+    -------
+    float
+        The node count (a float: ``n`` may be absurd).
+    """
+    return float(n) ** lattice_dimension(lattice)
+
+
+def stage_bytes(stage: str, nodes: float, lattice: str | None = None, dim: int = 2) -> float:
+    """Memory of one ``stage`` of a sample's work on ``nodes`` nodes.
+
+    Parameters
+    ----------
+    stage : {"build", "solve", "threshold", "clusters"}
+        What is done (:data:`STAGES`).
+    nodes : float
+        Nodes of the network.
+    lattice : str, optional
+        Its lattice; for any other network (or a lattice not measured) the largest cost of
+        the measured lattices of its dimension (``dim``), else of any.
+    dim : int
+        The dimension, when ``lattice`` is not given.
+
+    Returns
+    -------
+    float
+        Bytes: the cost per node times ``nodes``, times ``(nodes / measured)^(e - 1)`` above
+        the largest size measured when the cost per node grows (``e > 1``).
+    """
+    measured = [c for c in MEMORY_COSTS.values() if stage in c]
+    if lattice in MEMORY_COSTS and stage in MEMORY_COSTS[lattice]:
+        entries = [MEMORY_COSTS[lattice]]
+    else:  # the dimension's lattices, else every lattice: never no guard at all
+        dim = int(MEMORY_COSTS.get(lattice or "", {}).get("dim", dim))
+        entries = [c for c in measured if int(c["dim"]) == dim] or measured
+    need = 0.0
+    for costs in entries:
+        if stage not in costs:
+            continue
+        per_node = float(costs[stage])
+        growth = max(1.0, nodes / float(costs[f"{stage}_nodes"])) ** (
+            float(costs[f"{stage}_exponent"]) - 1.0
+        )
+        need = max(need, per_node * nodes * growth)
+    return need
 
 
 #: Range of the largest affine extension ``max |e0|`` (physical length units) that the solver
@@ -61,12 +142,14 @@ def check_gamma(gamma: float, what: str = "gamma") -> float:
         One sentence naming the accepted range.
     """
     lo, hi = GAMMA_RANGE
+    if isinstance(gamma, (bool, np.bool_)) or not isinstance(gamma, (int, float, np.number)):
+        raise InputError(f"{what} must be a number, got {show(gamma)}")
     try:
         value = float(gamma)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be a number, got {gamma!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        value = math.nan
     if not math.isfinite(value) or value <= 0:
-        raise InputError(f"{what} must be a positive finite number, got {gamma!r}")
+        raise InputError(f"{what} must be a positive finite number, got {show(gamma)}")
     if not lo <= value <= hi:
         raise InputError(
             f"{what} = {value:.1e} lies outside [{lo:.0e}, {hi:.0e}]: energies (proportional to "

@@ -17,6 +17,7 @@ included). It is exactly what an instance file stores (see :mod:`tensegrity_rigi
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from enum import IntEnum
 
@@ -64,6 +65,118 @@ class Element(IntEnum):
     STRUT = 3
 
 
+#: Longest value quoted in an error message (longer ones are cut, so that the message stays
+#: one short line whatever was passed: an array, a whole table).
+_SHOWN_CHARACTERS = 60
+
+
+def show(value) -> str:
+    """``repr(value)`` on one line, cut to a readable length, for an error message.
+
+    Parameters
+    ----------
+    value : object
+        Whatever was passed.
+
+    Returns
+    -------
+    str
+        Its repr with runs of white space as one space, at most about 60 characters.
+    """
+    text = " ".join(repr(value).split())
+    if len(text) > _SHOWN_CHARACTERS:
+        text = text[: _SHOWN_CHARACTERS - 3] + "..."
+    return text
+
+
+def check_real(name: str, value) -> float:
+    """A finite real number: a Python or NumPy scalar, not a bool, a string or an array.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : object
+        What was passed.
+
+    Returns
+    -------
+    float
+        The value as a float.
+
+    Raises
+    ------
+    InputError
+        One sentence naming the argument and quoting the value.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+        raise InputError(f"{name} must be a number, got {show(value)}")
+    if isinstance(value, (complex, np.complexfloating)):
+        raise InputError(f"{name} must be a real number, got {show(value)}")
+    try:
+        out = float(value)
+    except OverflowError:
+        out = math.inf
+    if not math.isfinite(out):
+        raise InputError(f"{name} must be finite, got {show(value)}")
+    return out
+
+
+def check_count(name: str, value, least: int = 0) -> int:
+    """An integer (Python or NumPy, not a bool or a float) of at least ``least``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : object
+        What was passed.
+    least : int
+        The smallest value accepted.
+
+    Returns
+    -------
+    int
+        The value.
+
+    Raises
+    ------
+    InputError
+        One sentence naming the argument and quoting the value.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{name} must be an integer, got {show(value)}")
+    if value < least:
+        raise InputError(f"{name} must be at least {least}, got {show(value)}")
+    return int(value)
+
+
+def check_generator(rng) -> np.random.Generator:
+    """A NumPy random generator.
+
+    Parameters
+    ----------
+    rng : object
+        What was passed.
+
+    Returns
+    -------
+    numpy.random.Generator
+        ``rng``.
+
+    Raises
+    ------
+    InputError
+        On anything else (a seed: wrap it, ``numpy.random.default_rng(seed)``).
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise InputError(
+            f"rng must be a numpy.random.Generator, got {show(rng)} (for a seed s, pass "
+            "numpy.random.default_rng(s))"
+        )
+    return rng
+
+
 def _as_float_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray:
     try:
         raw = np.asarray(value)
@@ -107,7 +220,7 @@ def _as_int_array(name: str, value, shape: tuple[int | None, ...]) -> np.ndarray
 
 
 def vector_norms(v: np.ndarray) -> np.ndarray:
-    """Euclidean norms of the rows of ``v``.
+    """Euclidean norms of the rows of ``v``, without overflow or underflow at any scale.
 
     Parameters
     ----------
@@ -117,12 +230,48 @@ def vector_norms(v: np.ndarray) -> np.ndarray:
     Returns
     -------
     (m,) float
-        ``hypot`` in 2D (no overflow or underflow), the square root of the sum of squares in
-        3D.
+        ``hypot`` in 2D; in 3D the square root of the sum of squares, by
+        :func:`norms_from_squares`.
     """
     if v.shape[1] == 2:
         return np.hypot(v[:, 0], v[:, 1])
-    return np.sqrt(np.einsum("bi,bi->b", v, v))
+    v = np.asarray(v, dtype=float)
+    with np.errstate(over="ignore"):  # such rows are computed again, scaled
+        squares = np.einsum("bi,bi->b", v, v)
+    return norms_from_squares(v, squares)
+
+
+def norms_from_squares(v: np.ndarray, squares: np.ndarray) -> np.ndarray:
+    """Norms of the rows of ``v`` from their sums of squares, safe where those leave the range.
+
+    Parameters
+    ----------
+    v : (m, d) float or longdouble
+        Vectors.
+    squares : (m,) of v's dtype
+        ``sum_i v[:, i]^2`` as the caller computes it.
+
+    Returns
+    -------
+    (m,) of v's dtype
+        ``sqrt(squares)`` where the sum lies where no square in it lost a digit to underflow and
+        it did not overflow (above the smallest normal number times ``2^(p + 1)``, ``p`` the
+        mantissa bits, and below a quarter of the largest); elsewhere the same computed on
+        the row divided by a power of two near its largest component. That scaling is exact,
+        so the digits are those the plain formula gives at ordinary scales, and a bond of
+        ``1e-170`` or ``1e200`` keeps them too.
+    """
+    info = np.finfo(squares.dtype)
+    low = np.ldexp(info.tiny, info.nmant + 1)
+    high = info.max / 4
+    norms = np.sqrt(squares)
+    out_of_range = ~((squares >= low) & (squares <= high))
+    if np.any(out_of_range):
+        rows = v[out_of_range]
+        _, exponent = np.frexp(np.abs(rows).max(axis=1))
+        unit = np.ldexp(rows, -exponent[:, None])
+        norms[out_of_range] = np.ldexp(np.sqrt((unit * unit).sum(axis=1)), exponent)
+    return norms
 
 
 def _check_shape(name: str, arr: np.ndarray, shape: tuple[int | None, ...]) -> None:

@@ -14,10 +14,12 @@ import numpy as np
 from ..errors import InputError
 from .elements import check_probabilities, place_elements, site_uniforms
 from .lattice import DEFAULT_DELTA, fcc_lattice, square_lattice, triangular_lattice
-from .network import Instance, PeriodicNetwork
+from .network import Instance, PeriodicNetwork, show
 from .strain import strain_tensor
 
 LATTICES = {"triangular": triangular_lattice, "square": square_lattice, "fcc": fcc_lattice}
+#: the dimension of each lattice's networks
+LATTICE_DIMENSIONS = {"triangular": 2, "square": 2, "fcc": 3}
 
 
 def check_seed(seed) -> int | None:
@@ -41,7 +43,7 @@ def check_seed(seed) -> int | None:
     if seed is None:
         return None
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise InputError(f"seed must be a non-negative integer, got {seed!r}")
+        raise InputError(f"seed must be a non-negative integer, got {show(seed)}")
     if seed < 0:
         raise InputError(f"seed must be a non-negative integer, got {seed}")
     return int(seed)
@@ -75,12 +77,9 @@ def lattice_geometry(
     InputError
         On an unknown lattice or invalid ``n``, ``delta``.
     """
-    try:
-        builder = LATTICES[lattice]
-    except KeyError:
-        raise InputError(
-            f"unknown lattice {lattice!r}; choose from {', '.join(LATTICES)}"
-        ) from None
+    builder = LATTICES.get(lattice) if isinstance(lattice, str) else None
+    if builder is None:
+        raise InputError(f"unknown lattice {show(lattice)}; choose from {', '.join(LATTICES)}")
     net = builder(n, delta, rng)
     u, v = site_uniforms(net.n_sites, rng)
     return net, u, v
@@ -111,7 +110,8 @@ def lattice_instance(
     phi : float or str
         Strain type: an angle, or "dilation" (0), "shear" (pi/2), "compression" (pi).
     theta : float
-        Principal-axis angle of the strain, radians.
+        Principal-axis angle of the strain in 2D, radians (a nonzero one is refused on the
+        3D lattice, whose axes are ``rotation_matrix``).
     gamma : float
         Strain magnitude (positive); energies scale as ``gamma^2``, verdicts do not change.
     delta : float

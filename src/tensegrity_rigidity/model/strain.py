@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import InputError
 from .limits import check_gamma
+from .network import check_real, show
 
 #: Named strain types and their phi.
 NAMED_STRAINS = {"dilation": 0.0, "shear": math.pi / 2, "compression": math.pi}
@@ -51,11 +52,8 @@ def parse_phi(phi: float | str) -> float:
             phi = float(key)
         except ValueError:
             names = ", ".join(NAMED_STRAINS)
-            raise InputError(f"phi must be a number or one of {names}; got {phi!r}") from None
-    value = float(phi)
-    if not math.isfinite(value):
-        raise InputError(f"phi must be finite, got {value}")
-    return value
+            raise InputError(f"phi must be a number or one of {names}; got {show(phi)}") from None
+    return check_real("phi", phi)
 
 
 def rotation(theta: float) -> np.ndarray:
@@ -89,7 +87,8 @@ def strain_tensor(
     phi : float or str
         Strain type (:func:`parse_phi`): 0 dilation, pi/2 shear, pi compression.
     theta : float
-        Angle of the principal axes in 2D, radians (ignored when ``rotation_matrix`` is given).
+        Angle of the principal axes in 2D, radians. A nonzero ``theta`` is refused in 3D and
+        beside ``rotation_matrix``, which set the axes there (it would be ignored).
     gamma : float
         Magnitude, positive.
     rotation_matrix : (d, d) float, optional
@@ -109,8 +108,9 @@ def strain_tensor(
     Raises
     ------
     InputError
-        On a non-finite angle, or a magnitude outside
-        :data:`~tensegrity_rigidity.model.limits.GAMMA_RANGE`.
+        On a non-finite angle, a magnitude outside
+        :data:`~tensegrity_rigidity.model.limits.GAMMA_RANGE`, a dimension other than 2 or 3,
+        or a nonzero ``theta`` where the rotation sets the axes.
 
     Examples
     --------
@@ -120,20 +120,30 @@ def strain_tensor(
            [0., 1.]])
     """
     phi = parse_phi(phi)
-    theta, gamma = float(theta), float(gamma)
-    if not math.isfinite(theta):
-        raise InputError("theta must be finite")
+    theta = check_real("theta", theta)
     gamma = check_gamma(gamma)
+    if dim is not None and not (
+        isinstance(dim, (int, np.integer)) and not isinstance(dim, bool) and dim in (2, 3)
+    ):
+        raise InputError(f"dim must be 2 or 3, got {show(dim)}")
+    if theta != 0 and dim == 3:
+        raise InputError(
+            f"theta = {theta:g} is an angle of 2D axes and would be ignored in 3D: give the "
+            "axes as rotation_matrix (e.g. sequence_rotation(k)) and leave theta at 0"
+        )
+    if theta != 0 and rotation_matrix is not None:
+        raise InputError(
+            f"theta = {theta:g} and rotation_matrix both set the principal axes (theta would be "
+            "ignored): give one of them"
+        )
     if rotation_matrix is not None:
         a = check_rotation(rotation_matrix)
         if dim is not None and a.shape[0] != dim:
             raise InputError(f"rotation_matrix has shape {a.shape}, not ({dim}, {dim})")
     elif dim in (None, 2):
         a = rotation(theta)
-    elif dim == 3:
-        a = np.eye(3)
     else:
-        raise InputError(f"dim must be 2 or 3, got {dim!r}")
+        a = np.eye(3)
     if a.shape[0] == 2:
         eps0 = np.diag([math.cos(phi) + math.sin(phi), math.cos(phi) - math.sin(phi)])
     else:
@@ -162,7 +172,7 @@ def check_rotation(q) -> np.ndarray:
     """
     try:
         a = np.array(q, dtype=float)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"rotation_matrix must be a numeric array ({exc})") from None
     if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] not in (2, 3):
         raise InputError(f"rotation_matrix must have shape (2, 2) or (3, 3), got {a.shape}")
@@ -200,8 +210,11 @@ def sequence_rotation(k: int) -> np.ndarray:
     (3, 3) float
         A proper rotation.
     """
-    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
-        raise InputError(f"the rotation index must be a positive integer, got {k!r}")
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 1 <= k <= 2**53:
+        raise InputError(
+            f"the rotation index must be a positive integer up to 2^53 (beyond, k times "
+            f"the sequence's steps loses its digits), got {show(k)}"
+        )
     u1, u2, u3 = (math.fmod(k * step, 1.0) for step in R3_STEPS)
     a, b = math.sqrt(1.0 - u1), math.sqrt(u1)
     w, x = a * math.sin(2 * math.pi * u2), a * math.cos(2 * math.pi * u2)

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..model.network import norms_from_squares
+
 #: Unit round-off of the extended precision the certificates are evaluated in (``2^-64`` on
 #: x86-64; ``2^-53`` where ``longdouble`` is a double).
 EPS = float(np.finfo(np.longdouble).eps) / 2
@@ -142,7 +144,7 @@ class ExactGeometry:
 
     def __init__(self, bonds, d, e0, sigma, n_nodes: int):
         self.bonds = bonds
-        self.dhat = d / np.sqrt((d * d).sum(axis=1))[:, None]
+        self.dhat = d / norms_from_squares(d, (d * d).sum(axis=1))[:, None]
         self.sigma = sigma
         self.rod = sigma == 0
         self.e0n = np.asarray(e0, dtype=np.longdouble)

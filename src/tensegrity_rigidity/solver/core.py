@@ -10,6 +10,7 @@ it is undecided, never guessed. :func:`solve` = :func:`decide` -> :func:`~.relax
 
 from __future__ import annotations
 
+import math
 import os
 import time
 import warnings
@@ -18,9 +19,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError, UndecidedWarning
-from ..model.limits import check_energy_scale
+from ..model.limits import check_energy_scale, check_memory, stage_bytes
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
-from ..model.network import Instance
+from ..model.network import Instance, show
 from .certificates import FloppyCertificate, RigidCertificate, short_repr, undecided_reason
 from .displacements import MinimumNorm, minimum_norm
 from .linalg import one_blas_thread
@@ -210,12 +211,37 @@ def _undecided_message(s, reason: str, evidence: str) -> str:
     return "; ".join(parts)
 
 
+def _starting_point(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
+    """A starting point as a finite float array of ``shape`` (or the same numbers flat)."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be a numeric array, got {show(value)}") from None
+    if arr.size != math.prod(shape):
+        raise InputError(f"{name} must have shape {shape}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} contains NaN or infinite values")
+    return arr.reshape(shape)
+
+
 def _search(instance: Instance, opts: SolverOptions, start, start_tensions=None):
     """The problem of ``instance`` and the verdict search on it, from the given starting points."""
     if not isinstance(instance, Instance):
         hint = " (load a file with load_instance(path) first)"
         hint = hint if isinstance(instance, (str, os.PathLike)) else ""
         raise InputError(f"expected an Instance, got {type(instance).__name__}{hint}")
+    if not isinstance(opts, SolverOptions):
+        raise InputError(
+            f"options must be a SolverOptions, got {type(opts).__name__} (e.g. "
+            "SolverOptions(max_iter=100))"
+        )
+    net = instance.network
+    if start is not None:
+        start = _starting_point("initial_displacements", start, (net.n_nodes, net.dim))
+    if start_tensions is not None:
+        start_tensions = _starting_point("initial_tensions", start_tensions, (net.n_sites,))
+    need = stage_bytes("solve", net.n_nodes, dim=net.dim)
+    check_memory(need, f"solving a {net.dim}D network of {net.n_nodes:,} nodes")
     p = Problem(instance, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
     check_energy_scale(p.scale, instance.network.stiffness_or_ones()[p.sites])
     u0 = t0 = None

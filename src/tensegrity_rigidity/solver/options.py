@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from ..errors import InputError
+from ..model.network import show
 from .certificates import Resolution, violation_roundoff
 from .stages import DEFAULT_STRATEGIES, Refiner
 from .tolerances import DEFAULT_REGULARIZATION, Tolerances
@@ -21,7 +22,7 @@ def strategy_named(name: str):
     """The strategy of :data:`~.stages.DEFAULT_STRATEGIES` named ``name`` ("lp", say)."""
     table = {s.name: s for s in DEFAULT_STRATEGIES}
     if name not in table:
-        raise InputError(f"unknown solver stage {name!r}; choose from {', '.join(table)}")
+        raise InputError(f"unknown solver stage {show(name)}; choose from {', '.join(table)}")
     return table[name]
 
 
@@ -74,14 +75,16 @@ class SolverOptions:
         if self.factorization not in ("auto", "cholmod", "qdldl"):
             raise InputError(
                 "SolverOptions.factorization must be 'auto', 'cholmod' or 'qdldl', "
-                f"got {self.factorization!r}"
+                f"got {show(self.factorization)}"
             )
         stages = self.stages
-        if isinstance(stages, str) or not all(
+        # a list or tuple only: a table ({lp = 1} in a spec) iterates as its keys, a string
+        # as its letters
+        if not isinstance(stages, (list, tuple)) or not all(
             isinstance(x, str) or (hasattr(x, "run") and hasattr(x, "name")) for x in stages
         ):
             raise InputError(
-                f"SolverOptions.stages must be a list of strategies or names, got {stages!r}"
+                f"SolverOptions.stages must be a list of strategies or names, got {show(stages)}"
             )
         if not stages:
             raise InputError(
@@ -97,10 +100,16 @@ class SolverOptions:
             if kind is None:
                 continue
             if not isinstance(value, kind) or isinstance(value, bool) != (kind is bool):
-                raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {value!r}")
+                raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {show(value)}")
             if kind is not bool and not (np.isfinite(value) and value >= 0):
                 raise InputError(
-                    f"SolverOptions.{f.name} must be finite and non-negative, got {value!r}"
+                    f"SolverOptions.{f.name} must be finite and non-negative, got {show(value)}"
+                )
+        for name, kind in (("refiner", Refiner), ("tolerances", Tolerances)):
+            if not isinstance(getattr(self, name), kind):
+                raise InputError(
+                    f"SolverOptions.{name} must be a {kind.__name__}, got "
+                    f"{show(getattr(self, name))}"
                 )
         self._check_resolution()
 
