@@ -82,3 +82,16 @@ def test_hipo_without_its_plugin_is_refused_in_one_line(monkeypatch):
     monkeypatch.setattr(stages, "hipo_available", lambda: False)
     with pytest.raises(InputError, match="pip install highspy-extras"):
         LinearProgram(interior="hipo")
+
+
+def test_a_highs_call_that_leaves_the_algorithm_to_highs_is_refused():
+    import numpy as np
+    import scipy.sparse as sp
+
+    from tensegrity_rigidity.solver.highs import run_lp
+
+    A = sp.csc_matrix(np.ones((1, 2)))
+    with pytest.raises(ValueError, match="must name its algorithm"):
+        run_lp(A, [1.0, 1.0], [0.0, 0.0], [1.0, 1.0], [1.0], [2.0], solver="ipm")
+    h = run_lp(A, [1.0, 2.0], [0.0, 0.0], [1.0, 1.0], [1.0], [2.0], solver="simplex")
+    assert list(h.getSolution().col_value) == [1.0, 0.0]

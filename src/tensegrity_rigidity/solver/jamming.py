@@ -31,6 +31,7 @@ import scipy.sparse.linalg as spla
 from ..errors import InputError
 from ..model.network import Element, PeriodicNetwork
 from .certificates import EPS, WITHIN_RESOLUTION, bond_vectors
+from .highs import run_lp
 from .linalg import one_blas_thread
 
 #: The jamming categories of Torquato and Stillinger, weakest first.
@@ -393,19 +394,16 @@ def _highs_stress_lp(A: sp.csr_matrix):
             sp.hstack([sp.csr_matrix(np.ones((1, m))), sp.csr_matrix((1, 1))]),
         ]
     ).tocsc()
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = m + 1, M.shape[0]
-    lp.col_cost_ = np.r_[np.zeros(m), -1.0]
-    lp.col_lower_, lp.col_upper_ = np.full(m + 1, -inf), np.full(m + 1, inf)
-    lp.row_lower_ = np.r_[np.zeros(n), np.zeros(m), -inf]
-    lp.row_upper_ = np.r_[np.zeros(n), np.full(m, inf), float(m)]
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = M.indptr, M.indices, M.data
-    h = highspy.Highs()
-    for key, value in {"output_flag": False, "threads": 1, "random_seed": 0}.items():
-        h.setOptionValue(key, value)
-    h.passModel(lp)
-    h.run()
+    h = run_lp(
+        M,
+        np.r_[np.zeros(m), -1.0],
+        np.full(m + 1, -inf),
+        np.full(m + 1, inf),
+        np.r_[np.zeros(n), np.zeros(m), -inf],
+        np.r_[np.zeros(n), np.full(m, inf), float(m)],
+        solver="simplex",
+        random_seed=0,
+    )
     if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
         return None
     sol = h.getSolution()

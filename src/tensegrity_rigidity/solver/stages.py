@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import InputError
 from ..model.network import Instance
 from .certificates import FloppyCertificate, Resolution, RigidCertificate
+from .highs import run_lp
 from .ipm import IpmState, interior_point
 from .newton import crossover, newton
 from .problem import Problem
@@ -495,7 +496,7 @@ class LinearProgram:
             "ipm_iteration_limit": self.max_iter,
             "simplex_iteration_limit": self._refine_budget(p),
         }
-        return _highs(A, -p.e0, lo, hi, zeros, zeros, **options), A, lo, hi
+        return run_lp(A, -p.e0, lo, hi, zeros, zeros, **options), A, lo, hi
 
     def run(self, s: Search) -> None:
         p = s.p
@@ -568,29 +569,6 @@ def hipo_available() -> bool:
     return True
 
 
-def _highs(A, cost, col_lower, col_upper, row_lower, row_upper, basis=None, **options):
-    """HiGHS on ``min cost . x`` s.t. ``row_lower <= A x <= row_upper``, ``col_lower <= x <=
-    col_upper`` (``A`` CSC), one thread, silent, with ``options`` and an optional starting basis;
-    the solved ``highspy.Highs``."""
-    import highspy
-
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
-    lp.col_cost_ = cost
-    lp.col_lower_, lp.col_upper_ = col_lower, col_upper
-    lp.row_lower_, lp.row_upper_ = row_lower, row_upper
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
-    h = highspy.Highs()
-    for key, value in {"output_flag": False, "threads": 1, **options}.items():
-        h.setOptionValue(key, value)
-    h.passModel(lp)
-    if basis is not None:
-        h.setBasis(basis)
-    h.run()
-    return h
-
-
 def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
     """One round of LP iterative refinement of the verdict LP at tensions ``t`` ((m,) longdouble)
     from ``basis``: (refined tensions (m,) longdouble, the correction LP's row duals (2N,), its
@@ -605,7 +583,7 @@ def _refinement(p: Problem, A, lo, hi, t: np.ndarray, basis, max_iter: int):
     lo_d, hi_d = np.asarray((lo - t) / d, dtype=float), np.asarray((hi - t) / d, dtype=float)
     # the primal simplex: the basis stays dual feasible, its values do not
     options = {"solver": "simplex", "simplex_strategy": 4, "simplex_iteration_limit": max_iter}
-    h = _highs(A, -p.e0, lo_d, hi_d, rows, rows, basis, **options)
+    h = run_lp(A, -p.e0, lo_d, hi_d, rows, rows, basis, **options)
     if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
         return None
     sol = h.getSolution()
@@ -636,7 +614,7 @@ def _feasibility_lp(
     options = {"solver": "simplex", "simplex_iteration_limit": max_iter}
     options["primal_feasibility_tolerance"] = tolerance
     for variant in variants:
-        h = _highs(A, *free, *rows, **options, simplex_strategy=4 if variant == "primal" else 1)
+        h = run_lp(A, *free, *rows, **options, simplex_strategy=4 if variant == "primal" else 1)
         status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kOptimal:
             return np.asarray(h.getSolution().col_value, dtype=float), None
