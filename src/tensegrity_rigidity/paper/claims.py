@@ -156,6 +156,9 @@ class Measurement:
         comparison adds it to our own measurement, with both covariances.
     size : int or None
         The lattice size behind the value, where a replication may be compared with it.
+    short : str
+        A shorter ``label`` for the report's tables, where a section says the rest ("" for the
+        label itself).
     """
 
     claim: str
@@ -169,6 +172,7 @@ class Measurement:
     note: str = ""
     shift: bool = False
     size: int | None = None
+    short: str = ""
 
     @classmethod
     def scalar(cls, claim: str, value: float, err: float, system: str, **kw) -> Measurement:

@@ -15,33 +15,14 @@ from ..ensemble.executors import local_workers
 from ..errors import InputError
 from .budget import estimate
 from .figures import all_figures
-from .registry import STUDIES
+from .registry import REGISTRY, SCALES, STUDIES
 from .report import write_report
-from .studies import SCALES, STORED
+from .studies.rows import STORED
 
-#: wall times of each scale on 2 cores of the reference machine: measured where stated, else the
-#: estimate of :mod:`~tensegrity_rigidity.paper.budget` (``reproduce --estimate``; the tests keep
-#: the two in step) until someone times a run
-EXPECTED = {
-    "tiny": "about a minute",
-    "quick": "8 min 33 s measured from a clean clone at fe7943b, install included "
-    "(estimated 8 minutes)",
-    "paper": "33 min 12 s measured from a clean clone at ef3ed37 (estimated 33 minutes)",
-    "fss": "97 minutes measured in one run at 13780ee, energy grids included (estimated 119 "
-    "minutes); resumable: re-run to continue",
-    "pc": "the rods-only study by the pebble game (n = 32 to 512; p_c, nu, fractal dimensions): "
-    "7 minutes measured on 2 idle cores (estimated 19 minutes)",
-    "3d": "beyond the paper, the disordered FCC lattice in 3D (n = 4 to 10, rods-only "
-    "thresholds to 12): 74 minutes measured in three invocations beside other runs (load 10 to "
-    "20 on 2 cores; estimated 29 minutes)",
-    "tiny-3d": "the 3D study at n = 2, 3, 4 with a few samples: about 15 seconds",
-    "fss-cluster": "for a Dask cluster (--scheduler): fss plus n = 128, estimated 62 CPU hours "
-    "(--estimate --workers N gives the wall time on N workers)",
-}
-
-
+#: the run time of each scale on 2 cores, as measured or estimated (``data/scales.toml``)
+EXPECTED = {name: scale.expected for name, scale in SCALES.items()}
 #: the studies ``evidence`` reads from a finished finite-size run
-EVIDENCE_STUDIES = ("fss", "delta")
+EVIDENCE_STUDIES = tuple(s.name for s in REGISTRY if s.evidence)
 
 
 def read_evidence(path) -> tuple[str, dict]:
@@ -75,10 +56,10 @@ def read_evidence(path) -> tuple[str, dict]:
         if missing[sc.name][0] == 0:
             stored = dict(workers=STORED, scheduler=None, progress=False)
             return sc.name, {n: STUDIES[n](path, sc, **stored) for n in EVIDENCE_STUDIES}
-    new, total = missing["fss"]
+    counts = ", ".join(f"{k}: {new:,} of {total:,}" for k, (new, total) in missing.items())
     raise InputError(
-        f"{path} holds no finished finite-size run ({new} of the {total} rows of --scale fss "
-        f"missing); finish it with: tensegrity-rigidity reproduce --scale fss --out {path}"
+        f"{path} holds no finished finite-size run (rows missing per scale: {counts}); finish "
+        f"one with: tensegrity-rigidity reproduce --scale NAME --out {path}"
     )
 
 

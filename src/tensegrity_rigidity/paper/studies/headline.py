@@ -17,15 +17,16 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
 from ...analysis import estimators as an
 from ..claims import CLAIMS, REFERENCES, Measurement
 from ..comparison import verdict, z_score
+from ..study import Scale
+from ..template import load
 from .energy import energy_exponent, taut_with_error
-from .fig1c import FIG1C_PT
 from .nonaffinity import mask_uncertified_tensions
-from .rows import PT4, Rows, p_r_grid, strain_name
-from .scales import Scale
+from .rows import COLLAPSE_PT, PT4, Rows, p_r_grid, strain_name
 
 STRAINS3 = [0.0, math.pi / 2, math.pi]
 FC3 = [0.0, 0.5, 1.0]
@@ -38,6 +39,9 @@ LAMBDA_CLAIMS = [
     ("st_sr_struts_dilation", 0.0, "dilation"),
     ("st_sr_cables_dilation", 1.0, "dilation"),
 ]
+T = load("headline")
+#: most samples per point of the energy grids by default (the threshold sweeps have up to 400)
+ENERGY_SAMPLES = 24
 #: the check on the fitted exponent and the extrapolated threshold
 NU_CHECK = REFERENCES["nu_moukarzel_duxbury"]
 PC_CHECK = REFERENCES["pc_javerzat_notarmuzi"]
@@ -58,7 +62,7 @@ def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     """Sweep name -> spec of the headline claims at one (n, delta); seed 61, threshold mode.
 
     ``_rods``: p_t = 0 (f_c does not matter there) under dilation, shear and compression;
-    ``_mixed``: p_t = :data:`~tensegrity_rigidity.paper.studies.FIG1C_PT` at f_c = 0, 0.5, 1
+    ``_mixed``: p_t = :data:`~.rows.COLLAPSE_PT` at f_c = 0, 0.5, 1
     under the three strains (S_t/S_r from the collapse over p_t = 0 and 0.3, as Fig. 1C);
     ``_pcrit``: p_t = 0.1, 0.2 for rods + cables (f_c = 1) under dilation and compression, for
     p_crit at every p_t. The names carry (n, delta) only, so the two studies share a sweep where
@@ -66,11 +70,11 @@ def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     samples of the larger.
     """
     name = f"headline_n{n}_delta{delta:g}"
-    base = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": STRAINS3}
+    base = dict(n=n, delta=delta, samples=samples, seed=61, phi=STRAINS3)
     base |= {"threshold": {"path": "p_r"}, "output": {"chunk_size": chunk_size(n)}}
     return {
         f"{name}_rods": base | {"p_t": 0.0, "f_c": 0.5},
-        f"{name}_mixed": base | {"p_t": FIG1C_PT, "f_c": FC3},
+        f"{name}_mixed": base | {"p_t": COLLAPSE_PT, "f_c": FC3},
         f"{name}_pcrit": base | {"p_t": PT4[1:-1], "f_c": 1.0, "phi": [0.0, math.pi]},
     }
 
@@ -91,10 +95,10 @@ def rods_pc_sweep(n: int, delta: float, samples: int, method: str = "lp") -> dic
     pebble-game pass, which also records the spanning rigid cluster at the threshold; its sweeps
     are named ``rods_pc_pebble_...``, so they never meet the bisection's).
     """
-    spec = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": [0.0]}
+    spec: dict[str, Any] = dict(n=n, delta=delta, samples=samples, seed=61, phi=[0.0])
     spec |= {"p_t": 0.0, "f_c": 0.5, "threshold": {"path": "p_r"}}
     if method == "pebble":
-        spec["threshold"] = {"path": "p_r", "method": "pebble"}
+        spec["threshold"] = dict(path="p_r", method="pebble")
         chunk = max(1, min(256, PEBBLE_CHUNK_SITES // n**2))
         return {f"rods_pc_pebble_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk}}}
     return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
@@ -117,7 +121,7 @@ def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
-    base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
+    base: dict[str, Any] = dict(n=n, delta=delta, samples=count, seed=61, f_c=1.0)
     base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
     base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
     return {
@@ -270,3 +274,15 @@ def judged(key: str, value: float, err: float) -> tuple[float, str]:
 
 
 # --------------------------------------------------------------------------- finite size
+
+
+#: a finite-size fit whose chi-square is less probable than this does not describe its sizes
+MISFIT_P = 0.01
+
+
+def misfit(chi2: float, dof: int) -> str:
+    """A clause for an extrapolation whose chi-square is above its 99th percentile (the values
+    do not follow the form, and y_inf says little); "" when it fits."""
+    if not (dof > 0 and np.isfinite(chi2)) or stats.chi2.sf(chi2, dof) >= MISFIT_P:
+        return ""
+    return " " + T.label("misfit", chi2=chi2, dof=dof)
