@@ -24,7 +24,17 @@ from ...model.network import Element
 from ..claims import CLAIMS, Measurement
 from ..plotting import KIND_COLOURS, bond_segments, draw_network, window
 from ..study import Result, Scale, Study
-from ..style import COLUMN, PAGE, PAPER_MARKER, WORDS, counts, paper_legend, placeholder, save
+from ..style import (
+    COLUMN,
+    PAGE,
+    PAPER_MARKER,
+    WORDS,
+    counts,
+    legend_below,
+    paper_legend,
+    placeholder,
+    save,
+)
 from ..template import load
 from .energy import energy_exponent, taut_with_error
 from .field import FIELD_P_T, FIELD_SAMPLES, DisplacementField, displacement_field
@@ -367,7 +377,7 @@ def fig2b(r: Fig2Result, figdir):
     ax.set(yscale="log", xlabel=WORDS.label("p_r"), ylabel=T.label("gamma"))
     counts(ax, *sub.groupby("p_r").N.min().reset_index().to_numpy().T)
     ax.set_title(T.label("title.2b", n=r.n))
-    ax.legend(ncol=2)
+    legend_below(ax)
     return save(fig, figdir, "2B")
 
 

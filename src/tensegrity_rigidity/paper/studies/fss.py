@@ -20,6 +20,7 @@ from typing import Any
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+from matplotlib.ticker import NullLocator
 
 from ...analysis import estimators as an
 from ...model.lattice import DEFAULT_DELTA
@@ -728,13 +729,9 @@ def figure_rc(r: FiniteSizeResult, figdir):
     assert fits is not None and by is not None, "the clusters' figure needs the pebble game's"
     fig, (left, right) = plt.subplots(1, 2, figsize=(PAGE, 3.6))
     if pic is not None:
-        draw_clusters(
-            left,
-            pic.network,
-            pic.clusters,
-            spanning=pic.spanning.sites,
-            legend={"loc": "upper center", "bbox_to_anchor": (0.5, -0.15), "ncol": 2},
-        )
+        below = {"loc": "upper center", "bbox_to_anchor": (0.5, 0.0), "ncol": 2}
+        draw_clusters(left, pic.network, pic.clusters, spanning=pic.spanning.sites, legend=below)
+        left.set_axis_off()
         left.set_title(T.label("title.picture", n=pic.n, sample=pic.sample, p_r=pic.p_r,
                                rods=pic.spanning.sites.size,
                                stressed=int(pic.spanning.stressed.sum())))  # fmt: skip
@@ -751,6 +748,7 @@ def figure_rc(r: FiniteSizeResult, figdir):
     right.set(xscale="log", yscale="log", xlabel=T.label("n"), ylabel=T.label("y.mass"),
               title=T.label("title.mass"))  # fmt: skip
     right.set_xticks(n, [f"{v:g}" for v in n])
+    right.xaxis.set_minor_locator(NullLocator())
     right.legend()
     return save(fig, figdir, "RC")
 

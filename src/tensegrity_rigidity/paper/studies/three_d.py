@@ -444,7 +444,7 @@ def figures(r: ThreeDResult, figdir) -> dict:
         ax.legend()
     axes[0].axhline(PC_3D_CHECK.value, color="grey", ls="--", lw=0.8)
     axes[0].axhline(PC_3D_MAXWELL.value, color="grey", ls=":", lw=0.8)
-    axes[0].set_title(T.label("title", check=PC_3D_CHECK.value))
+    fig.suptitle(T.label("title", check=PC_3D_CHECK.value))
     if widths:
         width_panel(axes[-1], w)
     return {"3D": save(fig, figdir, "3D")}
