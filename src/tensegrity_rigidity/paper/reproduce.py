@@ -80,7 +80,7 @@ def reproduce(
         Output directory (created): samples under ``out/studies`` (resumable sweeps),
         figures under ``out/figures``, ``report.md`` and ``report.html``.
     scale : {"tiny", "quick", "paper", "fss"}
-        System sizes and sample counts (:data:`~tensegrity_rigidity.paper.studies.SCALES`);
+        System sizes and sample counts (:data:`~tensegrity_rigidity.paper.registry.SCALES`);
         :data:`EXPECTED` gives their run times.
     workers : int, optional
         Local worker processes (default: all cores).

@@ -51,7 +51,7 @@ def chunk_size(n: int) -> int:
     """Samples per chunk of the threshold sweeps at size ``n`` (the unit of resumption).
 
     One threshold search takes about 1.6 s at n = 32, 48 s at n = 64 and, extrapolated, 25 min
-    at n = 128 (:data:`~tensegrity_rigidity.paper.budget.THRESHOLD_SECONDS`): chunks of 2
+    at n = 128 (``data/costs.toml``): chunks of 2
     samples at n = 64 and 1 beyond keep what an interruption loses to a few minutes per worker
     and let two workers share the last chunks of a sweep. Rows do not depend on it.
     """
@@ -66,8 +66,8 @@ def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     under the three strains (S_t/S_r from the collapse over p_t = 0 and 0.3, as Fig. 1C);
     ``_pcrit``: p_t = 0.1, 0.2 for rods + cables (f_c = 1) under dilation and compression, for
     p_crit at every p_t. The names carry (n, delta) only, so the two studies share a sweep where
-    they meet (n_delta among the sizes, delta the default), the smaller reading the first
-    samples of the larger.
+    they meet (the node-disorder study's size among the sizes, delta the default), the smaller
+    reading the first samples of the larger.
     """
     name = f"headline_n{n}_delta{delta:g}"
     base = dict(n=n, delta=delta, samples=samples, seed=61, phi=STRAINS3)
@@ -112,13 +112,13 @@ ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
 def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
 
-    Per p_t of :data:`~tensegrity_rigidity.paper.studies.PT4`, f_c = 1 under dilation and
+    Per p_t of :data:`~.rows.PT4`, f_c = 1 under dilation and
     compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
     fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
     The same seed as :func:`headline_sweeps`, so sample k is the disorder of threshold sample k
     (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
     others have none). ``count`` samples per point
-    (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`); no minimum-norm
+    (:meth:`~.fss.Params.energy_at`); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
     base: dict[str, Any] = dict(n=n, delta=delta, samples=count, seed=61, f_c=1.0)
@@ -148,7 +148,7 @@ def energy_claims(
     rows : DataFrame
         Grid rows of :func:`energy_sweeps` (every p_t, both strains): the decided ones and the
         undecided ones whose E* is bracketed
-        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`), which enter the mean
+        (:func:`~.rows.energy_bracketed`), which enter the mean
         energies and, not being rigid, not the taut fraction.
     thresholds : dict
         (strain name, p_t) -> threshold rows (``sample``, ``threshold_p_r``) of the same
@@ -164,7 +164,7 @@ def energy_claims(
         :func:`~tensegrity_rigidity.paper.studies.energy_exponent`) and
         ``taut_cables_transition`` (mean over p_t = 0.1, 0.2, 0.3 under compression of the taut
         fraction of rigid samples with certified tensions at the grid p_r nearest p_crit,
-        :func:`~tensegrity_rigidity.paper.studies.taut_with_error`). Both errors are
+        :func:`~.energy.taut_with_error`). Both errors are
         bootstraps over samples that re-estimate p_crit in every replica.
     """
     rows, _ = mask_uncertified_tensions(rows)
@@ -210,7 +210,7 @@ def headline(rows: Rows, n: int, delta: float, scale: Scale, *, samples: int, en
         Sweep name -> undecided rows.
     bracketed : dict
         Energy sweep name -> of those, the rows that still enter the energy analyses
-        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
+        (:func:`~.rows.energy_bracketed`).
     """
     frames, excluded, bracketed = {}, {}, {}
     for name in headline_sweeps(n, delta, samples):
