@@ -24,7 +24,7 @@ from tensegrity_rigidity.paper.studies.rows import (
 )
 from tensegrity_rigidity.paper.study import Scale
 
-from .conftest import SERIAL, TINY
+from .conftest import TINY
 
 
 def _threshold_rows(decided, est, lo=None, hi=None):
@@ -152,9 +152,9 @@ def test_strain_names_come_from_the_model():
 
 
 @pytest.fixture(scope="module")
-def mini(tiny_out):
-    """The figure studies on the session's tiny reproduction (sweeps resume)."""
-    return {name: STUDIES[name](tiny_out, TINY, **SERIAL) for name in TINY.studies}
+def mini(tiny_results):
+    """The studies on the session's tiny reproduction."""
+    return tiny_results
 
 
 def test_results_are_frozen_dataclasses_that_carry_their_exclusions(mini):

@@ -11,8 +11,6 @@ from tensegrity_rigidity.paper.registry import STUDIES
 from tensegrity_rigidity.paper.report import render
 from tensegrity_rigidity.paper.template import TEMPLATES, fill, load, parse, sentences
 
-from .conftest import SERIAL, TINY
-
 KINDS = {"section", "subsection", "text", "figure", "table", "claims", "studies"}
 
 
@@ -61,8 +59,8 @@ def test_every_template_parses_into_known_blocks():
 
 
 @pytest.fixture(scope="module")
-def results(tiny_out):
-    return {name: STUDIES[name](tiny_out, TINY, **SERIAL) for name in TINY.studies}
+def results(tiny_results):
+    return tiny_results
 
 
 def test_every_study_template_renders_once_with_its_numbers(results, tmp_path):
