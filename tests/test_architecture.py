@@ -52,3 +52,32 @@ def test_the_checker_sees_a_forbidden_import(tmp_path):
         assert _imported_subpackages(fake) == {"solver"}
     finally:
         fake.unlink()
+
+
+def _imported_modules(path: Path) -> set[str]:
+    """Top-level names of the modules a file imports absolutely (``scipy``, ``numpy``, ...)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            found.add(node.module.split(".")[0])
+        elif isinstance(node, ast.Import):
+            found |= {a.name.split(".")[0] for a in node.names}
+    return found
+
+
+#: the paper layer's modules that render: they fill templates with the studies' numbers
+RENDERERS = ("report.py", "render.py", "template.py", "figures.py", "style.py")
+
+
+@pytest.mark.parametrize("name", RENDERERS)
+def test_the_report_renders_and_computes_nothing(name):
+    """Computation lives in the studies and analysis/: the report's modules import neither."""
+    path = ROOT / "paper" / name
+    assert "analysis" not in _imported_subpackages(path), name
+    assert "scipy" not in _imported_modules(path), name
+
+
+def test_the_renderer_checker_sees_a_forbidden_import(tmp_path):
+    probe = tmp_path / "probe.py"
+    probe.write_text("from scipy import stats\nimport numpy as np\n")
+    assert _imported_modules(probe) == {"scipy", "numpy"}

@@ -24,3 +24,12 @@ def tiny_out(tmp_path_factory):
         == 0
     )
     return out
+
+
+@pytest.fixture(scope="session")
+def tiny_results(tiny_out):
+    """Every study of the tiny scale analysed once from the session's reproduction (its
+    sweeps resume): shared by the tests that read results and change nothing."""
+    from tensegrity_rigidity.paper.registry import STUDIES
+
+    return {name: STUDIES[name](tiny_out, TINY, **SERIAL) for name in TINY.studies}

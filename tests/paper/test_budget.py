@@ -11,9 +11,10 @@ import pytest
 from tensegrity_rigidity.cli.main import main
 from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.errors import InputError
-from tensegrity_rigidity.paper import budget, registry
+from tensegrity_rigidity.paper import budget
+from tensegrity_rigidity.paper.budget import COSTS
+from tensegrity_rigidity.paper.registry import SCALES, STUDIES
 from tensegrity_rigidity.paper.reproduce import EXPECTED
-from tensegrity_rigidity.paper.studies import SCALES
 
 from .conftest import TINY
 
@@ -66,9 +67,16 @@ def test_unknown_scale_study_or_mode_is_refused():
 
 
 def test_a_study_without_a_work_model_is_refused_not_skipped(monkeypatch):
-    monkeypatch.setitem(registry.STUDIES, "newstudy", lambda out, scale, **kw: None)
-    scale = dataclasses.replace(TINY, studies=(*TINY.studies, "newstudy"))
-    with pytest.raises(InputError, match="no work model"):
+    """A new study whose analysis has no measured cost yet (calibrate_budget.py --analysis
+    times it) is refused by name, not priced at zero."""
+    new = dataclasses.replace(
+        STUDIES["fig1b"], name="newstudy", cost=lambda scale, costs: costs.analysis("newstudy")
+    )
+    monkeypatch.setitem(STUDIES, "newstudy", new)
+    scale = dataclasses.replace(
+        TINY, studies=(*TINY.studies, "newstudy"), params=dict(TINY.params, newstudy=TINY["fig1b"])
+    )
+    with pytest.raises(InputError, match="study 'newstudy' has no work model"):
         budget.estimate(scale)
 
 
@@ -128,7 +136,7 @@ def test_samples_for_inverts_the_error_model():
 
 
 def test_power_laws_hit_the_measured_sizes_and_interpolate_between():
-    th = budget.THRESHOLD_SECONDS
+    th = COSTS.table("threshold")
     assert budget.row_seconds("threshold", 32, 0.3) == (th[32], False)
     t16, _ = budget.row_seconds("threshold", 16, 0.3)
     t24, ext = budget.row_seconds("threshold", 24, 0.3)
@@ -137,16 +145,16 @@ def test_power_laws_hit_the_measured_sizes_and_interpolate_between():
     t128, ext = budget.row_seconds("threshold", 128, 0.3)
     assert ext and t128 == pytest.approx(th[64] * th[64] / th[32])
     # rods-only searches (p_t = 0) have a table of their own, measured up to n = 128
-    rods = budget.RODS_THRESHOLD_SECONDS
+    rods = COSTS.table("rods_threshold")
     assert budget.row_seconds("threshold", 32, 0.0) == (rods[32], False)
     assert budget.row_seconds("threshold", 128, 0.0) == (rods[128], False)
     p01, _ = budget.row_seconds("threshold", 32, 0.1)
-    assert p01 == pytest.approx(th[32] * budget._factor(budget.THRESHOLD_PT_FACTOR, 0.1))
-    grid = budget.GRID_SECONDS
+    assert p01 == pytest.approx(th[32] * COSTS.factor("threshold_pt_factor", 0.1))
+    grid = COSTS.table("grid")
     g32, _ = budget.row_seconds("grid", 32, 0.15)
     assert g32 == pytest.approx(grid[32], rel=0.01)
     g64, ext = budget.row_seconds("grid", 64, 0.15)
-    assert ext and g64 == pytest.approx(grid[32] * 2**budget.GRID_EXPONENT, rel=0.01)
+    assert ext and g64 == pytest.approx(grid[32] * 2 ** COSTS.data["grid"]["exponent"], rel=0.01)
 
 
 def test_makespan_is_that_of_the_engine_order():
@@ -189,9 +197,41 @@ def test_pebble_game_sweeps_are_priced_as_such():
     by_n = {s.n: s for s in est.sweeps}
     assert set(by_n) == {32, 64, 128, 256, 512}
     for n, s in by_n.items():
-        assert s.cpu_seconds == pytest.approx(budget.PEBBLE_SECONDS[n] * s.new_rows)
+        assert s.cpu_seconds == pytest.approx(COSTS.table("pebble")[n] * s.new_rows)
     table = est.table()
     assert list(table.thresholds) == [s.new_rows for _, s in sorted(by_n.items())]
-    assert budget.row_seconds("pebble", 64, 0.0) == (budget.PEBBLE_SECONDS[64], False)
+    assert budget.row_seconds("pebble", 64, 0.0) == (COSTS.table("pebble")[64], False)
     # a bisection costs orders of magnitude more at the same size
-    assert budget.row_seconds("threshold", 128, 0.0)[0] > 100 * budget.PEBBLE_SECONDS[128]
+    assert budget.row_seconds("threshold", 128, 0.0)[0] > 100 * COSTS.table("pebble")[128]
+
+
+def test_the_costs_file_names_the_source_of_every_measured_constant():
+    """Every entry of data/costs.toml says what it is and where it was measured, and the
+    script that measures them writes it back unchanged."""
+    import importlib.util
+    import sys
+    import tomllib
+    from pathlib import Path
+
+    for name, entry in COSTS.data.items():
+        if name == "sigma_1":
+            assert all(e["source"] for k, e in entry.items() if k != "what")
+        elif name != "shift_targets":
+            assert entry["what"] and entry["source"], name
+    bench = Path(__file__).parents[2] / "benchmarks"
+    sys.path.insert(0, str(bench))
+    try:
+        spec = importlib.util.spec_from_file_location(
+            "calibrate_budget", bench / "calibrate_budget.py"
+        )
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(str(bench))
+    out = Path(__file__).parent / "_costs_roundtrip.toml"
+    try:
+        module.write_costs(COSTS.data, out)
+        assert tomllib.loads(out.read_text()) == COSTS.data
+        assert out.read_text() == budget.DATA.read_text()
+    finally:
+        out.unlink(missing_ok=True)

@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy.stats import norm
 
@@ -43,6 +44,32 @@ class FakeResult:
 
 def _rows(*measured):
     return {r.key: r for r in compare({"x": FakeResult(tuple(measured), {})})}
+
+
+def _report(rows):
+    """The report's numbers of these rows (its placeholders)."""
+    from tensegrity_rigidity.paper.report import numbers
+
+    return numbers({}, rows, "x", {}, {}, pd.DataFrame())
+
+
+def test_the_headline_counts_add_up():
+    """Every row is counted once: agree + disagree + inconclusive + no value = total, and the
+    independent comparisons are the total less the pairs about one system (the headline read
+    "6 agree, 3 do not, 18 inconclusive (28 independent comparisons of 31)")."""
+    from tensegrity_rigidity.paper.comparison import verdict_counts
+
+    ms = [
+        Measurement.scalar("st_sr_half_shear", 0.5, 0.001, ""),  # agree
+        Measurement.scalar("st_sr_cables_compression", 0.6, 0.01, ""),  # disagree
+        Measurement.scalar("st_sr_struts_dilation", 0.6, 0.01, ""),  # its pair
+        Measurement.scalar("st_sr_cables_dilation", 0.6, 0.5, ""),  # inconclusive
+        Measurement.scalar("alpha_dilation_0.1", np.nan, np.nan, ""),  # no value
+    ]
+    c = verdict_counts(list(_rows(*ms).values()))
+    assert (c["agree"], c["disagree"], c["inconclusive"], c["na"]) == (1, 2, 1, 1)
+    assert c["agree"] + c["disagree"] + c["inconclusive"] + c["na"] == c["total"] == 5
+    assert (c["shared"], c["independent"]) == (1, 4)
 
 
 def test_z_uses_both_error_bars():
@@ -210,33 +237,30 @@ def test_an_agreement_that_a_replication_at_the_same_size_contradicts_says_so():
     unsized = Measurement.scalar(key, 0.6565, 0.002, "n = 32")
     assert _rows(unsized, same)[key].replication == ""
     # the report counts and names the agreements a replication contradicts
-    from tensegrity_rigidity.paper.report import _replication_sentence
-
     rows = list(_rows(ours, same).values()) + list(_rows(near).values())
-    assert _replication_sentence(rows).startswith(
-        f"1 of the agreements ({CLAIMS[key].text}) holds only at our precision or on our samples"
-    )
-    assert _replication_sentence(list(_rows(ours, near).values())) == ""
+    v = _report(rows)
+    assert (v["contradicted_count"], v["contradicted"]) == (1, CLAIMS[key].text)
+    assert _report(list(_rows(ours, near).values()))["contradicted"] is None
 
 
 def test_a_disagreement_that_a_replication_at_the_same_size_does_not_repeat_is_counted():
     """The headline names the disagreements the finite-size study's samples of the same size
     do not repeat, as it names the agreements they contradict: 0.40 +- 0.005 against the
     paper's 0.372 +- 0.013 disagrees (z = 2.01), 0.39 +- 0.01 of the replication agrees."""
-    from tensegrity_rigidity.paper.report import _replication_sentence
-
     key = "st_sr_cables_compression"
     ours = Measurement.scalar(key, 0.40, 0.005, "n = 32", size=32)
     rep = Measurement.scalar(key, 0.39, 0.01, "", factor=REPLICATION, label="fss", size=32)
     row = _rows(ours, rep)[key]
     assert (row.verdict, row.replication) == ("disagree", "agree")
-    assert _replication_sentence([row]) == (
-        f"1 of the disagreements ({CLAIMS[key].text}) is not replicated: the same claim at the "
-        "same size on the finite-size study's samples agrees (explanation column). "
+    v = _report([row])
+    assert (v["unrepeated_count"], v["unrepeated"], v["contradicted"]) == (
+        1,
+        CLAIMS[key].text,
+        None,
     )
     # replicated, it is not named
     same = Measurement.scalar(key, 0.41, 0.005, "", factor=REPLICATION, label="fss", size=32)
-    assert _replication_sentence(list(_rows(ours, same).values())) == ""
+    assert _report(list(_rows(ours, same).values()))["unrepeated"] is None
 
 
 def test_a_disagreement_lists_its_replication_first():
@@ -259,17 +283,16 @@ def test_claims_about_one_system_are_paired_with_the_papers_own_z():
     dilation is rods + cables under compression (e -> -e): our value is one number for each
     pair. The paper gives alpha = 1.100 +- 0.015 and 1.257 +- 0.029 for the first."""
     from tensegrity_rigidity.paper.comparison import shared_measurements
-    from tensegrity_rigidity.paper.report import _shared_sentence
 
     keys = ["alpha_compression_0.0", "alpha_dilation_0.0", "st_sr_struts_dilation"]
     rows = [r for r in _rows(*(Measurement.scalar(k, 1.3, 0.1, "") for k in keys)).values()]
     pairs = shared_measurements(rows)
     assert [(a, b) for a, b, _ in pairs] == [("alpha_dilation_0.0", "alpha_compression_0.0")]
     assert pairs[0][2] == pytest.approx(0.157 / math.hypot(0.015, 0.029))
-    text = _shared_sentence(rows, len(rows))
-    assert text.startswith("1 of the 3 rows") and "z = 4.8" in text
-    assert "independent comparisons are 2" in text
-    assert _shared_sentence(rows[:1], 1) == ""
+    v = _report(rows)
+    assert (v["shared"], v["total"], v["independent"]) == (1, 3, 2)
+    assert v["pairs"].count("' is '") == 1 and "z = 4.8" in v["pairs"]
+    assert _report(rows[:1])["pairs"] is None
 
 
 def test_a_value_whose_error_exceeds_it_is_not_printed_in_the_summary():
@@ -319,11 +342,9 @@ def test_the_paper_against_itself_shows_both_of_its_readings_beside_ours():
     table = paper_against_itself({"x": FakeResult(ms, {})})
     assert len(table) == 1 and len(table.columns) <= 6
     row = table.iloc[0]
-    assert (
-        row["paper: p_crit tables"] == "0.500 ± 0.014" and row["paper: headline"] == "0.372 ± 0.013"
-    )
-    assert row["ours: p_crit"] == "0.490 ± 0.017"
-    assert row["collapse fit agrees with"].startswith("its p_crit tables (z = ")
-    assert "headline" not in row["collapse fit agrees with"]
+    assert (row["tables"], row["headline"]) == ("0.500 ± 0.014", "0.372 ± 0.013")
+    assert row["ours_pc"] == "0.490 ± 0.017"
+    assert row["agrees"].startswith("its p_crit tables (z = ")
+    assert "headline" not in row["agrees"]
     # without the dilation claims there is no dilation row; without any, no table
     assert paper_against_itself({}).empty

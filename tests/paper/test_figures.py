@@ -7,7 +7,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from tensegrity_rigidity.paper import figures
+from tensegrity_rigidity.paper import style
+from tensegrity_rigidity.paper.studies import fig1c, fig2
 
 
 def _curve(low, high):
@@ -32,7 +33,7 @@ def test_median_brackets_drawn_where_samples_are_known_only_from_below():
     s = _curve([8.0, 10.0, 0.0], [8.0, 100.0, np.inf])
     fig, ax = plt.subplots()
     ax.set_yscale("log")
-    bars = figures.median_brackets(ax, s, "tab:blue")
+    bars = fig2.median_brackets(ax, s, "tab:blue")
     plt.close(fig)
     assert bars == [(0.55, 10.0, 100.0), (0.6, 4.0, 3.0 * 300.0)]
 
@@ -40,42 +41,51 @@ def test_median_brackets_drawn_where_samples_are_known_only_from_below():
 def test_median_brackets_absent_without_the_columns_or_open_brackets():
     s = _curve([8.0, 40.0, 12.0], [8.0, 40.0, 12.0])
     fig, ax = plt.subplots()
-    assert figures.median_brackets(ax, s, "k") == []
-    assert figures.median_brackets(ax, s.drop(columns=["gamma_median_low"]), "k") == []
+    assert fig2.median_brackets(ax, s, "k") == []
+    assert fig2.median_brackets(ax, s.drop(columns=["gamma_median_low"]), "k") == []
     plt.close(fig)
 
 
 def test_fig2b_with_brackets_is_written(tmp_path):
     curves = _curve([8.0, 10.0, 0.0], [8.0, 100.0, np.inf])
     crit = pd.DataFrame({"phi": [math.pi], "p_t": [0.2], "p_crit": [0.55]})
-    paths = figures.fig2b(SimpleNamespace(curves=curves, crit=crit, n=16, samples=8), tmp_path)
+    curves["N"] = 8
+    paths = fig2.fig2b(SimpleNamespace(curves=curves, crit=crit, n=16, samples=8), tmp_path)
     assert all(p.exists() and p.stat().st_size > 0 for p in paths)
 
 
 def test_figures_share_one_colour_blind_safe_style_and_draw_the_paper_s_values(monkeypatch):
-    """Fig. 1C in the figures' style: Okabe-Ito colours, axis labels with symbols, n and the
-    sample count in the title, and the paper's four values as open stars beside ours."""
+    """Fig. 1C in the figures' style: Okabe-Ito colours, mathtext axis labels, the sample count
+    of each point under it, the paper's four values as open stars with the paper's error bars
+    beside ours, and a value whose error exceeds it drawn open without its bar."""
     drawn = {}
-    monkeypatch.setattr(figures, "_save", lambda fig, figdir, fid: drawn.setdefault(fid, fig))
+    monkeypatch.setattr(fig1c, "save", lambda fig, figdir, fid: drawn.setdefault(fid, fig))
     strains = ["dilation", "shear", "compression", "average"]
     fits = pd.DataFrame(
         {
             "f_c": [f for _ in strains for f in (0.0, 0.5, 1.0)],
             "strain": [s for s in strains for _ in range(3)],
             "lam": 0.45,
-            "lam_err": 0.01,
+            "lam_err": [0.01] * 11 + [2.0],  # the average at f_c = 1: not resolved
+            "n_samples": [24, 12, 24] * 4,
         }
     )
-    with plt.rc_context(figures.STYLE):
-        figures.fig1c(SimpleNamespace(fits=fits, n=12, samples=24), None)
+    with plt.rc_context(style.STYLE):
+        fig1c.figures(SimpleNamespace(fits=fits, n=12, samples=24), None)
     ax = drawn["1C"].axes[0]
-    palette = {c.lower() for c in figures.OKABE_ITO}
+    palette = {c.lower() for c in style.OKABE_ITO}
     lines = [line for line in ax.lines if np.asarray(line.get_xdata()).size]
     lines = [line for line in lines if line.get_color() != "grey"]  # the reference line at 0.5
     assert lines and all(str(line.get_color()).lower() in palette for line in lines)
     stars = [line for line in lines if line.get_marker() == "*"]
     assert sorted(float(s.get_ydata()[0]) for s in stars) == [0.359, 0.372, 0.5, 0.67]
+    bars = [c for c in ax.collections if len(c.get_segments()) == 1]
+    assert {round(float(np.ptp(c.get_segments()[0][:, 1])) / 2, 3) for c in bars} >= {0.013, 0.015}
+    opened = [line for line in lines if line.get_markerfacecolor() == "white"]
+    assert [float(line.get_ydata()[0]) for line in opened] == [0.45]
     assert "$f_c$" in ax.get_xlabel() and "$S_t / S_r$" in ax.get_ylabel()
-    assert "$n$ = 12" in ax.get_title() and "24 samples" in ax.get_title()
-    assert "paper" in [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "$n$ = 12" in ax.get_title()
+    assert sorted(t.get_text() for t in ax.texts) == ["12"] * 1 + ["24"] * 2
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "paper" in legend and any("not resolved" in t for t in legend)
     plt.close(drawn["1C"])

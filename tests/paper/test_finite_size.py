@@ -12,19 +12,22 @@ import pytest
 
 from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
-from tensegrity_rigidity.paper import studies
 from tensegrity_rigidity.paper.claims import CLAIMS, REPLICATION, Measurement
 from tensegrity_rigidity.paper.comparison import _evidence
-from tensegrity_rigidity.paper.figures import fig_fss, fss_panels
-from tensegrity_rigidity.paper.report_fss import _pc_smallest, fss_section
+from tensegrity_rigidity.paper.registry import SCALES
+from tensegrity_rigidity.paper.report import render
 from tensegrity_rigidity.paper.reproduce import reproduce
-from tensegrity_rigidity.paper.studies import SCALES
 from tensegrity_rigidity.paper.studies import delta as dm
+from tensegrity_rigidity.paper.studies import energy
 from tensegrity_rigidity.paper.studies import fss as fsm
 from tensegrity_rigidity.paper.studies import headline as hl
-from tensegrity_rigidity.paper.studies.rows import load_sweeps
+from tensegrity_rigidity.paper.studies.fss import figure_fs, fss_panels
+from tensegrity_rigidity.paper.studies.rows import STORED, load_sweeps
+from tensegrity_rigidity.paper.study import Scale
 
 from .conftest import SERIAL, TINY
+
+FSS = TINY["fss"]
 
 KEYS = (
     {"rods_only_pc", "taut_cables_transition"}
@@ -42,8 +45,8 @@ KEYS = (
 def runs(tiny_out):
     """Both studies on the session's tiny reproduction (their sweeps resume)."""
     return (
-        fsm.study(tiny_out, TINY, **SERIAL),
-        dm.study(tiny_out, TINY, **SERIAL),
+        fsm.STUDY(tiny_out, TINY, **SERIAL),
+        dm.STUDY(tiny_out, TINY, **SERIAL),
         tiny_out,
     )
 
@@ -53,19 +56,19 @@ def test_every_headline_claim_at_every_size(runs):
     assert KEYS <= set(CLAIMS)
     assert set(fss.by_size.key) == KEYS
     others = fss.by_size[fss.by_size.key != "rods_only_pc"]
-    assert sorted(set(others.n)) == list(TINY.fss_sizes)
-    assert len(others) == (len(KEYS) - 1) * len(TINY.fss_sizes)
+    assert sorted(set(others.n)) == list(FSS.sizes)
+    assert len(others) == (len(KEYS) - 1) * len(FSS.sizes)
     # the rods-only point at the sizes of its own one-strain sweeps (fss_pc)
     pc = fss.by_size[fss.by_size.key == "rods_only_pc"]
-    assert TINY.fss_pc and list(pc.n) == list(TINY.pc_sizes) == [n for n, _ in TINY.fss_pc]
-    assert fss.pc_samples == tuple(s for _, s in TINY.fss_pc)
+    assert FSS.pc and list(pc.n) == list(FSS.pc_sizes) == [n for n, _ in FSS.pc]
+    assert fss.pc_samples == tuple(s for _, s in FSS.pc)
 
 
 def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     fss, _, _ = runs
     ex = fss.extrapolated.set_index("key")
     pc = ex.loc["rods_only_pc"]
-    assert not pc.nu_fixed and pc.dof == len(TINY.pc_sizes) - 3
+    assert not pc.nu_fixed and pc.dof == len(FSS.pc_sizes) - 3
     others = ex.drop(index="rods_only_pc")
     assert others.nu_fixed.all()
     assert np.allclose(others.nu, pc.nu, equal_nan=True)
@@ -74,11 +77,11 @@ def test_extrapolations_fit_nu_for_the_threshold_and_reuse_it(runs):
     # the second reading: nu fixed at the literature's value, reported beside the free fit
     check = fss.pc_at_check_nu
     assert check is not None and check.nu_fixed and check.nu == hl.NU_CHECK.value
-    assert check.dof == len(TINY.pc_sizes) - 2
+    assert check.dof == len(FSS.pc_sizes) - 2
     assert fss.nu_at_bound == bool(np.any(np.isclose(1 / pc.nu, hl.an.THETA)))
     # the third: the threshold distributions' widths, no exponent fitted
     w = fss.pc_widths
-    assert w is not None and list(w.n) == list(TINY.pc_sizes)
+    assert w is not None and list(w.n) == list(FSS.pc_sizes)
     assert np.all(w.width > 0) and np.all(w.width_err > 0)
     assert np.isfinite(fss.pc_widths_z) and np.isfinite(fss.pc_widths_nu_z)
 
@@ -97,14 +100,14 @@ def test_the_extrapolation_is_refitted_without_the_smallest_sizes(runs):
     fit, and the free fit needs three sizes."""
     fss, _, _ = runs
     t = fss.pc_by_smallest
-    assert t is not None and list(t.n_min) == list(TINY.pc_sizes[:-1])
-    assert list(t.sizes) == [len(TINY.pc_sizes) - k for k in range(len(t))]
+    assert t is not None and list(t.n_min) == list(FSS.pc_sizes[:-1])
+    assert list(t.sizes) == [len(FSS.pc_sizes) - k for k in range(len(t))]
     pc = fss.extrapolated.set_index("key").loc["rods_only_pc"]
     assert (t.p_c.iloc[0], t.p_c_err.iloc[0]) == (pc.y_inf, pc.y_inf_err)
     assert t.p_c_fixed.iloc[0] == fss.pc_at_check_nu.y_inf
     assert np.isnan(t.p_c.iloc[-1]) and np.isfinite(t.p_c_fixed).all()
-    section = fss_section(fss)
-    assert len(section.tables) == 2 and "The second table refits" in section.paragraphs[0]
+    assert set(fsm.report_tables(fss)) == {"by_size", "smallest"}
+    assert fsm.numbers(fss)["smallest"] == ""
 
 
 def test_dropping_a_size_with_a_large_correction_recovers_the_threshold():
@@ -124,13 +127,13 @@ def test_rods_only_threshold_error_counts_samples_not_strains(runs):
     """The headline rods-only P = 1/2 point pools three strains of the same samples: its
     bootstrap draws samples (all their strains at once), not (sample, strain) rows."""
     _, _, out = runs
-    n = TINY.fss_sizes[-1]
-    specs = hl.headline_sweeps(n, DEFAULT_DELTA, TINY.fss_samples(n))
-    specs |= hl.energy_sweeps(n, DEFAULT_DELTA, count=TINY.fss_energy_samples(n))
+    n = FSS.sizes[-1]
+    specs = hl.headline_sweeps(n, DEFAULT_DELTA, FSS.samples_at(n))
+    specs |= hl.energy_sweeps(n, DEFAULT_DELTA, count=FSS.energy_at(n))
     rows = load_sweeps(out, specs, energy=hl.energy_names(specs), **SERIAL)
     frame, _, _ = hl.headline(
         rows, n, DEFAULT_DELTA, replace(TINY, bootstrap=20),
-        samples=TINY.fss_samples(n), energy=TINY.fss_energy_samples(n),
+        samples=FSS.samples_at(n), energy=FSS.energy_at(n),
     )  # fmt: skip
     rods = load_results(out / "studies" / f"headline_n{n}_delta{DEFAULT_DELTA:g}_rods")
     assert rods.phi.nunique() == 3
@@ -145,7 +148,7 @@ def test_rods_only_sweeps_share_the_headline_samples(runs):
     """Sample k of the one-strain rods-only sweep is sample k of the headline sweeps: the same
     threshold under the same strain."""
     _, _, out = runs
-    n = TINY.fss_sizes[-1]
+    n = FSS.sizes[-1]
     (name,) = hl.rods_pc_sweep(n, DEFAULT_DELTA, 1)
     own = load_results(out / "studies" / name).set_index("sample")
     rods = load_results(out / "studies" / f"headline_n{n}_delta{DEFAULT_DELTA:g}_rods")
@@ -160,7 +163,7 @@ def test_delta_study_gives_evidence_with_its_own_default_delta_as_the_control(ru
     control a claim that agrees at delta = 0.1 may agree through the sample set (seed 61 here,
     seed 21 in Fig. 2), not through delta."""
     _, delta, _ = runs
-    assert set(delta.by_delta.delta) == set(TINY.deltas) == {0.1, 0.2, 0.3}
+    assert set(delta.by_delta.delta) == set(TINY["delta"].deltas) == {0.1, 0.2, 0.3}
     control = "delta = 0.2 (control: our delta on this study's samples)"
     assert {m.label for m in delta.measured} == {"delta = 0.1", "delta = 0.3", control}
     assert all(m.factor == "delta" for m in delta.measured)
@@ -176,7 +179,7 @@ def test_same_samples_across_the_sweeps_of_one_size(runs):
     rods = rods[["phi", "sample", "threshold_p_r"]]
     pcrit = load_results(out / "studies" / "headline_n8_delta0.2_pcrit")
     mixed = load_results(out / "studies" / "headline_n8_delta0.2_mixed")
-    assert set(np.round(mixed.p_t, 9)) == {hl.FIG1C_PT} and set(pcrit.f_c) == {1.0}
+    assert set(np.round(mixed.p_t, 9)) == {hl.COLLAPSE_PT} and set(pcrit.f_c) == {1.0}
     one_sided = pd.concat([pcrit[np.isclose(pcrit.p_t, 0.1)], mixed])
     for (f_c, p_t), sub in one_sided.groupby(["f_c", "p_t"]):
         joined = sub.merge(rods, on=["phi", "sample"], suffixes=("", "_rods"))
@@ -191,12 +194,11 @@ def test_same_samples_across_the_sweeps_of_one_size(runs):
 def test_the_two_studies_share_their_sweeps_where_they_meet():
     """n_delta among the sizes at the default delta: the same sweep names, so the delta study
     reads the first samples of the finite-size study's sweeps."""
-    scale = studies.SCALES["fss"]
+    scale = SCALES["fss"]
     shared = set(fsm.sweeps(scale)) & set(dm.sweeps(scale))
-    assert shared == set(hl.headline_sweeps(scale.n_delta, 0.2, 1)) | set(
-        hl.energy_sweeps(scale.n_delta, 0.2, count=1)
-    )
-    assert scale.samples_delta <= scale.fss_samples(scale.n_delta)
+    n = scale["delta"].n
+    assert shared == set(hl.headline_sweeps(n, 0.2, 1)) | set(hl.energy_sweeps(n, 0.2, count=1))
+    assert scale["delta"].samples <= scale["fss"].samples_at(n)
 
 
 def test_large_sizes_resume_in_small_chunks():
@@ -211,7 +213,7 @@ def test_a_report_of_the_finite_size_studies_alone(tiny_out, tmp_path):
     shutil.copytree(tiny_out / "studies", tmp_path / "studies")  # resume: no new samples
     res = reproduce(tmp_path, "tiny", workers="serial", progress=False, studies=["fss", "delta"])
     md = res["report"]["md"].read_text()
-    assert "## Finite size" in md and "## Node disorder delta" in md and "## Figure FS" in md
+    assert "## Finite size" in md and "## Node disorder delta" in md and "![Figure FS]" in md
     assert "## Comparison with the paper" not in md and "0 claims agree" not in md
     assert "With nu fixed at the literature's" in md and "Without a fitted exponent" in md
     assert (tmp_path / "tables" / "fss_extrapolated.csv").exists()
@@ -222,21 +224,20 @@ def test_the_rods_only_extrapolation_alone(runs, tmp_path):
     one-panel figure and a report section that says what it measured."""
     _, _, tiny_out = runs
     shutil.copytree(tiny_out / "studies", tmp_path / "studies")  # resume: no new samples
-    pc_only = studies.Scale(
-        name="pc-tiny", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10, fss_sizes=(),
-        samples_fss=(), fss_pc=TINY.fss_pc, studies=("fss",),
+    pc_only = Scale(
+        name="pc-tiny", bootstrap=10, studies=("fss",),
+        params={"fss": fsm.Params(sizes=(), samples=(), pc=FSS.pc)},
     )  # fmt: skip
-    r = fsm.study(tmp_path, pc_only, workers=studies.STORED, scheduler=None, progress=False)
+    r = fsm.STUDY(tmp_path, pc_only, workers=STORED, scheduler=None, progress=False)
     assert set(r.by_size.key) == {"rods_only_pc"}
-    assert list(r.by_size.n) == [n for n, _ in TINY.fss_pc]
-    assert list(r.by_size.samples) == [s for _, s in TINY.fss_pc]
+    assert list(r.by_size.n) == [n for n, _ in FSS.pc]
+    assert list(r.by_size.samples) == [s for _, s in FSS.pc]
     assert np.all(r.by_size.intervals <= r.by_size.samples)
     assert set(r.extrapolated.key) == {"rods_only_pc"}
-    assert all(p.exists() for p in fig_fss(r, tmp_path))
-    text = " ".join(fss_section(r).paragraphs)
-    assert text.startswith("Only the rods-only P = 1/2 point")
-    assert "The other claims are extrapolated" not in text
-    assert "pc" in studies.SCALES and studies.SCALES["pc"].fss_sizes == ()
+    assert all(p.exists() for p in figure_fs(r, tmp_path))
+    v = fsm.numbers(r)
+    assert v["sizes"] is None and v["pc_only"] == "" and v["others"] is None
+    assert "pc" in SCALES and SCALES["pc"]["fss"].sizes == ()
 
 
 def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():
@@ -287,14 +288,14 @@ def test_figure_fs_has_a_panel_per_kind_of_claim(runs, tmp_path):
     fss, _, _ = runs
     panels = fss_panels(fss)
     assert [ylabel for _, _, ylabel in panels] == [
-        "rods-only P = 1/2 point",
-        "S_t / S_r",
-        "energy exponent alpha, compression",
-        "energy exponent alpha, dilation",
-        "taut cables at p_crit",
+        "y.pc",
+        "y.st_sr",
+        "y.alpha_compression",
+        "y.alpha_dilation",
+        "y.taut",
     ]
     assert panels[2][0] == tuple(f"alpha_compression_{p_t}" for p_t in hl.PT4)
-    assert all(p.exists() for p in fig_fss(fss, tmp_path))
+    assert all(p.exists() for p in figure_fs(fss, tmp_path))
     rods_only = SimpleNamespace(
         extrapolated=fss.extrapolated[fss.extrapolated.key == "rods_only_pc"]
     )
@@ -311,7 +312,7 @@ def test_figure_fs_draws_sizes_on_a_log_axis_and_the_limit_beyond_them(runs, tmp
     close = plt.close
     monkeypatch.setattr(plt, "close", lambda *a, **k: None)  # keep the figure to inspect it
     before = set(plt.get_fignums())
-    fig_fss(fss, tmp_path)
+    figure_fs(fss, tmp_path)
     (num,) = set(plt.get_fignums()) - before
     fig = plt.figure(num)
     try:
@@ -322,7 +323,7 @@ def test_figure_fs_draws_sizes_on_a_log_axis_and_the_limit_beyond_them(runs, tmp
         for ax in claims:
             assert ax.get_xscale() == "log"
             labels = [t.get_text() for t in ax.get_xticklabels()]
-            assert labels == [f"{n:g}" for n in sizes] + ["inf"]
+            assert labels == [f"{n:g}" for n in sizes] + [r"$\infty$"]
             squares += [ln for ln in ax.get_lines() if ln.get_marker() == "s"]
         # every extrapolation drawn (where the fit has one) lies beyond the largest size
         assert squares and all(np.all(ln.get_xdata() > max(sizes)) for ln in squares)
@@ -334,20 +335,20 @@ def test_energy_grids_have_their_own_sample_count():
     """The fss scale's energy grids at n = 64 have 24 samples where its threshold sweeps have 8
     (bootstrap errors from 8 samples were too small to trust); by default a size's energy
     grids read the first ENERGY_SAMPLES of its threshold samples at most."""
-    fss = SCALES["fss"]
-    assert fss.fss_samples(64) == 8 and fss.fss_energy_samples(64) == 24
-    sweeps = fsm.sweeps(fss)
+    fss = SCALES["fss"]["fss"]
+    assert fss.samples_at(64) == 8 and fss.energy_at(64) == 24
+    sweeps = fsm.sweeps(SCALES["fss"])
     assert sweeps["energy_n64_delta0.2_pt0.2"]["samples"] == 24
     assert sweeps["headline_n64_delta0.2_pcrit"]["samples"] == 8
-    assert [TINY.fss_energy_samples(n) for n in TINY.fss_sizes] == [
-        min(TINY.fss_samples(n), studies.ENERGY_SAMPLES) for n in TINY.fss_sizes
+    assert [FSS.energy_at(n) for n in FSS.sizes] == [
+        min(FSS.samples_at(n), hl.ENERGY_SAMPLES) for n in FSS.sizes
     ]
-    cluster = SCALES["fss-cluster"]
-    assert cluster.fss_energy_samples(128) == 24 and cluster.fss_energy_samples(64) == 24
-    per_size = replace(TINY, samples_energy=(1, 2, 3, 4))
-    assert [per_size.fss_energy_samples(n) for n in TINY.fss_sizes] == [1, 2, 3, 4]
-    with pytest.raises(ValueError, match="samples_energy has 2 counts for 4 sizes"):
-        replace(TINY, samples_energy=(1, 2))
+    cluster = SCALES["fss-cluster"]["fss"]
+    assert cluster.energy_at(128) == 24 and cluster.energy_at(64) == 24
+    per_size = replace(FSS, energy=(1, 2, 3, 4))
+    assert [per_size.energy_at(n) for n in FSS.sizes] == [1, 2, 3, 4]
+    with pytest.raises(ValueError, match="energy has 2 counts for 4 sizes"):
+        replace(FSS, energy=(1, 2))
 
 
 def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
@@ -355,14 +356,14 @@ def test_the_energy_claims_are_finite_size_and_delta_evidence(runs):
     keys = {m.claim for m in fss.measured}
     assert {"alpha_compression_0.1", "taut_cables_transition"} <= keys
     systems = {m.claim: m.system for m in fss.measured if m.factor == "finite size"}
-    energy = [TINY.fss_energy_samples(n) for n in TINY.fss_sizes]
+    energy = [FSS.energy_at(n) for n in FSS.sizes]
     assert systems["alpha_dilation_0.2"].startswith(
         str(energy[0]) if len(set(energy)) == 1 else ", ".join(map(str, energy))
     )
     assert hl.ENERGY_KEYS == {k for k in KEYS if k.startswith(("alpha", "taut"))}
     assert {m.claim for m in delta.measured} >= {"alpha_dilation_0.3"}
     # the rods-only p_c extrapolation quotes the counts of its own sweeps (fss_pc)
-    pc = [TINY.pc_samples(n) for n in TINY.pc_sizes]
+    pc = [FSS.pc_at(n) for n in FSS.pc_sizes]
     assert systems["rods_only_pc"].startswith(
         str(pc[0]) if len(set(pc)) == 1 else ", ".join(map(str, pc))
     )
@@ -379,11 +380,11 @@ def test_every_claim_at_every_size_is_a_replication_of_that_size(runs):
         row = fss.by_size[(fss.by_size.key == m.claim) & (fss.by_size.n == m.size)]
         assert len(row) == 1 and m.value[0] == row.value.iloc[0] and m.err[0] == row.err.iloc[0]
         if m.claim == "rods_only_pc":
-            count = dict(TINY.fss_pc)[m.size]
+            count = dict(FSS.pc)[m.size]
         elif m.claim in hl.ENERGY_KEYS:
-            count = TINY.fss_energy_samples(m.size)
+            count = FSS.energy_at(m.size)
         else:
-            count = TINY.fss_samples(m.size)
+            count = FSS.samples_at(m.size)
         assert m.system == f"n = {m.size}, {count} samples per point"
 
 
@@ -396,7 +397,7 @@ def test_the_taut_fraction_uses_the_nearest_point_with_certified_tensions():
          "size": [1, 4, 2, 4]}
     )  # fmt: skip
     crit = pd.DataFrame({"phi": np.pi, "p_t": [0.1, 0.2, 0.3], "p_crit": 0.51})
-    value, err, used = studies.taut_at_transition(taut, crit)
+    value, err, used = energy.taut_at_transition(taut, crit)
     assert value == 0.4 and used == [(0.1, 0.55), (0.3, 0.5)]
     assert err == np.sqrt(0.01**2 + 0.02**2) / 2
 
@@ -418,11 +419,11 @@ def test_the_taut_error_redraws_samples_across_p_t():
         [{"phi": np.pi, "p_t": p_t, "sample": k, "threshold_p_r": 0.54 + 0.001 * (k % 3)}
          for p_t in (0.1, 0.2, 0.3) for k in range(S)]
     )  # fmt: skip
-    value, err, used = studies.taut_with_error(rows, th, 300)
+    value, err, used = energy.taut_with_error(rows, th, 300)
     assert value == pytest.approx(v.mean()) and used == [(p, 0.55) for p in (0.1, 0.2, 0.3)]
     sem = v.std(ddof=1) / np.sqrt(S)
     assert 0.8 * sem < err < 1.25 * sem  # not sem / sqrt(3)
-    assert studies.taut_with_error(rows, th, 300)[1] == err  # a fixed seed
+    assert energy.taut_with_error(rows, th, 300)[1] == err  # a fixed seed
 
 
 def test_energy_exponent_lines_up_thresholds_and_energies_by_sample():
@@ -434,10 +435,10 @@ def test_energy_exponent_lines_up_thresholds_and_energies_by_sample():
          for x in p_r]
     )  # fmt: skip
     th = pd.DataFrame({"sample": [4, 3, 2, 1, 0], "threshold_p_r": [0.6, 0.6, 0.6, 0.6, 0.6]})
-    fit = studies.energy_exponent(grid, th, 50)
+    fit = energy.energy_exponent(grid, th, 50)
     assert fit.alpha == pytest.approx(1.3) and fit.alpha_err < 1e-9 and fit.p_crit == 0.6
     th.loc[0, "threshold_p_r"] = np.nan  # never rigid: above every p_r, still the median 0.6
-    assert studies.energy_exponent(grid, th, 0).p_crit == 0.6
+    assert energy.energy_exponent(grid, th, 0).p_crit == 0.6
 
 
 def test_an_extrapolation_whose_form_does_not_fit_says_so():
@@ -469,10 +470,8 @@ def _synthetic_fss() -> tuple[fsm.FiniteSizeResult, dict]:
             for key, (y, e) in series.items()
         ]
     )
-    scale = studies.Scale(
-        name="synthetic", n_threshold=5, n_grid=5, p_r_step=0.1, bootstrap=10,
-        fss_sizes=SIZES, samples_fss=10, studies=("fss",),
-    )  # fmt: skip
+    scale = Scale(name="synthetic", bootstrap=10, studies=("fss",),
+                  params={"fss": fsm.Params(sizes=SIZES, samples=10)})  # fmt: skip
     return fsm.extrapolate(by_size, scale), series
 
 
@@ -513,13 +512,10 @@ def test_the_report_counts_the_claims_whose_verdict_depends_on_nu():
     assert ex.loc["rods_only_pc"].verdict_paper == "agree"
     assert ex.loc["rods_only_pc"].verdict_paper_nu_check == "disagree"
     assert fsm.nu_dependent(r.extrapolated) == (["rods_only_pc", "p_crit_compression_0.1"], 2)
-    section = fss_section(r)
-    text = " ".join(section.paragraphs)
-    assert (
-        "2 of 2 extrapolated claims change verdict between the two nu: the extrapolation " in text
-    )
-    assert CLAIMS["p_crit_compression_0.1"].text in text
-    assert "n -> infinity, nu = 1.16" in section.tables[0].columns
+    v = fsm.numbers(r)
+    assert (v["changed"], v["compared"]) == (2, 2)
+    assert CLAIMS["p_crit_compression_0.1"].text in v["changed_claims"]
+    assert "n -> inf, nu = 1.16" in fsm.report_tables(r)["by_size"].columns
     # the comparison shows both readings of the finite-size factor
     key = "p_crit_compression_0.1"
     ours = Measurement.scalar(key, 0.58, 0.001, "n = 32")
@@ -556,37 +552,33 @@ def test_the_quoted_free_range_leaves_out_fits_at_the_bound_or_without_dof():
     t = fsm.pc_by_smallest_size(n5, y, err, TINY)
     assert list(t.dof.iloc[:3]) == [2, 1, 0]  # n >= 32: three sizes, three parameters
     kept = t.iloc[:2]
-    text, _ = _pc_smallest(SimpleNamespace(pc_by_smallest=t))
-    assert f"p_c ranges from {kept.p_c.min():.4f} to {kept.p_c.max():.4f}" in text
-    assert f"{t.p_c.iloc[2]:.4f}" not in text  # the 0-dof fit's p_c, outside that range
-    assert "(1 of the 3 free fits left out: 1 with 0 degrees of freedom" in text
+    v = fsm._smallest(SimpleNamespace(pc_by_smallest=t))
+    assert (v["range_lo"], v["range_hi"]) == (kept.p_c.min(), kept.p_c.max())
+    assert v["left_out"].startswith("1 of the 3 free fits left out: 1 with 0 degrees of freedom")
+    assert v["left_over"] is None
     n = np.array([8.0, 16.0, 32.0, 64.0])
     bound = fsm.pc_by_smallest_size(n, 0.66 - 0.05 * n**-0.1, np.full(4, 1e-4), TINY)
-    text, (table,) = _pc_smallest(SimpleNamespace(pc_by_smallest=bound))
-    assert "ranges from" not in text
-    assert "no range of p_c is quoted: 2 of the 2 free fits left out: 2 with nu at the bound" in (
-        text
-    )
+    v = fsm._smallest(SimpleNamespace(pc_by_smallest=bound))
+    assert v["range_lo"] is None and v["left_over"] == 0
+    assert v["left_out"].startswith("2 of the 2 free fits left out: 2 with nu at the bound")
+    table = fsm._smallest_table(SimpleNamespace(pc_by_smallest=bound))
     assert table.nu.str.endswith("(at bound)").sum() == 2
 
 
 #: the pc scale's shape with the pebble game at tiny sizes
-PC_PEBBLE_TINY = studies.Scale(
-    name="pc-pebble-tiny", bootstrap=10, fss_sizes=(), samples_fss=(),
-    fss_pc=((5, 8), (6, 8), (8, 8), (10, 8)), pc_method="pebble", studies=("fss",),
+PC_PEBBLE_TINY = Scale(
+    name="pc-pebble-tiny", bootstrap=10, studies=("fss",), params={"fss": fsm.Params(
+        sizes=(), samples=(), pc=((5, 8), (6, 8), (8, 8), (10, 8)), pc_method="pebble")},
 )  # fmt: skip
 
 
 @pytest.fixture(scope="module")
 def pebble_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("pc-pebble")
-    return out, fsm.study(out, PC_PEBBLE_TINY, **SERIAL)
+    return out, fsm.STUDY(out, PC_PEBBLE_TINY, **SERIAL)
 
 
 def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run, tmp_path):
-    from tensegrity_rigidity.paper.figures import fig_clusters
-    from tensegrity_rigidity.paper.report_fss import clusters_section
-
     out, r = pebble_run
     names = sorted(p.name for p in (out / "studies").iterdir())
     assert names == [f"rods_pc_pebble_n{n}_delta0.2" for n in (10, 5, 6, 8)]
@@ -604,27 +596,29 @@ def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run,
     assert pic.n == 10 and pic.clusters.wraps  # the size nearest 64, just after its threshold
     assert pic.p_r == rows[rows["sample"] == 1].threshold_p_r.item()
     assert fsm.PICTURE_SAMPLE == 1 and pic.spanning.sites.size == rows.cluster_sites.iloc[0]
-    assert all(p.exists() for p in fig_clusters(r, tmp_path))
-    sec = clusters_section(r)
-    text = " ".join(sec.paragraphs)
-    assert "pebble game" in text and "d_f =" in text
-    table = sec.tables[0]
+    assert all(p.exists() for p in fsm.figure_rc(r, tmp_path))
+    v = fsm.numbers(r)
+    assert v["clusters"] == "" and v["d_rigid"].startswith(f"{f.d.iloc[0]:.3f}"[:3])
+    table = fsm.report_tables(r)["clusters"]
     assert {"p_c", "nu"} <= set(table.quantity)
     assert {"Javerzat & Notarmuzi", "Jacobs & Thorpe"} <= set(table.source)
+    blocks = render(fsm.T, v, {}, fsm.report_tables(r), [])
+    text = " ".join(b[1] for b in blocks if b[0] == "p")
+    assert "pebble game" in text and f"d_f = {v['d_rigid']}" in text
 
 
 def test_the_fss_scale_keeps_its_bisection_thresholds():
     """The pc scale alone uses the pebble game; the fss scales' rods-only sweeps keep the
     certified bisection and their names, so their stored samples stay valid."""
-    assert SCALES["pc"].pc_method == "pebble"
+    assert SCALES["pc"]["fss"].pc_method == "pebble"
     for name in ("fss", "fss-cluster", "tiny"):
-        assert SCALES[name].pc_method == "lp"
+        assert SCALES[name]["fss"].pc_method == "lp"
     lp = fsm.sweeps(SCALES["fss"])
     assert all("pebble" not in k and "method" not in v.get("threshold", {}) for k, v in lp.items())
     pc = fsm.sweeps(SCALES["pc"])
     assert all(k.startswith("rods_pc_pebble_n") for k in pc)
     assert all(v["threshold"]["method"] == "pebble" for v in pc.values())
-    pc_sizes = dict(SCALES["pc"].fss_pc)
+    pc_sizes = dict(SCALES["pc"]["fss"].pc)
     assert set(pc_sizes) == {32, 64, 128, 256, 512}
     assert all(pc_sizes[n] >= 1000 for n in (32, 64, 128))
     assert pc_sizes[256] >= 200 and pc_sizes[512] >= 48  # 200 meant: see scales.PC_PEBBLE

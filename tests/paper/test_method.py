@@ -17,14 +17,15 @@ from .conftest import SERIAL, TINY
 @pytest.fixture(scope="module")
 def result(tiny_out):
     """The method study on the session's tiny reproduction (its sweeps resume)."""
-    return method.study(tiny_out, TINY, **SERIAL)
+    return method.STUDY(tiny_out, TINY, **SERIAL)
 
 
 def test_both_verdicts_on_every_sample(result):
     rows = result.rows
-    p_r = method.p_r_grid(TINY.method_step, *method.P_R_RANGE)
+    params = TINY["method"]
+    p_r = method.p_r_grid(params.step, *method.P_R_RANGE)
     points = sum(len([p for p in p_r if p + p_t <= 1 + 1e-12]) for p_t in method.PT4)
-    assert len(rows) == points * 2 * TINY.samples_method
+    assert len(rows) == points * 2 * params.samples
     assert not rows.duplicated(method.KEYS).any()
     # the paper's minimiser never goes below the exact minimum
     assert (rows.paper_energy >= rows.energy - 1e-9 * rows.affine_energy).all()
@@ -140,13 +141,17 @@ def test_disagreement_interval_of_one_sample_or_none():
     assert row.interval_note == "no samples in the region"
 
 
-def test_method_section_states_the_interval(result):
-    from tensegrity_rigidity.paper.report import method_section
-
-    section = method_section(result)
-    text = " ".join(section.paragraphs)
-    assert "bootstrap over whole samples" in text and "Wilson" in text
-    assert {"units", "wilson_lo", "wilson_hi", "interval_note"} <= set(section.tables[0].columns)
+def test_method_section_quotes_the_study_s_numbers(result):
+    """The section's numbers are the disagreement table's at the paper's threshold, and its
+    table shows the cluster interval beside the row-wise Wilson one."""
+    v = method.numbers(result)
+    d = result.disagreement
+    main = d[(d.threshold == result.threshold) & (d.region == "all")].iloc[0]
+    assert (v["differ"], v["verdicts"], v["units"]) == (main.differ, main.samples, main.units)
+    assert v["all_lo"] == 100 * main.lo and v["iterations"] == result.iterations["median"]
+    tables = method.report_tables(result)
+    assert {"units", "wilson_lo", "wilson_hi", "interval_note"} <= set(tables["disagreement"])
+    assert list(tables["claims"].columns) == ["claim", "exact", "paper", "shift", "note"]
 
 
 def test_claims_move_by_a_shift_handed_to_the_comparison(result):

@@ -11,16 +11,20 @@ import pandas as pd
 import pytest
 
 from tensegrity_rigidity.model.strain import NAMED_STRAINS
-from tensegrity_rigidity.paper import studies
+from tensegrity_rigidity.paper import report, studies
 from tensegrity_rigidity.paper.claims import CLAIMS
-from tensegrity_rigidity.paper.report import _exclusions, bracketed_rows, excluded_samples
-from tensegrity_rigidity.paper.studies import (
+from tensegrity_rigidity.paper.registry import REGISTRY, SCALES, STUDIES
+from tensegrity_rigidity.paper.report import _excluded, bracketed_rows, excluded_samples
+from tensegrity_rigidity.paper.studies import fig2, nonaffinity, rows
+from tensegrity_rigidity.paper.studies.field import FIELD_P_T
+from tensegrity_rigidity.paper.studies.rows import (
     interval_straddles,
     keep_decided,
     strain_name,
 )
+from tensegrity_rigidity.paper.study import Scale
 
-from .conftest import SERIAL, TINY
+from .conftest import TINY
 
 
 def _threshold_rows(decided, est, lo=None, hi=None):
@@ -58,7 +62,7 @@ def test_undecided_grid_rows_with_a_bracketed_energy_enter_only_the_energies():
             "affine_energy": [5e3] * 5,
         }
     )
-    near_zero, certified = studies.energy_bracketed(grid)
+    near_zero, certified = rows.energy_bracketed(grid)
     assert near_zero.tolist() == [False, True, False, False, False]
     assert certified.tolist() == [False, False, False, True, False]
     kept, n = keep_decided(grid, energy=True)
@@ -95,8 +99,8 @@ def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeyp
         {"sample": range(1, 5), "p_t": 0.0, "phi": math.pi, "threshold_p_r": 0.55}
     )
     # the rows Fig. 2 reads: one grid (p_t = 0) and its thresholds, no field sweeps
-    rows = {"fig2_pt0.0": keep_decided(frame, True), "fig2_thresholds": (thresholds, 0)}
-    r = studies.fig2.analyse(rows, TINY)
+    sweeps = {"fig2_pt0.0": keep_decided(frame, True), "fig2_thresholds": (thresholds, 0)}
+    r = fig2.analyse(sweeps, TINY)
     at = r.curves.set_index("p_r").loc[0.6]  # three rigid samples at E = 3, one at E ~ 0
     assert at.energy == pytest.approx(2.25) and at.energy_n == 4 and at.N == 3 and at.P == 1
     assert r.bracketed == {"fig2_pt0.0": 1} and r.excluded["fig2_pt0.0"] == 1
@@ -105,20 +109,21 @@ def test_fig2_means_energies_over_bracketed_rows_and_p_over_decided_ones(monkeyp
 
 def test_the_report_counts_the_bracketed_rows():
     results = {
-        "a": SimpleNamespace(excluded={"x": 3, "y": 1}, bracketed={"x": 2, "y": 0}),
-        "b": SimpleNamespace(excluded={}),
+        "a": SimpleNamespace(excluded={"x": 3, "y": 1}, bracketed={"x": 2, "y": 0}, straddling=1),
+        "b": SimpleNamespace(excluded={}, bracketed={}, straddling=None),
     }
     assert bracketed_rows(results) == {"x": 2, "y": 0}
-    text, table = _exclusions(results)
-    assert text.startswith("4 samples are excluded") and " 2 of them still enter" in text
-    assert "at most 1e-09 of the affine energy" in text
-    assert table.to_dict("list") == {
+    values = report.numbers(results, [], "tiny", {}, {}, pd.DataFrame())
+    assert (values["excluded"], values["bracketed"], values["straddling"]) == (4, 2, "a: 1")
+    assert values["energy_bracketed"] == 1e-9
+    assert _excluded(results).to_dict("list") == {
         "sweep": ["x", "y"],
         "excluded": [3, 1],
-        "still in the energies": [2, 0],
+        "still": [2, 0],
     }
-    text, _ = _exclusions({"a": SimpleNamespace(excluded={"y": 1}, bracketed={"y": 0})})
-    assert "still enter" not in text
+    none = {"a": SimpleNamespace(excluded={"y": 1}, bracketed={"y": 0}, straddling=None)}
+    values = report.numbers(none, [], "tiny", {}, {}, pd.DataFrame())
+    assert values["bracketed"] is None and values["straddling"] is None
 
 
 def test_threshold_interval_keeps_undecided_samples():
@@ -147,9 +152,9 @@ def test_strain_names_come_from_the_model():
 
 
 @pytest.fixture(scope="module")
-def mini(tiny_out):
-    """The figure studies on the session's tiny reproduction (sweeps resume)."""
-    return {name: fn(tiny_out, TINY, **SERIAL) for name, fn in studies.STUDIES.items()}
+def mini(tiny_results):
+    """The studies on the session's tiny reproduction."""
+    return tiny_results
 
 
 def test_results_are_frozen_dataclasses_that_carry_their_exclusions(mini):
@@ -165,14 +170,13 @@ def test_results_are_frozen_dataclasses_that_carry_their_exclusions(mini):
 def test_drawn_samples_come_from_the_sweeps_and_are_solved(mini):
     field = mini["fig2"].field
     assert field.instance is not None and field.result.rigid
-    assert field.p_t == studies.FIELD_P_T
+    assert field.p_t == FIELD_P_T
     assert field.mixed_result is not None and field.mixed_result.rigid
-    assert field.instance.network.n_nodes == max(TINY.n_grid, 8) ** 2
+    assert field.instance.network.n_nodes == max(TINY["fig2"].n, 8) ** 2
 
 
-def test_every_claim_names_its_source_and_a_study():
-    for c in CLAIMS.values():
-        assert c.source and c.study in studies.STUDIES, c.key
+def test_every_claim_names_its_source():
+    assert all(c.source and c.text and c.paper for c in CLAIMS.values())
 
 
 # --------------------------------------------------------------------------- heavy tails
@@ -180,10 +184,10 @@ def test_every_claim_names_its_source_and_a_study():
 
 def test_rows_without_minimum_norm_displacements_lose_their_nonaffinity():
     rows = pd.DataFrame({"nonaffinity": [1.0, 2.0, 3.0], "energy": [0.0, 1.0, 2.0]})
-    same, count = studies.mask_min_norm(rows)
+    same, count = nonaffinity.mask_min_norm(rows)
     assert count is None and same.nonaffinity.tolist() == [1.0, 2.0, 3.0]
     rows["min_norm_ok"] = [True, False, None]  # None: a part written before the column
-    masked, count = studies.mask_min_norm(rows)
+    masked, count = nonaffinity.mask_min_norm(rows)
     assert count == 1
     assert np.isnan(masked.nonaffinity[1]) and masked.nonaffinity[[0, 2]].tolist() == [1.0, 3.0]
     assert masked.energy.tolist() == [0.0, 1.0, 2.0]
@@ -201,10 +205,10 @@ def test_rigid_rows_without_certified_tensions_lose_their_taut_fractions():
             "frac_struts_taut": [0.2, 0.6, 0.0, 0.1],
         }
     )
-    same, count = studies.mask_uncertified_tensions(rows)
+    same, count = nonaffinity.mask_uncertified_tensions(rows)
     assert count is None and same.frac_cables_taut.tolist() == [0.3, 0.5, 0.0, 0.4]
     rows["energy_lower"] = [1.0 - 1e-12, 0.9, 0.0, 2.0]
-    masked, count = studies.mask_uncertified_tensions(rows)
+    masked, count = nonaffinity.mask_uncertified_tensions(rows)
     assert count == 1
     assert np.isnan(masked.frac_cables_taut[1]) and np.isnan(masked.frac_struts_taut[1])
     assert masked.frac_cables_taut[[0, 2, 3]].tolist() == [0.3, 0.0, 0.4]
@@ -222,11 +226,11 @@ def test_tail_statistics_show_what_the_mean_hangs_on():
             "rigid": [False, False, True, True, True],
         }
     )
-    t = studies.tail_statistics(at)
+    t = nonaffinity.tail_statistics(at)
     g = t[t.observable == "Gamma"].iloc[0]
     assert g["mean"] == 200.0 and g["median"] == 3.0 and g["top_share"] == 0.99
     assert g["mean_without_top"] == 2.5 and (g["q25"], g["q75"]) == (2.0, 4.0)
-    assert studies.worst_tail(t)["top_share"] == 0.99
+    assert nonaffinity.worst_tail(t)["top_share"] == 0.99
 
 
 def test_fig2_gives_quantiles_beside_the_mean(mini):
@@ -238,17 +242,15 @@ def test_fig2_gives_quantiles_beside_the_mean(mini):
     assert (c.gamma_q25[ok] <= c.gamma_median[ok] + 1e-12).all()
     assert (c.gamma_median[ok] <= c.gamma_q75[ok] + 1e-12).all()
     assert r.min_norm_failed is None or r.min_norm_failed >= 0
-    assert set(r.at_pcrit.p_t) <= set(studies.PT4) and len(r.tails)
+    assert set(r.at_pcrit.p_t) <= set(rows.PT4) and len(r.tails)
 
 
 def test_samples_known_only_from_below_bracket_the_median_nonaffinity():
     """Rows whose projection stalled keep a certified lower bound on Gamma
     (``nonaffinity_lower``): the median over every sample is bracketed between the median with
-    them at their bounds and at infinity, and the report says so; rows written before the
-    bound existed count such samples at 0."""
-    from tensegrity_rigidity.paper.report import _bracket_sentence
-
-    rows = pd.DataFrame(
+    them at their bounds and at infinity, and the section quotes the widest bracket; rows
+    written before the bound existed count such samples at 0."""
+    grid = pd.DataFrame(
         {
             "phi": math.pi,
             "p_t": 0.2,
@@ -257,24 +259,32 @@ def test_samples_known_only_from_below_bracket_the_median_nonaffinity():
             "nonaffinity_lower": [1.0, 2.0, 3.0, 50.0, 4.0, 60.0, np.nan],
         }
     )
-    b = studies.gamma_median_brackets(rows).set_index("p_r")
+    b = nonaffinity.gamma_median_brackets(grid).set_index("p_r")
     assert b.loc[0.5, "gamma_median_low"] == 2.5 and b.loc[0.5, "gamma_median_high"] == 2.5
     assert b.loc[0.6, "gamma_median_low"] == 4.0 and np.isinf(b.loc[0.6, "gamma_median_high"])
     assert b.gamma_bounded.tolist() == [1, 1]
-    curves = b.reset_index().assign(gamma_median=[2.0, 4.0])
-    text = _bracket_sentence(curves)
-    assert "2 of them have a certified lower bound" in text
-    assert "agree at 1 of 2 grid points" in text and "[4, inf]" in text
-    old = studies.gamma_median_brackets(rows.drop(columns="nonaffinity_lower")).set_index("p_r")
+    curves = b.reset_index().assign(gamma_median=[2.0, 4.0], phi=math.pi)
+
+    def numbers(c):
+        return fig2.numbers(SimpleNamespace(
+            curves=c, worst_tail=None, min_norm_failed=0, tensions_uncertified=0, n=5, samples=4,
+            field=SimpleNamespace(p_r=0.6),
+        ))  # fmt: skip
+
+    v = numbers(curves)
+    assert (v["bounded"], v["agree"], v["points"]) == (2, 1, 2)
+    assert (v["widest_low"], v["widest_high"], v["widest_p_r"]) == ("4", "inf", 0.6)
+    old = nonaffinity.gamma_median_brackets(grid.drop(columns="nonaffinity_lower")).set_index("p_r")
     assert old.loc[0.5, "gamma_median_low"] == 1.5 and old.gamma_bounded.tolist() == [0, 0]
-    assert _bracket_sentence(old.reset_index()) == ""
+    v = numbers(old.reset_index().assign(gamma_median=[2.0, 4.0], phi=math.pi))
+    assert v["bounded"] is None and v["widest_low"] is None
 
 
 def test_scales_are_keyword_only_and_seed_each_estimator_on_its_own_stream():
     with pytest.raises(TypeError):
-        studies.Scale("paper", 32, 32)  # type: ignore[misc]
-    scale = studies.Scale(name="x", bootstrap=5)
-    assert scale.n_threshold == 32 and scale.bootstrap == 5
+        Scale("paper", {}, ())  # type: ignore[misc]
+    scale = Scale(name="x", bootstrap=5)
+    assert scale.bootstrap == 5 and scale.studies == ()
     # a fresh generator per call, the same draws each time, one stream per estimator
     a = scale.rng("collapse").integers(0, 1000, 8)
     assert np.array_equal(a, scale.rng("collapse").integers(0, 1000, 8))
@@ -285,11 +295,16 @@ def test_scales_are_keyword_only_and_seed_each_estimator_on_its_own_stream():
         scale.rng("no such estimator")
 
 
-def test_every_figure_module_offers_sweeps_analyse_and_claims():
-    for name, module in studies.MODULES.items():
-        for fn in ("sweeps", "analyse", "claims", "study"):
-            assert callable(getattr(module, fn)), (name, fn)
-        assert isinstance(module.sweeps(TINY), dict)
+def test_every_study_is_one_registered_plug_in_with_its_template():
+    """Each study: its callables, its parameters at the scales that run it (a scale runs exactly
+    the studies that give parameters for it) and its template, every label it asks for there."""
+    assert [s.name for s in REGISTRY] == list(STUDIES)
+    for s in REGISTRY:
+        for fn in ("sweeps", "analyse", "claims", "cost", "numbers", "figures", "tables"):
+            assert callable(getattr(s, fn)), (s.name, fn)
+        assert isinstance(s.sweeps(TINY), dict) and s.template.name == s.name
+        assert {n for n, sc in SCALES.items() if s.name in sc.studies} == set(s.params)
+    assert not hasattr(studies, "MODULES")
 
 
 def test_undecided_verdicts_are_counted_by_kind_for_every_sweep(tmp_path):
@@ -316,5 +331,5 @@ def test_undecided_verdicts_are_counted_by_kind_for_every_sweep(tmp_path):
     rows = load_results(tmp_path / "grid")
     assert table.loc["grid", "undecided"] == int((~rows.decided).sum()) > 0
     for sweep in ("thresholds", "grid"):
-        assert table.loc[sweep, "not resolved"] == table.loc[sweep, "undecided"]
-        assert table.loc[sweep, "within resolution"] == 0
+        assert table.loc[sweep, "not_resolved"] == table.loc[sweep, "undecided"]
+        assert table.loc[sweep, "within"] == 0

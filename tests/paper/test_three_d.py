@@ -14,12 +14,10 @@ from tensegrity_rigidity.errors import InputError
 from tensegrity_rigidity.paper import budget
 from tensegrity_rigidity.paper.claims import CLAIMS, REFERENCES, TWO_D_OURS
 from tensegrity_rigidity.paper.comparison import compare
-from tensegrity_rigidity.paper.figures import fig_3d
-from tensegrity_rigidity.paper.registry import STUDIES, SWEEPS
-from tensegrity_rigidity.paper.report import sections_of, tables_of
-from tensegrity_rigidity.paper.report_3d import three_d_tables
+from tensegrity_rigidity.paper.registry import SCALES, STUDIES, SWEEPS
+from tensegrity_rigidity.paper.report import render, tables_of
 from tensegrity_rigidity.paper.reproduce import EXPECTED
-from tensegrity_rigidity.paper.studies import SCALES, three_d
+from tensegrity_rigidity.paper.studies import three_d
 
 from .conftest import SERIAL
 
@@ -31,19 +29,19 @@ REPORTS = Path(__file__).parents[2] / "reports"
 def tiny_3d(tmp_path_factory):
     """The 3D study at the tiny-3d scale (n = 2, 3, 4; a few samples), run once, serially."""
     out = tmp_path_factory.mktemp("three_d")
-    return three_d.study(out, TINY_3D, **SERIAL)
+    return three_d.STUDY(out, TINY_3D, **SERIAL)
 
 
 def test_the_study_is_registered_and_runs_at_its_scales():
-    assert STUDIES["three_d"] is three_d.study and SWEEPS["three_d"] is three_d.sweeps
+    assert STUDIES["three_d"] is three_d.STUDY and SWEEPS["three_d"] is three_d.sweeps
     assert SCALES["3d"].studies == ("three_d",)
-    assert SCALES["3d"].sizes_3d == (4, 6, 8, 10)
+    assert SCALES["3d"]["three_d"].sizes == (4, 6, 8, 10)
 
 
 def test_sweeps_share_samples_per_size_and_read_rods_under_compression_from_dilation():
     specs = three_d.sweeps(SCALES["3d"])
     # per size: rods (dilation), rods (shear), f_c = 0.5 (3 strains), cables (2 strains)
-    for n in SCALES["3d"].sizes_3d:
+    for n in SCALES["3d"]["three_d"].sizes:
         names = [k for k in specs if k.endswith(f"_n{n}")]
         assert names == [f"fcc_rods_n{n}", f"fcc_rods_shear_n{n}", f"fcc_half_n{n}",
                          f"fcc_cables_n{n}"]  # fmt: skip
@@ -51,7 +49,7 @@ def test_sweeps_share_samples_per_size_and_read_rods_under_compression_from_dila
             spec = parse_spec(specs[name])
             assert spec.lattice == "fcc" and specs[name]["seed"] == three_d.SEED_3D
         assert specs[f"fcc_rods_n{n}"]["phi"] == [three_d.DILATION]
-        assert specs[f"fcc_half_n{n}"]["samples"] == SCALES["3d"].samples_3d_at(n)
+        assert specs[f"fcc_half_n{n}"]["samples"] == SCALES["3d"]["three_d"].samples_at(n)
         assert specs[f"fcc_rods_n{n}"]["samples"] >= specs[f"fcc_half_n{n}"]["samples"]
     # a size only in pc_3d gets the rods-only sweep only, last
     assert list(specs)[-1] == "fcc_rods_n12"
@@ -60,9 +58,9 @@ def test_sweeps_share_samples_per_size_and_read_rods_under_compression_from_dila
 
 def test_the_3d_budget_prices_thresholds_only_and_the_scale_fits():
     t8, ext = budget.row_seconds_3d("threshold", 8, 0.3)
-    assert t8 == budget.THRESHOLD_SECONDS_3D[8] and not ext
+    assert t8 == budget.COSTS.table("threshold_3d")[8] and not ext
     r8, _ = budget.row_seconds_3d("threshold", 8, 0.0)
-    assert r8 == budget.RODS_THRESHOLD_SECONDS_3D[8] < t8
+    assert r8 == budget.COSTS.table("rods_threshold_3d")[8] < t8
     assert budget.row_seconds_3d("threshold", 10, 0.3)[1]  # extrapolated
     with pytest.raises(InputError):
         budget.row_seconds_3d("grid", 8, 0.3)
@@ -85,7 +83,7 @@ def test_analysis_gives_every_quantity_at_every_size(tiny_3d):
     lam = r.by_size[r.by_size.key != "rods_only_pc"]
     assert lam.value.between(0.0, 1.5).all() and lam.contour.between(0.0, 1.5).all()
     # the collapse pairs each one-sided sweep with the same samples' rods-only thresholds
-    assert (lam.samples == lam.n.map(TINY_3D.samples_3d_at)).all()
+    assert (lam.samples == lam.n.map(TINY_3D["three_d"].samples_at)).all()
     pc = r.by_size[r.by_size.key == "rods_only_pc"]
     assert pc.value.between(0.3, 0.7).all() and (pc.width > 0).all()
     assert list(r.extrapolated.key) == list(three_d.KEYS_3D)
@@ -129,16 +127,19 @@ def test_beside_2d_and_the_report_section(tiny_3d, tmp_path):
     assert row.ours_2d == TWO_D_OURS["st_sr_cables_compression"].value
     z = abs(row.largest - row.ours_2d) / math.hypot(row.largest_err, row.ours_2d_err)
     assert row.z_2d == pytest.approx(z)
-    (section,) = sections_of({"three_d": tiny_3d})
-    text = " ".join(section.paragraphs)
+    v = three_d.numbers(tiny_3d)
     literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
-    assert "Chubynsky & Thorpe" in text and f"{literature:g}" in text
-    assert "37 %" in text and "1/nu = 3" in text
-    wide, side = three_d_tables(tiny_3d)
+    assert v["check"] == literature and v["n_top"] == 4 and v["few"] == [2, 3, 4]
+    assert v["from_check"] == literature - tiny_3d.extrapolated.y_inf_first_order.iloc[0]
+    tables = three_d.report_tables(tiny_3d)
+    wide, side = tables["by_size"], tables["beside_2d"]
     assert list(wide.columns) == ["quantity", "n = 2", "n = 3", "n = 4"]
     assert len(wide) == len(side) == len(three_d.KEYS_3D)
     assert {"three_d_by_size", "three_d_extrapolated", "three_d_beside_2d"} <= set(
         tables_of({"three_d": tiny_3d})
     )
-    png, svg = fig_3d(tiny_3d, tmp_path)
+    blocks = render(three_d.T, v, {}, tables, [])
+    text = " ".join(b[1] for b in blocks if b[0] == "p")
+    assert f"The literature's {literature:g}" in text and "1/nu = 3" in text
+    ((png, svg),) = three_d.figures(tiny_3d, tmp_path).values()
     assert png.stat().st_size > 0 and svg.exists()

@@ -2,7 +2,7 @@
 
 One helper draws every replica (:func:`replicas`): rows, or groups of rows that are one
 independent unit (a sample under several strains), redrawn with replacement from a generator
-the caller passes in (a scale's :meth:`~tensegrity_rigidity.paper.studies.scales.Scale.rng`).
+the caller passes in (a scale's :meth:`~tensegrity_rigidity.paper.study.Scale.rng`).
 """
 
 from __future__ import annotations

@@ -1,44 +1,14 @@
 """Our measurements beside the paper's claims: one typed row per claim, one agreement rule.
 
 :func:`compare` pairs each claim of :mod:`~tensegrity_rigidity.paper.claims` with the
-:class:`~tensegrity_rigidity.paper.claims.Measurement` objects the studies produced (the studies
-compute every statistic) and returns :class:`ComparisonRow` objects, which the report renders.
-
-The agreement rule, the same for every claim (:data:`RULE`)::
-
-    z = |ours - paper| / sqrt(err_ours^2 + err_paper^2),   agree when z < 2
-    unless err_ours > 3 x resolution somewhere: then inconclusive
-
-``err_paper`` is the paper's error bar where it gives one, the rounding of the printed value
-where it gives none (0.01 / sqrt(12) for two decimals), and 0 for an exact statement. A claim
-about several points (every f_c, every p_t) uses its largest per-point z, expressed as the
-normal deviate of the family-wise tail probability (Sidak); a claim about a sign
-("P rises with f_c") uses the distance of our value to the claimed side. Nothing here is tuned
-to agree.
-
-A small z means agreement only when the comparison could have disagreed. A claim's resolution
-(:attr:`~tensegrity_rigidity.paper.claims.Claim.resolution`: the larger of the paper's error and
-the precision targeted for its family) is the deviation it is meant to detect; where our error
-exceeds :data:`RESOLVES_WITHIN` times it at any point compared, a z below 2 says nothing (a
-deviation of six resolutions would pass too) and the verdict is "inconclusive". A z of 2 or more
-is a disagreement whatever the errors.
-
-Where a claim disagrees, the ``explanation`` names, for each factor that could account for it
-(finite size, node disorder delta, the paper's method, the estimator), the evidence the studies
-provide: the same claim measured with that factor changed, with its z, and whether it "then
-agrees" or "still disagrees"; a factor without such a measurement is "not yet tested". A large
-error can make an alternative agree without explaining anything: where its value would still
-disagree at our error (z >= 2 with our covariance), it "agrees only through its larger error",
-and the value and its error are shown so that the reader can see whether it moved towards the
-paper or away.
-
-A replication (:data:`~tensegrity_rigidity.paper.claims.REPLICATION`: the same claim at the
-same size on the finite-size study's independent samples, usually more of them) is listed
-first in the explanation of a disagreement or an inconclusive comparison. Where our value
-agrees but a replication disagrees, the agreement rests on our precision (where the
-replication's error is smaller) or on our sample set: the row stays "agree" by the rule, and
-its explanation says which, with the replication and the factors' evidence in plain words
-(:attr:`ComparisonRow.replication` records the replication's verdict for the report's count).
+:class:`~tensegrity_rigidity.paper.claims.Measurement` objects the studies produced and returns
+:class:`ComparisonRow` objects, which the report renders. The rule, the same for every claim:
+``z = |ours - paper| / sqrt(err_ours^2 + err_paper^2)``, agree when z < 2, unless our error
+exceeds :data:`RESOLVES_WITHIN` times the claim's resolution somewhere (then inconclusive); a
+claim about several points uses its largest z at the family-wise level, one about a sign our
+distance to the claimed side. A disagreement's explanation gives, per factor that could account
+for it, the same claim measured with that factor changed, and the replication at the same size
+first. docs/guide/reproduction.md ("How claims are compared") states the rule in full.
 """
 
 from __future__ import annotations
@@ -49,30 +19,16 @@ import numpy as np
 import pandas as pd
 
 from ..analysis.estimators import agreement_z, sign_z
-from .claims import CLAIMS, FACTORS, REPLICATION, TARGETS, Claim, Measurement
+from .claims import CLAIMS, FACTORS, REPLICATION, Claim, Measurement
+from .template import load
+
+WORDS = load("comparison")
 
 #: z below which a measurement agrees with the paper
 AGREE_BELOW = 2.0
 
 #: our error, in units of the claim's resolution, beyond which a small z is inconclusive
 RESOLVES_WITHIN = 3.0
-
-#: the agreement rule in one sentence, as the report states it
-RULE = (
-    "A claim agrees when z = |ours - paper| / sqrt(err_ours^2 + err_paper^2) < 2, with the "
-    "paper's error bar where it gives one, the rounding of its printed value where it does not "
-    "(0.01/sqrt(12) for two decimals) and 0 for an exact statement (S_t/S_r = 0.5, a peak at "
-    "p_crit, a sum equal to 1). A claim about k points uses its largest per-point z, converted to "
-    "the normal deviate of the family-wise probability 1 - (1 - p)^k (Sidak, valid whatever the "
-    "correlation between points); a claim about a sign uses our distance to the claimed side. "
-    f"A z below 2 is inconclusive instead when our error exceeds {RESOLVES_WITHIN:g} times the "
-    "claim's resolution at some point compared (the resolution is the larger of the paper's "
-    "error and the precision targeted for that kind of claim: "
-    f"S_t/S_r {TARGETS['st_sr']:g}, p_crit {TARGETS['p_crit']:g}, taut fraction "
-    f"{TARGETS['taut']:g}, Fig. 4C {TARGETS['fig4c']:g}): a deviation of "
-    f"{2 * RESOLVES_WITHIN:g} resolutions could have passed such a comparison as agreement."
-)
-
 
 #: the longest a cell of the report's summary table may be (characters)
 CELL_CHARS = 160
@@ -100,6 +56,8 @@ class Evidence:
     resolved : bool
         False when its error exceeds its value at every point (see
         :attr:`ComparisonRow.resolved`).
+    short : str
+        The label as the report's tables show it (the measurement's ``short``, else ``label``).
     """
 
     factor: str
@@ -109,10 +67,12 @@ class Evidence:
     z: float
     verdict: str
     resolved: bool = True
+    short: str = ""
 
     def clause(self) -> str:
         """The measurement as the explanation's words put it."""
-        return f"{self.label}: {self.value} ({self.system}, z = {self.z:.2f}: {self.verdict})"
+        return WORDS.label("clause", label=self.label, value=self.value, system=self.system,
+                           z=self.z, verdict=self.verdict)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -153,6 +113,8 @@ class ComparisonRow:
         factor not yet tested), for the report's table per claim.
     value, err : tuple of float
         Our value(s) and standard error(s) (k points).
+    study : str
+        The study whose measurement is ours.
     """
 
     key: str
@@ -170,6 +132,7 @@ class ComparisonRow:
     evidence: tuple[Evidence, ...] = ()
     value: tuple[float, ...] = ()
     err: tuple[float, ...] = ()
+    study: str = ""
 
     @property
     def resolved(self) -> bool:
@@ -245,12 +208,11 @@ def verdict(claim: Claim, m: Measurement) -> tuple[float, str]:
 
 def _why_inconclusive(claim: Claim, m: Measurement) -> str:
     ok = np.isfinite(m.value) & np.isfinite(m.err)
-    where = f" at {unresolved(claim, m)} of {int(ok.sum())} points" if m.value.size > 1 else ""
-    return (
-        f"our error exceeds {RESOLVES_WITHIN:g} x the claim's resolution "
-        f"({claim.resolution:.3g}){where}: a deviation of "
-        f"{2 * RESOLVES_WITHIN * claim.resolution:.3g} could have passed as agreement"
-    )
+    return WORDS.label(
+        "inconclusive", times=RESOLVES_WITHIN, resolution=claim.resolution,
+        count=unresolved(claim, m) if m.value.size > 1 else None, points=int(ok.sum()),
+        deviation=2 * RESOLVES_WITHIN * claim.resolution,
+    )  # fmt: skip
 
 
 def _ours(m: Measurement, claim: Claim, digits: int = 3) -> str:
@@ -261,8 +223,7 @@ def _ours(m: Measurement, claim: Claim, digits: int = 3) -> str:
         with np.errstate(divide="ignore", invalid="ignore"):
             dev = np.abs(m.value - ref) / m.err
         dev = dev[np.isfinite(dev)]
-        worst = f"; largest |ours - reference| / error {dev.max():.2f}" if dev.size else ""
-        return f"{m.value.size} points{worst}"
+        return WORDS.label("points", count=m.value.size, worst=dev.max() if dev.size else None)
     parts = [
         f"{lab}: {fmt(v, e, 2)}" if lab else fmt(v, e, 2)
         for lab, v, e in zip(m.points or [""] * m.value.size, m.value, m.err, strict=True)
@@ -294,11 +255,8 @@ def _at_our_error(claim: Claim, ours: Measurement, alt: Measurement) -> float:
 def _words(v: str, plain: bool) -> str:
     """How an alternative's verdict reads: plainly ("agrees"), or beside a disagreement of
     ours ("then agrees", "still disagrees")."""
-    return {
-        "agree": "agrees" if plain else "then agrees",
-        "disagree": "disagrees" if plain else "still disagrees",
-        "inconclusive": f"inconclusive: error above {RESOLVES_WITHIN:g} x resolution",
-    }.get(v, "no value")
+    key = f"reads.{v}.plain" if plain and v in ("agree", "disagree") else f"reads.{v}"
+    return WORDS.label(key if key in WORDS.labels else "reads.none", times=RESOLVES_WITHIN)
 
 
 def _resolved(value, err) -> bool:
@@ -311,7 +269,8 @@ def _resolved(value, err) -> bool:
 def _part(claim: Claim, a: Measurement, z: float, judged: str, factor: str = "") -> Evidence:
     """One alternative in an explanation: its label, value, system, z and verdict."""
     resolved = _resolved(a.value, a.err)
-    return Evidence(factor or a.factor, a.label, _ours(a, claim), a.system, z, judged, resolved)
+    return Evidence(factor or a.factor, a.label, _ours(a, claim), a.system, z, judged, resolved,
+                    a.short or a.label)  # fmt: skip
 
 
 def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str, list[Evidence]]:
@@ -345,8 +304,8 @@ def _evidence(
     for factor in FACTORS:
         alts = [_applied(ours, a) if a.shift else a for a in alternatives if a.factor == factor]
         if not alts:
-            clauses.append(f"{factor}: not yet tested")
-            rows.append(Evidence(factor, "", "", "", float("nan"), "not yet tested"))
+            clauses.append(f"{factor}: {WORDS.label('untested')}")
+            rows.append(Evidence(factor, "", "", "", float("nan"), WORDS.label("untested")))
             continue
         parts = []
         for a in alts:
@@ -355,7 +314,7 @@ def _evidence(
             if v == "agree" and not agreeing:
                 z_ours = _at_our_error(claim, ours, a)
                 if z_ours >= AGREE_BELOW:
-                    judged = f"agrees only through its larger error: at our error z = {z_ours:.2f}"
+                    judged = WORDS.label("larger_error", z=z_ours)
             parts.append(_part(claim, a, z, judged, factor))
         rows += parts
         clauses.append(f"{factor}: " + " / ".join(p.clause() for p in parts))
@@ -391,16 +350,44 @@ def shared_measurements(rows: list[ComparisonRow]) -> list[tuple[str, str, float
     return out
 
 
-def compare(results: dict) -> list[ComparisonRow]:
-    """One row per claim measured by the studies in ``results`` (study name -> result).
+def _explain(claim: Claim, m: Measurement, others: list[Measurement]) -> tuple:
+    """(verdict, z, explanation, reason, replication, evidence) of our measurement ``m``."""
+    z, v = verdict(claim, m)
+    same_size = [a for a in others if a.factor == REPLICATION and a.size is not None
+                 and a.size == m.size]  # fmt: skip
+    replicated, replication, evidence = _replicated(claim, same_size)
+    explanation = ""
+    reason = WORDS.label("reason", z=z) if np.isfinite(z) else WORDS.label("reads.none")
+    if v == "disagree":
+        said, rows = _evidence(claim, m, others)
+        evidence += rows
+        explanation = "; ".join(filter(None, [replicated, said]))
+        reason = _reason_disagree(z, evidence)
+    elif v == "inconclusive":
+        explanation = "; ".join(filter(None, [replicated, _why_inconclusive(claim, m)]))
+        reason = WORDS.label("reason.inconclusive", z=z, times=RESOLVES_WITHIN,
+                             resolution=claim.resolution)  # fmt: skip
+    elif v == "agree" and replication == "disagree":
+        # "precision" where the replication is the more precise, else the sample set
+        sharper = any(np.all(a.err < m.err) for a in same_size)
+        only = WORDS.label("only.precision" if sharper else "only.samples")
+        said, rows = _evidence(claim, m, others, agreeing=True)
+        evidence += rows
+        explanation = WORDS.label("agrees_only", only=only, replicated=replicated, said=said)
+        reason = WORDS.label("reason.agrees_only", z=z, only=only)
+    return v, z, explanation, reason, replication, evidence
 
-    Every result's ``measured`` tuple is read; a claim without a measurement of factor "ours"
-    gets no row.
-    """
+
+def compare(results: dict) -> list[ComparisonRow]:
+    """One row per claim measured by the studies in ``results`` (study name -> result): every
+    result's ``measured`` is read; a claim without a measurement of factor "ours" gets none."""
     by_claim: dict[str, list[Measurement]] = {}
-    for r in results.values():
+    study: dict[str, str] = {}
+    for name, r in results.items():
         for m in getattr(r, "measured", ()):
             by_claim.setdefault(m.claim, []).append(m)
+            if m.factor == "ours":
+                study.setdefault(m.claim, name)
     rows = []
     for key, claim in CLAIMS.items():
         ms = by_claim.get(key, [])
@@ -408,85 +395,54 @@ def compare(results: dict) -> list[ComparisonRow]:
         if not ours:
             continue
         m = ours[0]
-        z, v = verdict(claim, m)
-        others = [a for a in ms if a.factor != "ours"]
-        same_size = [
-            a for a in others if a.factor == REPLICATION and a.size is not None and a.size == m.size
-        ]
-        replicated, replication, evidence = _replicated(claim, same_size)
-        explanation, reason = "", f"z = {z:.2f}" if np.isfinite(z) else "no value"
-        if v == "disagree":
-            said, rows_ = _evidence(claim, m, others)
-            evidence += rows_
-            explanation = "; ".join(filter(None, [replicated, said]))
-            reason = _reason_disagree(z, evidence)
-        elif v == "inconclusive":
-            explanation = "; ".join(filter(None, [replicated, _why_inconclusive(claim, m)]))
-            reason = (
-                f"z = {z:.2f}, but our error exceeds {RESOLVES_WITHIN:g} x the claim's "
-                f"resolution ({claim.resolution:.3g})"
-            )
-        elif v == "agree" and replication == "disagree":
-            # "precision" where the replication is the more precise, else the sample set
-            sharper = any(np.all(a.err < m.err) for a in same_size)
-            only = "at our precision only" if sharper else "on our samples only"
-            said, rows_ = _evidence(claim, m, others, agreeing=True)
-            evidence += rows_
-            explanation = f"agrees {only}: {replicated}; {said}"
-            reason = f"z = {z:.2f}; agrees {only}: the same size on other samples disagrees"
-        rows.append(
-            ComparisonRow(
-                key=key,
-                claim=claim.text,
-                paper=claim.paper,
-                ours=_ours(m, claim),
-                system=m.system,
-                z=z,
-                verdict=v,
-                explanation=explanation,
-                note=m.note,
-                source=claim.source,
-                replication=replication,
-                reason=reason[:CELL_CHARS],
-                evidence=tuple(evidence),
-                value=tuple(float(x) for x in m.value),
-                err=tuple(float(x) for x in m.err),
-            )
+        v, z, explanation, reason, replication, evidence = _explain(
+            claim, m, [a for a in ms if a.factor != "ours"]
         )
+        rows.append(ComparisonRow(
+            key=key, claim=claim.text, paper=claim.paper, ours=_ours(m, claim), system=m.system,
+            z=z, verdict=v, explanation=explanation, note=m.note, source=claim.source,
+            replication=replication, reason=reason[:CELL_CHARS], evidence=tuple(evidence),
+            value=tuple(float(x) for x in m.value), err=tuple(float(x) for x in m.err),
+            study=study[key],
+        ))  # fmt: skip
     return rows
 
 
+def verdict_counts(rows: list[ComparisonRow]) -> dict[str, int]:
+    """How many rows have each verdict ("agree", "disagree", "inconclusive", "n/a"), the
+    total, and the pairs about one system (:func:`shared_measurements`): the counts add up."""
+    out = {v: sum(r.verdict == v for r in rows) for v in ("agree", "disagree", "inconclusive")}
+    out["na"] = len(rows) - sum(out.values())
+    shared = len(shared_measurements(rows))
+    return out | {"total": len(rows), "shared": shared, "independent": len(rows) - shared}
+
+
+#: the kinds of factor in a disagreement's reason, in the order it lists them
+KINDS = ("accounted", "not_by", "unresolved", "untested")
+
+
 def _reason_disagree(z: float, evidence: list[Evidence]) -> str:
-    """One line: the z, and which factors account for the disagreement (the evidence rows
-    whose verdict reads "then agrees"), which do not, and which are not yet tested."""
-    by: dict[str, list[str]] = {}
+    """One line: the z, and which factors account for the disagreement (an evidence row that
+    reads "then agrees"), which do not, which are unresolved and which are not yet tested; a
+    factor is listed once, by its most telling measurement."""
+    then_agrees, untested = WORDS.label("reads.agree"), WORDS.label("untested")
+    inconclusive = WORDS.label("reads.inconclusive", times=RESOLVES_WITHIN)
+    by: dict[str, list[str]] = {k: [] for k in KINDS}
     for e in evidence:
         if e.factor == REPLICATION:
             continue
-        if e.verdict == "then agrees":
-            kind = "accounted for by"
-        elif e.verdict in ("not yet tested", "no value"):
-            kind = "not yet tested"
-        elif e.verdict.startswith("inconclusive"):
-            kind = "unresolved"
-        else:
-            kind = "not by"
-        if e.factor not in by.setdefault(kind, []):
+        kind = ("accounted" if e.verdict == then_agrees
+                else "untested" if e.verdict in (untested, WORDS.label("reads.none"))
+                else "unresolved" if e.verdict == inconclusive else "not_by")  # fmt: skip
+        if e.factor not in by[kind]:
             by[kind].append(e.factor)
-    # a factor is listed once, by its most telling measurement
     seen: set[str] = set()
-    for kind in ("accounted for by", "not by", "unresolved", "not yet tested"):
-        by[kind] = [f for f in by.get(kind, []) if f not in seen]
-        seen |= set(by[kind])
-    parts = [f"z = {z:.2f}"]
-    if by["accounted for by"]:
-        parts.append("accounted for by " + ", ".join(by["accounted for by"]))
-    if by["not by"]:
-        parts.append("not by " + ", ".join(by["not by"]))
-    if by["unresolved"]:
-        parts.append("unresolved: " + ", ".join(by["unresolved"]))
-    if by["not yet tested"]:
-        parts.append("not yet tested: " + ", ".join(by["not yet tested"]))
+    parts = [WORDS.label("reason", z=z)]
+    for kind in KINDS:
+        factors = [f for f in by[kind] if f not in seen]
+        seen |= set(factors)
+        if factors:
+            parts.append(WORDS.label(f"kind.{kind}", factors=factors))
     return "; ".join(parts)
 
 
@@ -495,13 +451,11 @@ def summary_cell(row: ComparisonRow) -> str:
     :data:`CELL_CHARS` characters): "not resolved at this precision" where every error exceeds
     its value; the system shortened to its first clause where the cell would be too long."""
     finite = np.isfinite(np.asarray(row.value, float)).any()
-    ours = row.ours if row.resolved or not finite else "not resolved at this precision"
+    ours = row.ours if row.resolved or not finite else WORDS.label("unresolved")
     if len(row.value) > 1 and len(ours) > CELL_CHARS // 2:
         v, e = np.abs(np.asarray(row.value)), np.asarray(row.err)
         bad = int(np.sum(~(e <= v)))
-        ours = f"{len(row.value)} points" + (
-            f", {bad} not resolved at this precision" if bad else ""
-        )
+        ours = WORDS.label("points.unresolved", count=len(row.value), bad=bad or None)
     cell = f"{ours} ({row.system})"
     if len(cell) > CELL_CHARS:
         cell = f"{ours} ({row.system.split(';')[0]})"
@@ -532,8 +486,8 @@ def evidence_frame(row: ComparisonRow) -> pd.DataFrame:
     return pd.DataFrame(
         {
             "factor": [e.factor for e in rows],
-            "changed": [e.label for e in rows],
-            "value": [e.value if e.resolved else "not resolved at this precision" for e in rows],
+            "changed": [e.short for e in rows],
+            "value": [e.value if e.resolved else WORDS.label("unresolved") for e in rows],
             "system": [e.system for e in rows],
             "z": [f"{e.z:.2f}" if np.isfinite(e.z) else "" for e in rows],
             "reads": [e.verdict for e in rows],
@@ -598,20 +552,10 @@ def paper_against_itself(results: dict) -> pd.DataFrame:
         fit = ours[headline]
         z_tables = agreement_z(fit[0], fit[1] ** 2, tables[0], tables[1])
         z_head = agreement_z(fit[0], fit[1] ** 2, ch.value, ch.error)
-        agrees = [
-            f"{name} (z = {z:.1f})"
-            for name, z in (("its p_crit tables", z_tables), ("its headline", z_head))
-            if z < AGREE_BELOW
-        ]
-        rows.append(
-            {
-                "rods + cables": strain,
-                "paper: p_crit tables": fmt(*tables, digits=2),
-                "paper: headline": ch.paper,
-                "ours: p_crit": fmt(*from_pc),
-                "ours: collapse fit": fmt(*fit),
-                "collapse fit agrees with": " and ".join(agrees)
-                or f"neither (z = {z_tables:.1f} and {z_head:.1f})",
-            }
-        )
+        agrees = [WORDS.label(f"itself.{name}", z=z) for name, z in
+                  (("tables", z_tables), ("headline", z_head)) if z < AGREE_BELOW]  # fmt: skip
+        neither = WORDS.label("itself.neither", tables=z_tables, headline=z_head)
+        rows.append({"strain": strain, "tables": fmt(*tables, digits=2), "headline": ch.paper,
+                     "ours_pc": fmt(*from_pc), "ours_fit": fmt(*fit),
+                     "agrees": f" {WORDS.label('and')} ".join(agrees) or neither})  # fmt: skip
     return pd.DataFrame(rows)

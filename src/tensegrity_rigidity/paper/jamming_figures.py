@@ -15,6 +15,9 @@ import pandas as pd
 from ..model.network import PeriodicNetwork
 from ..model.packing import Packing
 from ..solver.jamming import JammingResult
+from .template import load
+
+WORDS = load("jamming_figures")
 
 
 def plot_packing(
@@ -91,8 +94,9 @@ def plot_packing(
     ax.set_xlim(corners[:, 0].min() - 0.5, corners[:, 0].max() + 0.5)
     ax.set_ylim(corners[:, 1].min() - 0.5, corners[:, 1].max() + 0.5)
     ax.set_aspect("equal")
-    ax.set_title(f"{result.kind} jamming: {result.status}; {result.n_rattlers} rattlers (hollow), "
-                 f"{result.backbone_contacts} contacts", fontsize=9)  # fmt: skip
+    title = WORDS.label("title", kind=result.kind, status=result.status,
+                        rattlers=result.n_rattlers, contacts=result.backbone_contacts)  # fmt: skip
+    ax.set_title(title, fontsize=9)
     ax.set_xticks([])
     ax.set_yticks([])
     if path is not None:
@@ -124,16 +128,15 @@ def plot_jamming_probability(table: pd.DataFrame, path: str | os.PathLike | None
     for n, g in table.groupby("n"):
         g = g.sort_values("phi")
         lo, hi = g["p"] - g["p_lo"], g["p_hi"] - g["p"]
-        left.errorbar(
-            g["phi"], g["p"], yerr=[lo, hi], marker="o", ms=3, capsize=2, label=f"N = {n}"
-        )
+        label = WORDS.label("size", n=n)
+        left.errorbar(g["phi"], g["p"], yerr=[lo, hi], marker="o", ms=3, capsize=2, label=label)
         s = g[g["strict_tested"] > 0]
         right.errorbar(s["phi"], s["p_strict"], yerr=[s["p_strict"] - s["p_strict_lo"],
                        s["p_strict_hi"] - s["p_strict"]], marker="o", ms=3, capsize=2)  # fmt: skip
-    left.set_xlabel("packing fraction")
-    left.set_ylabel("P(collectively jammed)")
-    right.set_xlabel("packing fraction")
-    right.set_ylabel("P(strictly | collectively jammed)")
+    left.set_xlabel(WORDS.label("phi"))
+    left.set_ylabel(WORDS.label("p"))
+    right.set_xlabel(WORDS.label("phi"))
+    right.set_ylabel(WORDS.label("p_strict"))
     left.legend(fontsize=8)
     for a in (left, right):
         a.set_ylim(-0.05, 1.05)

@@ -35,6 +35,9 @@ from ..combinatorics.clusters import RigidClusters, rigid_clusters
 from ..errors import InputError
 from ..model.network import Element, Instance, PeriodicNetwork
 from ..solver.core import SolveResult
+from .template import load
+
+WORDS = load("plotting")
 
 #: Okabe and Ito's palette, distinguishable with every common colour-vision deficiency
 #: (Wong, Nature Methods 8, 441, 2011): black, orange, sky blue, bluish green, yellow, blue,
@@ -109,7 +112,7 @@ def draw_network(
     colour: str = "tension",
     arrows: bool = True,
     widths: tuple[float, float] = (0.6, 4.0),
-    legend: bool = True,
+    legend: bool | dict = True,
     colorbar: bool = True,
     plane: tuple[int, int] = (0, 1),
 ) -> Axes:
@@ -135,8 +138,8 @@ def draw_network(
         than the rest, and most arrows are then dots).
     widths : (float, float)
         Line width at zero tension and at the largest ``|t|``, in points.
-    legend : bool
-        Add a legend of the element kinds.
+    legend : bool or dict
+        Add a legend of the element kinds (a dict: with these keywords of ``ax.legend``).
     colorbar : bool
         Add a colour bar of the tension (``colour="tension"`` with a result only).
     plane : (int, int)
@@ -185,37 +188,20 @@ def draw_network(
             ax.add_collection(LineCollection(seg[on], colors=colours, linewidths=lw[on], **style))
         key = "black" if by_tension else KIND_COLOURS[kind]
         if kind == Element.STRUT:
-            handles.append(Line2D([], [], color=key, lw=3.5, label="strut (hollow)"))
+            handles.append(Line2D([], [], color=key, lw=3.5, label=WORDS.label("strut")))
         else:
             ls = "--" if kind == Element.CABLE else "-"
-            handles.append(Line2D([], [], color=key, lw=1.8, ls=ls, label=name))
+            handles.append(Line2D([], [], color=key, lw=1.8, ls=ls, label=WORDS.label(name)))
     pos = net.positions[:, axes]
     ax.plot(pos[:, 0], pos[:, 1], "k.", ms=2)
     if arrows and result is not None:
-        u = np.asarray(result.displacements, dtype=float)[:, axes]
-        longest = float(np.hypot(u[:, 0], u[:, 1]).max(initial=0.0))
-        if longest > 0:
-            ell = float(net.bond_lengths().mean())
-            ax.quiver(
-                pos[:, 0],
-                pos[:, 1],
-                u[:, 0],
-                u[:, 1],
-                color="0.25",
-                angles="xy",
-                scale_units="xy",
-                scale=longest / (0.8 * ell),
-                width=0.003,
-                zorder=3,
-            )
-            arrow = Line2D([], [], color="0.25", marker=r"$\rightarrow$", ls="", ms=10)
-            arrow.set_label("displacement")
-            handles.append(arrow)
+        handles += _arrows(ax, net, np.asarray(result.displacements, dtype=float)[:, axes], pos)
     if by_tension and colorbar:
         sm = ScalarMappable(norm=norm, cmap=TENSION_CMAP)
-        ax.figure.colorbar(sm, ax=ax, label="tension t (vermillion pulls, blue pushes)")
+        ax.figure.colorbar(sm, ax=ax, label=WORDS.label("tension"))
     if legend and handles:
-        ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
+        where = legend if isinstance(legend, dict) else {"loc": "upper left", "framealpha": 0.9}
+        ax.legend(handles=handles, **({"fontsize": 7} | where))
     ax.set_aspect("equal")
     ax.autoscale()
     ax.set_xlabel("xyz"[axes[0]])
@@ -223,12 +209,26 @@ def draw_network(
     return ax
 
 
+def _arrows(ax: Axes, net: PeriodicNetwork, u: np.ndarray, pos: np.ndarray) -> list:
+    """The displacements ``u`` (N, 2) as arrows, the longest 0.8 mean bond lengths; returns
+    the legend handle (none when nothing moves)."""
+    longest = float(np.hypot(u[:, 0], u[:, 1]).max(initial=0.0))
+    if longest <= 0:
+        return []
+    ell = float(net.bond_lengths().mean())
+    ax.quiver(pos[:, 0], pos[:, 1], u[:, 0], u[:, 1], color="0.25", angles="xy",
+              scale_units="xy", scale=longest / (0.8 * ell), width=0.003, zorder=3)  # fmt: skip
+    arrow = Line2D([], [], color="0.25", marker=r"$\rightarrow$", ls="", ms=10)
+    arrow.set_label(WORDS.label("displacement"))
+    return [arrow]
+
+
 def draw_clusters(
     ax: Axes,
     network: PeriodicNetwork,
     clusters: RigidClusters,
     spanning: np.ndarray | None = None,
-    legend: bool = True,
+    legend: bool | dict = True,
 ) -> Axes:
     """Draw a rods-only network's rigid clusters and its overconstrained sites onto ``ax``.
 
@@ -244,8 +244,8 @@ def draw_clusters(
         Sites of one cluster to draw as the spanning one (:data:`SPANNING_COLOUR`; its
         overconstrained sites :data:`STRESSED_COLOUR`, thicker). By default the largest
         cluster that holds an overconstrained site of a wrapping network, none otherwise.
-    legend : bool
-        Add a legend.
+    legend : bool or dict
+        Add a legend (a dict: with these keywords of ``ax.legend``).
 
     Returns
     -------
@@ -270,30 +270,47 @@ def draw_clusters(
     other = present & ~lone & ~in_span
     seg = bond_segments(network)[:, :, :2]
     layers = (
-        (lone, LONE_COLOUR, 0.5, "lone bond (floppy)"),
-        (other & ~over, CLUSTER_COLOUR, 0.9, "other rigid cluster"),
-        (
-            other & over,
-            CLUSTER_COLOUR,
-            1.8,
-            "",
-        ),
-        (in_span & ~over, SPANNING_COLOUR, 1.1, "spanning rigid cluster"),
-        (in_span & over, STRESSED_COLOUR, 1.8, "its stressed (overconstrained) sites"),
+        (lone, LONE_COLOUR, 0.5, "lone"),
+        (other & ~over, CLUSTER_COLOUR, 0.9, "other"),
+        (other & over, CLUSTER_COLOUR, 1.8, ""),
+        (in_span & ~over, SPANNING_COLOUR, 1.1, "spanning"),
+        (in_span & over, STRESSED_COLOUR, 1.8, "stressed"),
     )
     handles = []
     for on, colour, width, label in layers:
         if on.any():
             ax.add_collection(LineCollection(seg[on], colors=colour, linewidths=width))
             if label:
-                handles.append(Line2D([], [], color=colour, lw=max(width, 1.5), label=label))
+                lw = max(width, 1.5)
+                handles.append(Line2D([], [], color=colour, lw=lw, label=WORDS.label(label)))
     if legend and handles:  # below the drawing, which fills its box
-        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.0, -0.1), ncol=2, fontsize=7)
+        where = legend if isinstance(legend, dict) else {}
+        below = {"loc": "upper left", "bbox_to_anchor": (0.0, -0.1), "ncol": 2, "fontsize": 7}
+        ax.legend(handles=handles, **(below | where))
     ax.set_aspect("equal")
     ax.autoscale()
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     return ax
+
+
+def window(ax: Axes, network: PeriodicNetwork, half: float) -> None:
+    """Show a square window of ``ax`` around the network's centre: at the sizes a study runs,
+    the elements of the whole network cannot be told apart.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where the network is drawn.
+    network : PeriodicNetwork
+        The network drawn.
+    half : float
+        Half the window's side, in mean bond lengths.
+    """
+    centre = network.positions[:, :2].mean(axis=0)
+    h = half * float(network.bond_lengths().mean())
+    ax.set_xlim(centre[0] - h, centre[0] + h)
+    ax.set_ylim(centre[1] - h, centre[1] + h)
 
 
 def check_plot_path(path: str | os.PathLike) -> Path:
@@ -391,22 +408,19 @@ def plot_solution(
         draw_network(ax, instance, result, colour=colour, arrows=arrows)
         cl = rigid_clusters(net)
         draw_clusters(right, net, cl)
-        right.set_title(
-            f"rigid clusters (pebble game): {cl.n_clusters} clusters, "
-            f"{int(cl.overconstrained.sum())} overconstrained rods, {cl.floppy_modes} floppy "
-            f"modes; {'resists' if cl.wraps else 'does not resist'} a generic strain",
-            fontsize=9,
-        )
+        counts = {"clusters": cl.n_clusters, "over": int(cl.overconstrained.sum())}
+        label = "clusters.wraps" if cl.wraps else "clusters.open"
+        right.set_title(WORDS.label(label, floppy=cl.floppy_modes, **counts), fontsize=9)
     else:
         fig = Figure(figsize=(7, 6))
         ax = fig.subplots()
         draw_network(ax, instance, result, colour=colour, arrows=arrows)
     if title is None:
-        title = (
-            f"{result.status}: E* = {result.energy:.3g} (affine {result.affine_energy:.3g}); "
-            f"{net.count(Element.ROD)} rods, {net.count(Element.CABLE)} cables, "
-            f"{net.count(Element.STRUT)} struts"
-        )
+        title = WORDS.label(
+            "title", status=result.status, energy=result.energy, affine=result.affine_energy,
+            rods=net.count(Element.ROD), cables=net.count(Element.CABLE),
+            struts=net.count(Element.STRUT),
+        )  # fmt: skip
     ax.set_title(title, fontsize=9)
     fig.savefig(p, dpi=130, bbox_inches="tight")
     return p

@@ -1,20 +1,47 @@
-"""Every study a reproduction can run, by name, and the sweeps each runs at a scale.
+"""Every study a reproduction can run, in the order it runs them, and the scales.
 
-The paper's figures, the paper's method beside ours, finite size and node disorder, and the 3D
-study beyond the paper: one module each in :mod:`~tensegrity_rigidity.paper.studies`. A
-:class:`~tensegrity_rigidity.paper.studies.Scale` names the studies it runs. :data:`SWEEPS`
-gives, per study, the function that returns its sweep specs at a scale (sweep name -> spec):
-the studies run exactly these, and :mod:`~tensegrity_rigidity.paper.budget` counts them.
+Each study is one module of :mod:`~tensegrity_rigidity.paper.studies` ending with a
+:class:`~tensegrity_rigidity.paper.study.Study`; this is the only place that lists them.
+:data:`SCALES` joins the scale-level settings of ``data/scales.toml`` with each study's
+parameters at that scale (its ``params``): a scale runs the studies that have some.
 """
 
 from __future__ import annotations
 
-from .studies import MODULES as FIGURE_MODULES
-from .studies import delta, fss, method, three_d
+from pathlib import Path
 
-#: study name -> its module (``sweeps``, ``analyse``, ``claims``, ``study``)
-MODULES = {**FIGURE_MODULES, "method": method, "fss": fss, "delta": delta, "three_d": three_d}
-#: study name -> ``study(out, scale, **kw)``: run its sweeps and analyse them
-STUDIES = {name: module.study for name, module in MODULES.items()}
+from .run_times import SCALES_FILE, read_scales
+from .studies import delta, fig1b, fig1c, fig2, fig3, fig4, fss, method, three_d
+from .study import Scale, Study
+
+#: every study, in the order a reproduction runs them and the report shows them
+REGISTRY: tuple[Study, ...] = tuple(
+    m.STUDY for m in (fig1b, fig1c, fig2, fig3, fig4, method, fss, delta, three_d)
+)
+#: study name -> the study (called as ``study(out, scale, **kw)``)
+STUDIES = {s.name: s for s in REGISTRY}
 #: study name -> the sweeps it runs at a scale (name -> spec)
-SWEEPS = {name: module.sweeps for name, module in MODULES.items()}
+SWEEPS = {s.name: s.sweeps for s in REGISTRY}
+
+
+def _scales(path: Path) -> dict[str, Scale]:
+    """The scales of the data file, each with every study's parameters (its default where the
+    scale does not run it); a study naming a scale the file lacks is refused."""
+    settings = read_scales(path)
+    for s in REGISTRY:
+        unknown = set(s.params) - set(settings)
+        if unknown:
+            raise ValueError(f"study {s.name} has parameters for unknown scales {sorted(unknown)}")
+    return {
+        name: Scale(
+            name=name,
+            params={s.name: s.params.get(name, s.default) for s in REGISTRY},
+            studies=tuple(s.name for s in REGISTRY if name in s.params),
+            **fields,
+        )  # fmt: skip
+        for name, fields in settings.items()
+    }
+
+
+#: scale name -> :class:`~tensegrity_rigidity.paper.study.Scale`
+SCALES = _scales(SCALES_FILE)

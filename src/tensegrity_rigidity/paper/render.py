@@ -13,7 +13,6 @@ from __future__ import annotations
 import base64
 import html
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
@@ -22,23 +21,7 @@ import pandas as pd
 MAX_WORDS = 120
 
 #: the style of the HTML report
-STYLE = (
-    "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;line-height:1.4}"
-    "table{border-collapse:collapse;font-size:13px;margin:0.5em 0}td,th{border:1px solid #ccc;"
-    "padding:3px 6px;text-align:left;vertical-align:top}tr.agree td.verdict{color:#060}"
-    "tr.disagree td.verdict{color:#a00;font-weight:bold}tr.inconclusive td.verdict{color:#850}"
-    "nav{background:#f4f4f4;padding:0.4em 1em;font-size:14px}nav ol{columns:3;margin:0.3em 0}"
-    "figure{display:inline-block;width:48%;margin:0.5%;vertical-align:top}img{width:100%}"
-)
-
-
-@dataclass(frozen=True)
-class Section:
-    """A section of the report: a title, paragraphs and tables, rendered to Markdown and HTML."""
-
-    title: str
-    paragraphs: tuple[str, ...]
-    tables: tuple[pd.DataFrame, ...] = ()
+STYLE = (Path(__file__).with_name("templates") / "report.css").read_text()
 
 
 _SENTENCE_END = re.compile(r"(?<=[.!?;])\s+(?=[A-Z0-9(*`'\"])")
@@ -112,7 +95,7 @@ def to_markdown(title: str, blocks: list[tuple]) -> str:
             out += [md_table(b[1]), ""]
         elif kind == "figure":
             _, fid, path, caption = b
-            out += [f"![Figure {fid}](figures/{Path(path).name})", "", caption, ""]
+            out += [f"![Figure {fid}](figures/{Path(path).name})", "", f"**{fid}.** {caption}", ""]
     return "\n".join(out).rstrip() + "\n"
 
 

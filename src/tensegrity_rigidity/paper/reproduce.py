@@ -16,13 +16,13 @@ from ..errors import InputError
 from .budget import estimate
 from .figures import all_figures
 from .progress import OverallProgress
-from .registry import STUDIES
+from .registry import REGISTRY, SCALES, STUDIES
 from .report import write_report
 from .run_times import EXPECTED  # noqa: F401 (re-exported: each scale's run time)
-from .studies import SCALES, STORED
+from .studies.rows import STORED
 
 #: the studies ``evidence`` reads from a finished finite-size run
-EVIDENCE_STUDIES = ("fss", "delta")
+EVIDENCE_STUDIES = tuple(s.name for s in REGISTRY if s.evidence)
 
 
 def read_evidence(path) -> tuple[str, dict]:
@@ -56,10 +56,10 @@ def read_evidence(path) -> tuple[str, dict]:
         if missing[sc.name][0] == 0:
             stored = dict(workers=STORED, scheduler=None, progress=False)
             return sc.name, {n: STUDIES[n](path, sc, **stored) for n in EVIDENCE_STUDIES}
-    new, total = missing["fss"]
+    counts = ", ".join(f"{k}: {new:,} of {total:,}" for k, (new, total) in missing.items())
     raise InputError(
-        f"{path} holds no finished finite-size run ({new} of the {total} rows of --scale fss "
-        f"missing); finish it with: tensegrity-rigidity reproduce --scale fss --out {path}"
+        f"{path} holds no finished finite-size run (rows missing per scale: {counts}); finish "
+        f"one with: tensegrity-rigidity reproduce --scale NAME --out {path}"
     )
 
 
@@ -80,7 +80,7 @@ def reproduce(
         Output directory (created): samples under ``out/studies`` (resumable sweeps),
         figures under ``out/figures``, ``report.md`` and ``report.html``.
     scale : {"tiny", "quick", "paper", "fss"}
-        System sizes and sample counts (:data:`~tensegrity_rigidity.paper.studies.SCALES`);
+        System sizes and sample counts (:data:`~tensegrity_rigidity.paper.registry.SCALES`);
         :data:`EXPECTED` gives their run times.
     workers : int, optional
         Local worker processes (default: all cores).

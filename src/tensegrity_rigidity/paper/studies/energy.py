@@ -14,8 +14,8 @@ import numpy as np
 import pandas as pd
 
 from ...analysis import estimators as an
+from ..study import stream
 from .rows import per_sample
-from .scales import stream
 
 
 def thresholds_by_sample(

@@ -90,7 +90,7 @@ def displacement_field(rows: Rows, specs: dict[str, dict]) -> tuple[Displacement
 
 def _rebuild(spec: dict, row: pd.Series, p_r: float) -> Instance:
     """The instance of one sweep row's sample at ``p_r`` (its geometry, uniforms and strain)."""
-    sp = parse_spec({"delta": DEFAULT_DELTA} | spec)
+    sp = parse_spec(dict(delta=DEFAULT_DELTA) | spec)
     point = next(
         q for q in sp.points() if np.isclose(q.p_t, row.p_t) and np.isclose(q.phi, row.phi)
     )

@@ -1,39 +1,39 @@
 """Finite size: the headline claims at several n and their extrapolation to n -> infinity.
 
-At the ``fss`` scale the study runs n = 8, 16, 32, 64 (:mod:`.headline` gives the sweeps
-and the claims at one size). Where the scale gives ``fss_pc``, the rods-only point comes
-from one-strain sweeps of its own (:func:`~.headline.rods_pc_sweep`) with more samples and
-sizes: a rods-only threshold does not depend on the strain, and it is the one extrapolation
-with a literature value precise to 3e-4; by the pebble game (the ``pc`` scale) they also give
-the fractal dimensions of the spanning rigid cluster. Each claim is extrapolated with
-``y(n) = y_inf + a n^(-1/nu)``
+The headline claims at each size (:mod:`.headline`); the rods-only point, where the scale gives
+``pc``, from one-strain sweeps of its own with more samples and sizes (by the pebble game at
+the ``pc`` scale, which also measures the fractal dimensions of the spanning rigid cluster).
+Each claim is extrapolated with ``y(n) = y_inf + a n^(-1/nu)``
 (:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`): the rods-only point with nu
-fitted (the literature's nu is a check, not an input), the others with nu fixed at that
-value, and every claim a second time with nu fixed at the literature's :data:`NU_CHECK`.
-The widths of the rods-only threshold distributions give a reading with no fitted exponent
-(:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`). The results are the
-comparison's evidence for the factor "finite size", and every claim at every size is a
-replication.
-
-Like the figure modules: ``sweeps(scale)``, ``analyse(rows, scale)``, ``claims(result)`` and
-``study(out, scale, **kw)``.
+fitted, the others with nu fixed at that value, and every claim again with nu fixed at the
+literature's :data:`~.headline.NU_CHECK`; the widths of the rods-only thresholds give a reading
+with no fitted exponent. The results are the comparison's evidence for the factor "finite
+size", and every claim at every size is a replication.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from scipy import stats
+from matplotlib.ticker import NullLocator
 
 from ...analysis import estimators as an
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, REPLICATION, Measurement
+from ..comparison import fmt
+from ..plotting import CYCLE, draw_clusters
+from ..study import Result, Scale, Study
+from ..style import PAGE, grid, save, size_axis, unresolved, width_panel
+from ..style import errorbar as bars
+from ..template import load
 from .headline import (
     ENERGY_KEYS,
+    ENERGY_SAMPLES,
     NU_CHECK,
     PC_CHECK,
     energy_names,
@@ -41,119 +41,72 @@ from .headline import (
     headline,
     headline_sweeps,
     judged,
+    misfit,
     rods_pc_sweep,
 )
-from .rows import Rows, load_sweeps
-from .scales import Scale
+from .rows import PT4, Rows
+
+NAME = "fss"
+T = load(NAME)
+#: (n, samples) of the rods-only thresholds of the p_c extrapolation: the median's error is
+#: about 1.25 x the threshold spread / sqrt(S), 0.0007 to 0.0011 per size
+FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
+#: the same by the pebble game (the pc scale): errors 1.1e-4 to 2.2e-4 per size
+PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 200))
 
 
-@dataclass(frozen=True, eq=False)
-class FiniteSizeResult:
-    """The headline claims at several sizes and their extrapolation to n -> infinity.
+@dataclass(frozen=True, kw_only=True)
+class Params:
+    """Sizes and samples per point (one count, or one per size); energy grids per size (None:
+    the first :data:`~.headline.ENERGY_SAMPLES` at most); (n, samples) of the rods-only sweeps
+    of the p_c extrapolation (() reads the headline sweeps) and their threshold method ("lp",
+    the certified bisection, or "pebble")."""
 
-    Attributes
-    ----------
-    by_size : DataFrame
-        Per (n, key): value and err.
-    extrapolated : DataFrame
-        Per key: ``y_inf``, ``y_inf_err``, ``a``, ``nu``, ``nu_err``, ``nu_fixed``, ``chi2``,
-        ``dof`` (:class:`~tensegrity_rigidity.analysis.scaling.FiniteSizeFit`; nu fitted
-        for the rods-only threshold, fixed at its fitted value for the other claims),
-        ``z_paper``, the agreement statistic of ``y_inf`` against the paper's claim, and
-        ``verdict_paper``, the comparison's verdict on it
-        (:func:`~tensegrity_rigidity.paper.comparison.verdict`). The same extrapolation with
-        nu fixed at :data:`NU_CHECK` (value and error) for every key, the rods-only threshold
-        included: ``y_inf_nu_check``, ``y_inf_nu_check_err``, ``chi2_nu_check``,
-        ``dof_nu_check``, ``z_paper_nu_check`` and ``verdict_paper_nu_check``. A claim whose
-        two verdicts differ has an extrapolation that depends on nu.
-    nu_z : float
-        The fitted nu against :data:`NU_CHECK`, in units of both errors.
-    pc_z : float
-        The extrapolated rods-only threshold against :data:`PC_CHECK`, in units of its error.
-    pc_at_check_nu : FiniteSizeFit or None
-        The rods-only extrapolation with nu fixed at :data:`NU_CHECK` (a second reading, shown
-        beside the free fit; the other claims use the free fit's nu).
-    pc_at_check_nu_z : float
-        That extrapolation against :data:`PC_CHECK`.
-    nu_at_bound : bool
-        Whether the free fit's nu ended at a bound of its allowed range (the sizes do not
-        determine it).
-    energy_samples : tuple of int
-        Samples per point of the energy grids at each of ``sizes``.
-    excluded, bracketed : dict
-        Sweep name -> undecided rows; -> of those, the rows whose E* is bracketed, which still
-        enter the energy analyses
-        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
-    pc_sizes, pc_samples : tuple of int
-        Sizes of the rods-only extrapolation and its samples at each (the headline sweeps'
-        unless the scale gives ``fss_pc``).
-    pc_widths : WidthScaling or None
-        The rods-only threshold distributions' widths and centres against size (where the
-        scale gives ``fss_pc``): nu from the widths alone and p_c from the centre against the
-        width, a second reading with no fitted exponent
-        (:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`).
-    pc_widths_z, pc_widths_nu_z : float
-        Its p_c against :data:`PC_CHECK` and its nu against :data:`NU_CHECK`.
-    pc_by_smallest : DataFrame
-        The rods-only extrapolation refitted from the sizes ``n >= n_min``, one row per
-        ``n_min`` (:func:`pc_by_smallest_size`): how much the extrapolation rests on the
-        smallest sizes, where corrections to scaling are largest.
-    fractal : DataFrame or None
-        Where the rods-only sweeps ran the pebble game: the fractal dimensions of the spanning
-        rigid cluster and of its stressed part at the threshold (:func:`fractal_dimensions`).
-    fractal_by_size : DataFrame or None
-        Their mean masses per size (:func:`fractal_dimensions`).
-    picture : ClusterPicture or None
-        One pebble-game sample at its threshold, for the figure of its clusters
-        (:func:`cluster_picture`).
-    measured : tuple of Measurement
-        The evidence for the comparison's factor "finite size": per claim, the extrapolation
-        with the free fit's nu and the one with nu fixed at :data:`NU_CHECK`, labelled so; and
-        every claim at every size as a replication (:func:`replications`).
-    """
+    sizes: tuple[int, ...] = (4, 5, 6, 8)
+    samples: int | tuple[int, ...] = 6
+    energy: int | tuple[int, ...] | None = None
+    pc: tuple[tuple[int, int], ...] = ()
+    pc_method: str = "lp"
 
-    by_size: pd.DataFrame
-    extrapolated: pd.DataFrame
-    nu_z: float
-    pc_z: float
-    sizes: tuple[int, ...]
-    samples: tuple[int, ...]  # per size
-    excluded: dict[str, int]
-    energy_samples: tuple[int, ...] = ()  # per size, of the energy grids
-    bracketed: dict[str, int] = field(default_factory=dict)
-    measured: tuple[Measurement, ...] = ()
-    pc_at_check_nu: an.FiniteSizeFit | None = None
-    pc_at_check_nu_z: float = float("nan")
-    nu_at_bound: bool = False
-    pc_sizes: tuple[int, ...] = ()  # sizes of the rods-only extrapolation
-    pc_samples: tuple[int, ...] = ()  # its samples per size
-    pc_widths: an.WidthScaling | None = None
-    pc_widths_z: float = float("nan")
-    pc_widths_nu_z: float = float("nan")
-    pc_by_smallest: pd.DataFrame | None = None
-    fractal: pd.DataFrame | None = None
-    fractal_by_size: pd.DataFrame | None = None
-    picture: ClusterPicture | None = None
+    def __post_init__(self):
+        for name in ("samples", "energy"):
+            value = getattr(self, name)
+            if isinstance(value, tuple) and len(value) != len(self.sizes):
+                raise ValueError(f"{name} has {len(value)} counts for {len(self.sizes)} sizes")
+
+    def _at(self, value, n: int) -> int:
+        return value if isinstance(value, int) else value[self.sizes.index(n)]
+
+    def samples_at(self, n: int) -> int:
+        return self._at(self.samples, n)
+
+    def energy_at(self, n: int) -> int:
+        if self.energy is None:
+            return min(self.samples_at(n), ENERGY_SAMPLES)
+        return self._at(self.energy, n)
+
+    @property
+    def pc_sizes(self) -> tuple[int, ...]:
+        return tuple(n for n, _ in self.pc) if self.pc else tuple(self.sizes)
+
+    def pc_at(self, n: int) -> int:
+        return dict(self.pc)[n] if self.pc else self.samples_at(n)
+
+
+PARAMS = {
+    "tiny": Params(samples=3, pc=((4, 6), (5, 6), (6, 6), (8, 4), (10, 3))),
+    "fss": Params(sizes=(8, 16, 32, 64), samples=(400, 160, 64, 8), energy=24, pc=FSS_PC[:-1]),
+    "pc": Params(sizes=(), samples=(), pc=PC_PEBBLE, pc_method="pebble"),
+    "fss-cluster": Params(sizes=(8, 16, 32, 64, 128), samples=(400, 200, 96, 32, 8), energy=24,
+                          pc=FSS_PC),
+}  # fmt: skip
 
 
 @dataclass(frozen=True, eq=False)
 class ClusterPicture:
-    """One rods-only sample just after its threshold event, with its rigid clusters.
-
-    Attributes
-    ----------
-    network : PeriodicNetwork
-        The sample's rods at the threshold (the threshold bond included).
-    clusters : RigidClusters
-        Its rigid clusters and overconstrained sites
-        (:func:`~tensegrity_rigidity.combinatorics.clusters.rigid_clusters`).
-    spanning : SpanningCluster
-        The spanning rigid cluster (the threshold bond's) and its stressed sites.
-    n, sample : int
-        Its size and sample index (of :func:`rods_pc_sweep`'s pebble sweep).
-    p_r : float
-        Its threshold.
-    """
+    """One rods-only sample just after its threshold event: its ``network`` (the threshold
+    bond included), ``clusters`` (rigid clusters), ``spanning`` cluster, ``n``, ``sample`` and
+    threshold ``p_r``."""
 
     network: Any
     clusters: Any
@@ -163,17 +116,50 @@ class ClusterPicture:
     p_r: float
 
 
+@dataclass(frozen=True, eq=False)
+class FiniteSizeResult(Result):
+    """The headline claims at several sizes and their extrapolations.
+
+    ``by_size``: per (n, key) value and err (``samples``, ``intervals``, ``width`` for the
+    rods-only rows of their own sweeps). ``extrapolated``: per key the
+    :class:`~tensegrity_rigidity.analysis.scaling.FiniteSizeFit` fields (nu fitted for the
+    rods-only point, fixed at its value for the others), ``z_paper`` and ``verdict_paper``
+    against the paper, and the same with nu fixed at :data:`~.headline.NU_CHECK`
+    (``*_nu_check``). ``nu_z``, ``pc_z``: the free fit against the literature;
+    ``pc_at_check_nu``: the rods-only fit with nu fixed there; ``pc_widths``: the widths
+    reading (:class:`~tensegrity_rigidity.analysis.scaling.WidthScaling`); ``pc_by_smallest``:
+    :func:`pc_by_smallest_size`; ``fractal``, ``fractal_by_size``, ``picture``: the pebble
+    game's clusters (:func:`fractal_dimensions`, :func:`cluster_picture`).
+    """
+
+    by_size: pd.DataFrame
+    extrapolated: pd.DataFrame
+    nu_z: float
+    pc_z: float
+    sizes: tuple[int, ...]
+    samples: tuple[int, ...]
+    energy_samples: tuple[int, ...] = ()
+    pc_at_check_nu: an.FiniteSizeFit | None = None
+    pc_at_check_nu_z: float = float("nan")
+    nu_at_bound: bool = False
+    pc_sizes: tuple[int, ...] = ()
+    pc_samples: tuple[int, ...] = ()
+    pc_widths: an.WidthScaling | None = None
+    pc_widths_z: float = float("nan")
+    pc_widths_nu_z: float = float("nan")
+    pc_by_smallest: pd.DataFrame | None = None
+    fractal: pd.DataFrame | None = None
+    fractal_by_size: pd.DataFrame | None = None
+    picture: ClusterPicture | None = None
+
+
 #: the size and sample drawn at its threshold in the pc report (64: small enough to read)
 PICTURE_N, PICTURE_SAMPLE = 64, 1
 
 
 def cluster_picture(sizes: tuple[int, ...], delta: float = DEFAULT_DELTA) -> ClusterPicture | None:
-    """Sample :data:`PICTURE_SAMPLE` of the pebble sweep at the size of ``sizes`` nearest
-    :data:`PICTURE_N`, at its threshold (None if it never becomes rigid).
-
-    Rebuilt from its seed, as the sweep built it (a second pass of the pebble game, then the
-    full labelling of that one network).
-    """
+    """Sample :data:`PICTURE_SAMPLE` of the pebble sweep at the size nearest :data:`PICTURE_N`,
+    rebuilt from its seed at its threshold (None if it never becomes rigid)."""
     from ...combinatorics.clusters import rigid_clusters
     from ...ensemble.runner import sample_geometry
     from ...ensemble.spec import parse_spec
@@ -183,8 +169,7 @@ def cluster_picture(sizes: tuple[int, ...], delta: float = DEFAULT_DELTA) -> Clu
     n = min(sizes, key=lambda k: (abs(math.log(k / PICTURE_N)), k))
     ((_, raw),) = rods_pc_sweep(n, delta, PICTURE_SAMPLE, "pebble").items()
     spec = parse_spec(raw)
-    point = spec.points()[0]
-    net, u, v, _ = sample_geometry(spec, point, PICTURE_SAMPLE)
+    net, u, v, _ = sample_geometry(spec, spec.points()[0], PICTURE_SAMPLE)
     th, spanning = pebble_pass(net, u, v)
     if not np.isfinite(th.s):
         return None
@@ -193,54 +178,33 @@ def cluster_picture(sizes: tuple[int, ...], delta: float = DEFAULT_DELTA) -> Clu
     return ClusterPicture(at, rigid_clusters(at), spanning, n, PICTURE_SAMPLE, th.s)
 
 
-#: (name, mass column of the pebble-game rows, literature value) of the clusters whose fractal
+#: (name, mass column in nodes, in sites, literature value) of the clusters whose fractal
 #: dimension the pc scale measures at the threshold
 FRACTAL_CLUSTERS = (
-    ("rigid", "cluster_nodes", REFERENCES["df_rigid_javerzat_notarmuzi"]),
-    ("stressed", "stressed_nodes", REFERENCES["df_stressed_jacobs_thorpe"]),
+    ("rigid", "cluster_nodes", "cluster_sites", REFERENCES["df_rigid_javerzat_notarmuzi"]),
+    ("stressed", "stressed_nodes", "stressed_sites", REFERENCES["df_stressed_jacobs_thorpe"]),
 )
-#: their masses counted in bond sites instead of nodes: a second reading of the same exponent
-FRACTAL_SITES = {"rigid": "cluster_sites", "stressed": "stressed_sites"}
 
 
-def fractal_dimensions(
-    sizes: tuple[int, ...], rows: list[pd.DataFrame], scale: Scale
-) -> tuple[pd.DataFrame, pd.DataFrame]:
+def fractal_dimensions(sizes, rows: list[pd.DataFrame], scale: Scale):
     """Fractal dimensions of the spanning rigid cluster and its stressed part at threshold.
 
-    Parameters
-    ----------
-    sizes : tuple of int
-        The sizes of the rods-only sweeps.
-    rows : list of DataFrame
-        Their pebble-game rows, one frame per size (columns of
-        :data:`FRACTAL_CLUSTERS` and :data:`FRACTAL_SITES`; samples never rigid are left out).
-    scale : Scale
-        Bootstrap replicas and generators.
-
-    Returns
-    -------
-    fits : DataFrame
-        One row per (``cluster``, ``mass`` = "nodes" or "sites", ``n_min``: the smallest size
-        fitted, all sizes and without the smallest): ``d``, ``d_err``, ``chi2``, ``dof``, the
-        literature value ``reference`` with ``reference_err`` and ``z`` against it
-        (:func:`~tensegrity_rigidity.analysis.scaling.fractal_dimension`: ``M ~ n^d``, the mass
-        of each sample at its own threshold, the wrapping event).
-    by_size : DataFrame
-        Per size: ``n``, ``samples`` and, per cluster and mass, the mean and its error
-        (``<cluster>_<mass>``, ``<cluster>_<mass>_err``).
+    From the pebble-game rows of each size (samples never rigid left out): ``fits``, one row per
+    (cluster, mass in "nodes" or "sites", smallest size fitted): ``d``, ``d_err``, ``chi2``,
+    ``dof``, the literature's ``reference``, ``reference_err`` and ``z``
+    (:func:`~tensegrity_rigidity.analysis.scaling.fractal_dimension`: M ~ n^d, each sample's
+    mass at its own threshold); and ``by_size``, the mean masses with errors per size.
     """
     n = np.asarray(sizes, float)
     rigid = [r[np.isfinite(r.threshold_p_r)] for r in rows]
     by_size = pd.DataFrame({"n": np.asarray(sizes, int), "samples": [len(r) for r in rigid]})
     fits = []
-    for name, nodes_col, ref in FRACTAL_CLUSTERS:
-        for mass, col in (("nodes", nodes_col), ("sites", FRACTAL_SITES[name])):
+    for name, nodes, sites, ref in FRACTAL_CLUSTERS:
+        for mass, col in (("nodes", nodes), ("sites", sites)):
             masses = [r[col].to_numpy(float) for r in rigid]
             for k, n_min in enumerate(n[: max(1, n.size - 2)]):
-                fit = an.fractal_dimension(
-                    n[k:], masses[k:], scale.bootstrap, rng=scale.rng("fractal", k)
-                )
+                fit = an.fractal_dimension(n[k:], masses[k:], scale.bootstrap,
+                                           rng=scale.rng("fractal", k))  # fmt: skip
                 if k == 0:
                     by_size[f"{name}_{mass}"] = fit.mass
                     by_size[f"{name}_{mass}_err"] = fit.mass_err
@@ -263,48 +227,31 @@ def fractal_dimensions(
 
 
 def _at_bound(nu: float) -> bool:
-    """Whether a free fit's 1/nu ended at a bound of
-    :data:`~tensegrity_rigidity.analysis.scaling.THETA` (False for NaN)."""
+    """Whether a free fit's 1/nu ended at a bound of its range (False for NaN)."""
     return bool(np.any(np.isclose(1.0 / nu, an.THETA, rtol=1e-6)))
 
 
-def pc_by_smallest_size(
-    n: np.ndarray, y: np.ndarray, err: np.ndarray, scale: Scale
-) -> pd.DataFrame:
-    """The rods-only extrapolation refitted without the smallest sizes.
-
-    ``p_c(n) = p_c + a n^(-1/nu)`` holds only asymptotically: corrections to scaling, largest
-    at the smallest n, pull a fit towards them, the more so as their errors are the smallest
-    (most samples). Dropping sizes one at a time from below shows how much the extrapolation
-    rests on them; a reading that moves by more than its error is not determined by the data.
-
-    Parameters
-    ----------
-    n, y, err : (K,) float
-        Sizes (ascending), P = 1/2 points and their standard errors.
-    scale : Scale
-        The bootstrap generators of the fits.
-
-    Returns
-    -------
-    DataFrame
-        One row per ``n_min`` leaving at least two sizes: ``n_min``, ``sizes``; the free fit's
-        ``p_c``, ``p_c_err``, ``nu``, ``nu_err``, ``chi2``, ``dof`` and ``z`` against
-        :data:`PC_CHECK` (NaN with fewer than three sizes) and ``nu_at_bound``, whether its
-        1/nu ended at a bound of :data:`~tensegrity_rigidity.analysis.scaling.THETA` (the
-        sizes do not determine nu; False where the fit failed); the fit with nu fixed at
-        :data:`NU_CHECK`'s ``p_c_fixed``, ``p_c_fixed_err``, ``chi2_fixed``, ``dof_fixed``
-        and ``z_fixed``.
-    """
+def pc_by_smallest_size(n, y, err, scale: Scale) -> pd.DataFrame:
+    """The rods-only extrapolation refitted from the sizes ``n >= n_min``, one row per
+    ``n_min`` leaving two sizes at least: corrections to scaling, largest at the smallest n,
+    pull a fit towards them, and a reading that moves by more than its error is not determined
+    by the data. Columns: the free fit's ``p_c``, ``p_c_err``, ``nu``, ``nu_err``, ``chi2``,
+    ``dof``, ``z`` against :data:`~.headline.PC_CHECK` and ``nu_at_bound``; the fit with nu
+    fixed at :data:`~.headline.NU_CHECK`'s ``p_c_fixed``, ``p_c_fixed_err``, ``chi2_fixed``,
+    ``dof_fixed``, ``z_fixed``."""
     n, y, err = (np.asarray(a, float) for a in (n, y, err))
     rows = []
     for n_min in n[:-1]:
         keep = n >= n_min
         free = an.fit_finite_size(n[keep], y[keep], err[keep], rng=scale.rng("finite_size"))
         fixed = an.fit_finite_size(
-            n[keep], y[keep], err[keep], nu=NU_CHECK.value, nu_err=NU_CHECK.error or 0.0,
+            n[keep],
+            y[keep],
+            err[keep],
+            nu=NU_CHECK.value,
+            nu_err=NU_CHECK.error or 0.0,
             rng=scale.rng("finite_size"),
-        )  # fmt: skip
+        )
         rows.append(
             {
                 "n_min": int(n_min),
@@ -327,319 +274,514 @@ def pc_by_smallest_size(
     return pd.DataFrame(rows)
 
 
+def _own_pc(rows: Rows, scale: Scale, excluded: dict) -> tuple[pd.DataFrame, list, list]:
+    """The rods-only point at each size of its own sweeps: rows of ``by_size``, the thresholds
+    per size and the rows per size."""
+    p = scale[NAME]
+    out, per_size, frames = [], [], []
+    for n in p.pc_sizes:
+        (name,) = rods_pc_sweep(n, DEFAULT_DELTA, p.pc_at(n), p.pc_method)
+        pc, excluded[name] = rows[name]
+        frames.append(pc)
+        per_size.append(pc.threshold_p_r.to_numpy(float))
+        value, err = an.critical_point(per_size[-1], rng=scale.rng("critical_point"))
+        width = (pc.threshold_p_r_high - pc.threshold_p_r_low).to_numpy(float)
+        # thresholds left as intervals by undecided probes, and their mean width
+        out.append({"key": "rods_only_pc", "value": value, "err": err, "n": n,
+                    "samples": len(pc), "intervals": int(np.sum(width > 0)),
+                    "width": float(np.nanmean(width)) if width.size else np.nan})  # fmt: skip
+    return pd.DataFrame(out), per_size, frames
+
+
 def analyse(rows: Rows, scale: Scale) -> FiniteSizeResult:
-    """The headline claims at each of ``scale.fss_sizes`` from the rows of :func:`sweeps`
-    (:func:`~.headline.headline`), the rods-only point at its own sizes where the scale gives
-    ``fss_pc``, and their n -> infinity limits (:func:`extrapolate`)."""
-    frames: list[pd.DataFrame] = []
+    """The headline claims at each size (:func:`~.headline.headline`), the rods-only point at
+    its own sizes where the scale gives ``pc``, and their limits (:func:`extrapolate`)."""
+    p = scale[NAME]
+    frames = []
     excluded: dict[str, int] = {}
     bracketed: dict[str, int] = {}
-    for n in scale.fss_sizes:
-        f, ex, br = headline(
-            rows, n, DEFAULT_DELTA, scale,
-            samples=scale.fss_samples(n), energy=scale.fss_energy_samples(n),
-        )  # fmt: skip
+    for n in p.sizes:
+        f, ex, br = headline(rows, n, DEFAULT_DELTA, scale, samples=p.samples_at(n),
+                             energy=p.energy_at(n))  # fmt: skip
         frames.append(f.assign(n=n))
         excluded |= ex
         bracketed |= br
-    by_size = (
-        pd.concat(frames, ignore_index=True)
-        if frames  # the pc scale measures only the rods-only point
-        else pd.DataFrame(columns=["key", "value", "err", "n"])
-    )
-    widths = None
-    fractal = fractal_by_size = picture = None
-    if scale.fss_pc:  # the rods-only point from its own sweeps, at its own sizes
-        pc_rows, per_size, pc_frames = [], [], []
-        for n in scale.pc_sizes:
-            (name,) = rods_pc_sweep(n, DEFAULT_DELTA, scale.pc_samples(n), scale.pc_method)
-            pc, excluded[name] = rows[name]
-            pc_frames.append(pc)
-            per_size.append(pc.threshold_p_r.to_numpy(float))
-            value, err = an.critical_point(per_size[-1], rng=scale.rng("critical_point"))
-            width = (pc.threshold_p_r_high - pc.threshold_p_r_low).to_numpy(float)
-            pc_rows.append(
-                {
-                    "key": "rods_only_pc",
-                    "value": value,
-                    "err": err,
-                    "n": n,
-                    "samples": len(pc),
-                    # thresholds left as intervals by undecided probes, and their mean width
-                    "intervals": int(np.sum(width > 0)),
-                    "width": float(np.nanmean(width)) if width.size else np.nan,
-                }
-            )
-        by_size = pd.concat(
-            [by_size[by_size.key != "rods_only_pc"], pd.DataFrame(pc_rows)], ignore_index=True
-        )
-        widths = an.width_scaling(
-            np.asarray(scale.pc_sizes, float), per_size, rng=scale.rng("widths")
-        )
-        if scale.pc_method == "pebble" and len(scale.pc_sizes) >= 2:
-            fractal, fractal_by_size = fractal_dimensions(scale.pc_sizes, pc_frames, scale)
-            picture = cluster_picture(scale.pc_sizes)
-
+    by_size = (pd.concat(frames, ignore_index=True) if frames  # the pc scale: rods-only only
+               else pd.DataFrame(columns=["key", "value", "err", "n"]))  # fmt: skip
+    widths = fractal = fractal_by_size = picture = None
+    if p.pc:  # the rods-only point from its own sweeps, at its own sizes
+        own, per_size, pc_frames = _own_pc(rows, scale, excluded)
+        by_size = pd.concat([by_size[by_size.key != "rods_only_pc"], own], ignore_index=True)
+        widths = an.width_scaling(np.asarray(p.pc_sizes, float), per_size, rng=scale.rng("widths"))
+        if p.pc_method == "pebble" and len(p.pc_sizes) >= 2:
+            fractal, fractal_by_size = fractal_dimensions(p.pc_sizes, pc_frames, scale)
+            picture = cluster_picture(p.pc_sizes)
     return extrapolate(
-        by_size, scale, excluded=excluded, bracketed=bracketed, pc_widths=widths,
-        fractal=fractal, fractal_by_size=fractal_by_size, picture=picture,
-    )  # fmt: skip
+        by_size,
+        scale,
+        excluded=excluded,
+        bracketed=bracketed,
+        pc_widths=widths,
+        fractal=fractal,
+        fractal_by_size=fractal_by_size,
+        picture=picture,
+    )
 
 
-def extrapolate(
-    by_size: pd.DataFrame,
-    scale: Scale,
-    *,
-    pc_widths: an.WidthScaling | None = None,
-    excluded: dict[str, int] | None = None,
-    **extra,
-) -> FiniteSizeResult:
-    """Every claim of ``by_size`` extrapolated to n -> infinity, twice.
+Series = tuple[np.ndarray, np.ndarray, np.ndarray]
 
-    The rods-only point with nu fitted; the other claims with nu fixed at that fit's value
-    (its error widens theirs); every claim again with nu fixed at :data:`NU_CHECK`.
 
-    Parameters
-    ----------
-    by_size : DataFrame
-        Per (n, key): ``value`` and ``err`` (``samples`` where a row's count is not the
-        scale's); a ``rods_only_pc`` row at two sizes at least.
-    scale : Scale
-        The study's scale (its sizes, sample counts and bootstrap generators).
-    pc_widths : WidthScaling, optional
-        The rods-only widths reading (:attr:`FiniteSizeResult.pc_widths`), compared here with
-        the literature.
-    excluded : dict, optional
-        Sweep name -> undecided rows (none by default).
-    **extra
-        Further fields of :class:`FiniteSizeResult` (``bracketed``, ``fractal``, ...).
-
-    Returns
-    -------
-    FiniteSizeResult
-    """
-    widths = pc_widths
-
-    def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        s = by_size[by_size.key == key].sort_values("n")
-        return s.n.to_numpy(float), s.value.to_numpy(float), s.err.to_numpy(float)
-
-    pc_fit = an.fit_finite_size(*series("rods_only_pc"), rng=scale.rng("finite_size"))
-    fits = {"rods_only_pc": pc_fit}
+def _series(by_size: pd.DataFrame) -> dict[str, Series]:
+    """Per key: (n, value, err) sorted by n."""
+    out = {}
     for key in by_size.key.unique():
+        s = by_size[by_size.key == key].sort_values("n")
+        out[key] = (s.n.to_numpy(float), s.value.to_numpy(float), s.err.to_numpy(float))
+    return out
+
+
+def extrapolate(by_size: pd.DataFrame, scale: Scale, *, pc_widths=None, excluded=None,
+                **extra) -> FiniteSizeResult:  # fmt: skip
+    """Every claim of ``by_size`` (per (n, key): ``value``, ``err``; a ``rods_only_pc`` row
+    at two sizes at least) extrapolated to n -> infinity, twice (see the module docstring);
+    ``**extra``: further fields of :class:`FiniteSizeResult`."""
+    series, rng = _series(by_size), scale.rng
+    pc_fit = an.fit_finite_size(*series["rods_only_pc"], rng=rng("finite_size"))
+    fits = {"rods_only_pc": pc_fit}
+    for key in series:
         if key != "rods_only_pc":
-            fits[key] = an.fit_finite_size(
-                *series(key), nu=pc_fit.nu, nu_err=pc_fit.nu_err, rng=scale.rng("finite_size")
-            )
-    # the second reading of every claim: nu fixed at the literature's value, not the free fit's
+            fits[key] = an.fit_finite_size(*series[key], nu=pc_fit.nu, nu_err=pc_fit.nu_err,
+                                           rng=rng("finite_size"))  # fmt: skip
     nu_check, nu_check_err = NU_CHECK.value, NU_CHECK.error or 0.0
-    checks = {
-        key: an.fit_finite_size(
-            *series(key), nu=nu_check, nu_err=nu_check_err, rng=scale.rng("finite_size")
-        )
-        for key in fits
+    checks = {key: an.fit_finite_size(*series[key], nu=nu_check, nu_err=nu_check_err,
+                                      rng=rng("finite_size")) for key in fits}  # fmt: skip
+    ex = _extrapolated(fits, checks)
+    w = pc_widths
+    z = {
+        "nu_z": an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, nu_check, nu_check_err),
+        "pc_z": an.agreement_z(pc_fit.y_inf, pc_fit.y_inf_err**2, PC_CHECK.value, 0.0),
+        "pc_at_check_nu_z": an.agreement_z(
+            checks["rods_only_pc"].y_inf, checks["rods_only_pc"].y_inf_err ** 2, PC_CHECK.value, 0.0
+        ),
+        "pc_widths_z": np.nan
+        if w is None
+        else an.agreement_z(w.p_c, w.p_c_err**2, PC_CHECK.value, 0.0),
+        "pc_widths_nu_z": np.nan
+        if w is None
+        else an.agreement_z(w.nu, w.nu_err**2, nu_check, nu_check_err),
     }
-    extrapolated = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
-    free = [judged(r.key, r.y_inf, r.y_inf_err) for r in extrapolated.itertuples()]
-    extrapolated["z_paper"] = [z for z, _ in free]
-    extrapolated["verdict_paper"] = [v for _, v in free]
-    extrapolated["y_inf_nu_check"] = [checks[k].y_inf for k in extrapolated.key]
-    extrapolated["y_inf_nu_check_err"] = [checks[k].y_inf_err for k in extrapolated.key]
-    extrapolated["chi2_nu_check"] = [checks[k].chi2 for k in extrapolated.key]
-    extrapolated["dof_nu_check"] = [checks[k].dof for k in extrapolated.key]
-    fixed = [judged(k, checks[k].y_inf, checks[k].y_inf_err) for k in extrapolated.key]
-    extrapolated["z_paper_nu_check"] = [z for z, _ in fixed]
-    extrapolated["verdict_paper_nu_check"] = [v for _, v in fixed]
-    nu_z = an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, nu_check, nu_check_err)
-    pc_z = an.agreement_z(pc_fit.y_inf, pc_fit.y_inf_err**2, PC_CHECK.value, 0.0)
-    at_check = checks["rods_only_pc"]
-    at_check_z = an.agreement_z(at_check.y_inf, at_check.y_inf_err**2, PC_CHECK.value, 0.0)
-    at_bound = _at_bound(pc_fit.nu)
-    widths_z = widths_nu_z = float("nan")
-    if widths is not None:
-        widths_z = an.agreement_z(widths.p_c, widths.p_c_err**2, PC_CHECK.value, 0.0)
-        widths_nu_z = an.agreement_z(
-            widths.nu, widths.nu_err**2, NU_CHECK.value, NU_CHECK.error or 0.0
-        )
-    where = (
-        f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.fss_sizes))} "
-        + (f"(rods-only p_c: n = {', '.join(map(str, scale.pc_sizes))}) " if scale.fss_pc else "")
-        if scale.fss_sizes
-        else f"extrapolated to n -> infinity from n = {', '.join(map(str, scale.pc_sizes))} "
-    )
-    label = where + f"(y + a n^(-1/nu), nu = {pc_fit.nu:.2f} ± {pc_fit.nu_err:.2f})"
-    label_check = where + (
-        f"(y + a n^(-1/nu), nu fixed at {nu_check:.2f} ± {nu_check_err:.2f}, the literature value)"
-    )
-    measured = tuple(
-        Measurement.scalar(
-            row.key,
-            value,
-            err,
-            f"{_samples_text(scale, row.key in ENERGY_KEYS, row.key == 'rods_only_pc')} "
-            "samples per point",
-            factor="finite size",
-            label=text + misfit(chi2, dof),
-        )
-        for row in extrapolated.itertuples()
-        if row.key in CLAIMS
-        for value, err, chi2, dof, text in (
-            (row.y_inf, row.y_inf_err, row.chi2, row.dof, label),
-            (
-                row.y_inf_nu_check,
-                row.y_inf_nu_check_err,
-                row.chi2_nu_check,
-                row.dof_nu_check,
-                label_check,
-            ),
-        )
-    )
-    measured += replications(by_size, scale)
+    p = scale[NAME]
     return FiniteSizeResult(
         by_size=by_size,
-        extrapolated=extrapolated,
-        nu_z=nu_z,
-        pc_z=pc_z,
-        sizes=tuple(scale.fss_sizes),
-        samples=tuple(scale.fss_samples(n) for n in scale.fss_sizes),
-        energy_samples=tuple(scale.fss_energy_samples(n) for n in scale.fss_sizes),
-        pc_sizes=scale.pc_sizes,
-        pc_samples=tuple(scale.pc_samples(n) for n in scale.pc_sizes),
-        measured=measured,
-        pc_at_check_nu=at_check,
-        pc_at_check_nu_z=at_check_z,
-        nu_at_bound=at_bound,
+        extrapolated=ex,
+        sizes=tuple(p.sizes),
+        samples=tuple(p.samples_at(n) for n in p.sizes),
+        energy_samples=tuple(p.energy_at(n) for n in p.sizes),
+        pc_sizes=p.pc_sizes,
+        pc_samples=tuple(p.pc_at(n) for n in p.pc_sizes),
+        measured=_measured(ex, pc_fit, scale) + replications(by_size, scale),
+        pc_at_check_nu=checks["rods_only_pc"],
+        nu_at_bound=_at_bound(pc_fit.nu),
         excluded=excluded or {},
-        pc_widths=widths,
-        pc_widths_z=widths_z,
-        pc_widths_nu_z=widths_nu_z,
-        pc_by_smallest=pc_by_smallest_size(*series("rods_only_pc"), scale),
+        pc_widths=w,
+        pc_by_smallest=pc_by_smallest_size(*series["rods_only_pc"], scale),
+        nu_z=z["nu_z"],
+        pc_z=z["pc_z"],
+        pc_at_check_nu_z=z["pc_at_check_nu_z"],
+        pc_widths_z=z["pc_widths_z"],
+        pc_widths_nu_z=z["pc_widths_nu_z"],
         **extra,
     )
 
 
-def replications(by_size: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]:
-    """Each claim at each size of the study as a replication
-    (:data:`~tensegrity_rigidity.paper.claims.REPLICATION`): the comparison sets it beside our
-    own measurement of the same size.
+def _extrapolated(fits: dict, checks: dict) -> pd.DataFrame:
+    """One row per key: the free fit, its z and verdict against the paper, the same with nu
+    fixed at the literature's."""
+    ex = pd.DataFrame([{"key": k, **f.__dict__} for k, f in fits.items()])
+    free = [judged(r.key, r.y_inf, r.y_inf_err) for r in ex.itertuples()]
+    ex["z_paper"], ex["verdict_paper"] = [z for z, _ in free], [v for _, v in free]
+    for col, name in (("y_inf", "y_inf_nu_check"), ("y_inf_err", "y_inf_nu_check_err"),
+                      ("chi2", "chi2_nu_check"), ("dof", "dof_nu_check")):  # fmt: skip
+        ex[name] = [getattr(checks[k], col) for k in ex.key]
+    fixed = [judged(k, checks[k].y_inf, checks[k].y_inf_err) for k in ex.key]
+    ex["z_paper_nu_check"] = [z for z, _ in fixed]
+    ex["verdict_paper_nu_check"] = [v for _, v in fixed]
+    return ex
 
-    The study's samples (seed 61) are not those of the figure studies (seeds 12 and 21), and
-    there are usually more of them (400 rods-only thresholds at n = 32 in ``--scale fss``
-    against Fig. 1C's 24 samples at ``--scale paper``), so a value that agrees with the paper
-    only at the figure study's precision shows it here.
 
-    Parameters
-    ----------
-    by_size : DataFrame
-        :attr:`FiniteSizeResult.by_size` (``key``, ``value``, ``err``, ``n``; ``samples``
-        where a row's count is not the scale's).
-    scale : Scale
-        The study's scale (its sample counts per size).
+def _samples_text(p: Params, key: str) -> str:
+    """The sample counts per size of a claim: one number when equal, else one per size."""
+    if key == "rods_only_pc":
+        sizes, count = p.pc_sizes, p.pc_at
+    else:
+        sizes, count = tuple(p.sizes), p.energy_at if key in ENERGY_KEYS else p.samples_at
+    counts = [count(n) for n in sizes]
+    if len(set(counts)) == 1:
+        return str(counts[0])
+    return T.label("per_size", counts=counts, sizes=sizes)
 
-    Returns
-    -------
-    tuple of Measurement
-        One per row of ``by_size`` whose key is a claim: factor
-        :data:`~tensegrity_rigidity.paper.claims.REPLICATION`, ``size`` its n, and its sample
-        count in ``system`` (nominal, except the rods-only point's, which counts its rows).
-    """
+
+def _measured(ex: pd.DataFrame, pc_fit, scale: Scale) -> tuple[Measurement, ...]:
+    """Per claim the two extrapolations, labelled, as evidence for the factor "finite size"."""
+    p = scale[NAME]
+    sizes = {"sizes": p.sizes or None, "pc_sizes": p.pc_sizes, "own": "" if p.pc else None}
+    where = T.label("where" if p.sizes else "where_pc", **sizes)
+    fits = {"free": (pc_fit.nu, pc_fit.nu_err), "fixed": (NU_CHECK.value, NU_CHECK.error or 0.0)}
+    labels = {k: [T.label(f"{k}{short}", where=where, nu=nu, nu_err=e) for short in ("", ".short")]
+              for k, (nu, e) in fits.items()}  # fmt: skip
     out = []
-    for row in by_size.itertuples():
-        if row.key not in CLAIMS:
-            continue
-        n = int(row.n)
-        count = getattr(row, "samples", np.nan)
+    for row in ex[ex.key.isin(list(CLAIMS))].itertuples():
+        system = T.label("samples", samples=_samples_text(p, row.key))
+        for v, e, chi2, dof, (label, short) in (
+            (row.y_inf, row.y_inf_err, row.chi2, row.dof, labels["free"]),
+            (row.y_inf_nu_check, row.y_inf_nu_check_err, row.chi2_nu_check, row.dof_nu_check,
+             labels["fixed"]),
+        ):  # fmt: skip
+            out.append(Measurement.scalar(row.key, v, e, system, factor="finite size",
+                                          label=label + misfit(chi2, dof),
+                                          short=short + misfit(chi2, dof)))  # fmt: skip
+    return tuple(out)
+
+
+def replications(by_size: pd.DataFrame, scale: Scale) -> tuple[Measurement, ...]:
+    """Each claim at each size as a replication: the study's samples (seed 61) are not the
+    figure studies' and usually more, so a value that agrees with the paper only at the figure
+    study's precision shows it here (the comparison sets it beside ours of the same size)."""
+    p, out = scale[NAME], []
+    for row in by_size[by_size.key.isin(list(CLAIMS))].itertuples():
+        n, count = int(row.n), getattr(row, "samples", np.nan)
         if not np.isfinite(count):
-            energy = row.key in ENERGY_KEYS
-            count = scale.fss_energy_samples(n) if energy else scale.fss_samples(n)
-        out.append(
-            Measurement.scalar(
-                row.key,
-                row.value,
-                row.err,
-                f"n = {n}, {int(count)} samples per point",
-                factor=REPLICATION,
-                label="the same size on the finite-size study's samples (seed 61)",
-                size=n,
-            )
-        )
+            count = p.energy_at(n) if row.key in ENERGY_KEYS else p.samples_at(n)
+        out.append(Measurement.scalar(row.key, row.value, row.err,
+                                      T.label("size", n=n, samples=int(count)), factor=REPLICATION,
+                                      label=T.label("replication"), size=n))  # fmt: skip
     return tuple(out)
 
 
 def nu_dependent(extrapolated: pd.DataFrame) -> tuple[list[str], int]:
-    """The claims whose verdict differs between the free fit's nu and nu fixed at
-    :data:`NU_CHECK`.
-
-    Parameters
-    ----------
-    extrapolated : DataFrame
-        :attr:`FiniteSizeResult.extrapolated` (``key``, ``verdict_paper`` and
-        ``verdict_paper_nu_check``).
-
-    Returns
-    -------
-    changed : list of str
-        Keys of the claims whose two verdicts differ ("agree", "disagree" or "inconclusive"):
-        their extrapolation depends on nu.
-    compared : int
-        Claims with a verdict under both (neither extrapolation "n/a").
-    """
+    """The claims whose verdict differs between the free fit's nu and the literature's, and
+    how many claims have a verdict under both."""
     ex = extrapolated[extrapolated.key.isin(list(CLAIMS))]
     both = ex[(ex.verdict_paper != "n/a") & (ex.verdict_paper_nu_check != "n/a")]
-    changed = both[both.verdict_paper != both.verdict_paper_nu_check]
-    return list(changed.key), len(both)
-
-
-#: a finite-size fit whose chi-square is less probable than this does not describe its sizes
-MISFIT_P = 0.01
-
-
-def misfit(chi2: float, dof: int) -> str:
-    """A clause for an extrapolation whose form does not fit its points ("" when it does).
-
-    With the per-size errors taken as right
-    (:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`), a chi-square above its
-    99th percentile means the values do not follow
-    ``y_inf + a n^(-1/nu)`` (non-monotone in n, say), and ``y_inf`` and its error say little:
-    the comparison says so beside the extrapolated value.
-    """
-    if not (dof > 0 and np.isfinite(chi2)) or stats.chi2.sf(chi2, dof) >= MISFIT_P:
-        return ""
-    return f" [chi-square {chi2:.0f} with {dof} dof: the form does not fit these sizes]"
-
-
-def _samples_text(scale: Scale, energy: bool = False, pc: bool = False) -> str:
-    """The sample counts per size (of the energy sweeps when ``energy``, of the rods-only p_c
-    sweeps when ``pc``): one number when they are equal, else one per size."""
-    if pc:
-        count, sizes = scale.pc_samples, scale.pc_sizes
-    else:
-        count = scale.fss_energy_samples if energy else scale.fss_samples
-        sizes = tuple(scale.fss_sizes)
-    counts = [count(n) for n in sizes]
-    if len(set(counts)) == 1:
-        return str(counts[0])
-    return f"{', '.join(map(str, counts))} (n = {', '.join(map(str, sizes))})"
+    return list(both[both.verdict_paper != both.verdict_paper_nu_check].key), len(both)
 
 
 def sweeps(scale: Scale) -> dict[str, dict]:
-    """Sweep name -> spec of the finite-size study (every size at the default delta)."""
-    out: dict[str, dict] = {}
-    for n in scale.fss_sizes:
-        out |= headline_sweeps(n, DEFAULT_DELTA, scale.fss_samples(n))
-        out |= energy_sweeps(n, DEFAULT_DELTA, count=scale.fss_energy_samples(n))
-    for n, samples in scale.fss_pc:
-        out |= rods_pc_sweep(n, DEFAULT_DELTA, samples, scale.pc_method)
+    """Every size at the default delta, and the rods-only sweeps of the p_c extrapolation."""
+    p, out = scale[NAME], dict[str, dict]()
+    for n in p.sizes:
+        out |= headline_sweeps(n, DEFAULT_DELTA, p.samples_at(n))
+        out |= energy_sweeps(n, DEFAULT_DELTA, count=p.energy_at(n))
+    for n, samples in p.pc:
+        out |= rods_pc_sweep(n, DEFAULT_DELTA, samples, p.pc_method)
     return out
 
 
-def claims(result: FiniteSizeResult) -> tuple[Measurement, ...]:
-    """The evidence for the factor "finite size" and the replications
-    (:attr:`FiniteSizeResult.measured`)."""
-    return result.measured
+def _widths(r: FiniteSizeResult) -> dict:
+    """The widths reading's numbers (empty without one)."""
+    w = r.pc_widths
+    if w is None or not np.isfinite(w.nu):
+        return {}
+    return {
+        "widths": w.width,
+        "width_n": w.n.astype(int),
+        "w_nu": fmt(w.nu, w.nu_err),
+        "w_nu_chi2": w.nu_chi2,
+        "w_dof": w.n.size - 2,
+        "w_nu_z": r.pc_widths_nu_z,
+        "w_pc": fmt(w.p_c, w.p_c_err),
+        "w_pc_chi2": w.p_c_chi2,
+        "w_pc_z": r.pc_widths_z,
+    }
 
 
-def study(out, scale: Scale, **kw) -> FiniteSizeResult:
-    """Run (or resume) the finite-size sweeps into ``out`` and analyse them."""
-    specs = sweeps(scale)
-    return analyse(load_sweeps(out, specs, energy=energy_names(specs), **kw), scale)
+def _smallest(r: FiniteSizeResult) -> dict:
+    """The refits without the smallest sizes: the range of the free fits whose nu is inside
+    its bounds with a degree of freedom, and how many were left out and why."""
+    t = r.pc_by_smallest
+    if t is None or len(t) < 2:
+        return {}
+    fitted = t[np.isfinite(t.p_c)]
+    bound = fitted.nu_at_bound.astype(bool)
+    loose = bound | (fitted.dof <= 0)
+    free, n_bound, n_dof = fitted[~loose], int(bound.sum()), int((loose & ~bound).sum())
+    left = T.label("left_out", loose=int(loose.sum()), fitted=len(fitted), n_bound=n_bound or None,
+                   both="" if n_bound and n_dof else None, n_dof=n_dof or None)  # fmt: skip
+    return {"smallest": "", "range_lo": free.p_c.min() if len(free) > 1 else None,
+            "range_hi": free.p_c.max(), "left_out": left if loose.any() else None,
+            "left_over": len(free) if len(free) <= 1 else None}  # fmt: skip
+
+
+def numbers(r: FiniteSizeResult) -> dict:
+    """The finite-size section's numbers, and the rigid clusters' where the pebble game ran."""
+    pc = r.extrapolated.set_index("key").loc["rods_only_pc"]
+    changed, compared = nu_dependent(r.extrapolated)
+    by = r.by_size[r.by_size.key == "rods_only_pc"].sort_values("n")
+    parts = [
+        T.label(
+            "interval", count=int(x.intervals), samples=int(x.samples), n=int(x.n), width=x.width
+        )
+        for x in by.itertuples()
+        if getattr(x, "intervals", 0) > 0
+    ]
+    fixed = r.pc_at_check_nu
+    own = bool(r.pc_sizes) and tuple(r.pc_sizes) != tuple(r.sizes)
+    return {
+        "sizes": r.sizes or None,
+        "samples": r.samples,
+        "node_disorder": DEFAULT_DELTA,
+        "energy_samples": r.energy_samples,
+        "pc_only": None if r.sizes else "",
+        "own_pc": "" if own else None,
+        "shared_pc": None if own else "",
+        "pc_sizes": r.pc_sizes,
+        "pc_samples": r.pc_samples,
+        "pc": fmt(pc.y_inf, pc.y_inf_err),
+        "nu": fmt(pc.nu, pc.nu_err),
+        "chi2": pc.chi2,
+        "dof": pc.dof,
+        "nu_z": r.nu_z,
+        "nu_check": NU_CHECK.value,
+        "nu_check_err": NU_CHECK.error,
+        "nu_who": NU_CHECK.citation.split(",")[0],
+        "pc_check": PC_CHECK.value,
+        "pc_who": PC_CHECK.citation.split(",")[0],
+        "pc_z": r.pc_z,
+        "at_bound": "" if r.nu_at_bound else None,
+        "fixed_pc": None if fixed is None else fmt(fixed.y_inf, fixed.y_inf_err),
+        "fixed_chi2": getattr(fixed, "chi2", None),
+        "fixed_dof": getattr(fixed, "dof", None),
+        "fixed_z": r.pc_at_check_nu_z,
+        "intervals": "; ".join(parts) or None,
+        "others": "" if r.sizes else None,
+        "compared": compared or None,
+        "changed": len(changed),
+        "changed_claims": "; ".join(CLAIMS[k].text for k in changed) or None,
+        **_widths(r),
+        **_smallest(r),
+        **_clusters(r),
+    }
+
+
+def _clusters(r: FiniteSizeResult) -> dict:
+    if r.fractal is None:
+        return {}
+    f = r.fractal
+    free = f[(f.n_min == f.n_min.min()) & (f.mass == "nodes")].set_index("cluster")
+    return {"clusters": "", "d_rigid": fmt(free.loc["rigid"].d, free.loc["rigid"].d_err),
+            "d_stressed": fmt(free.loc["stressed"].d, free.loc["stressed"].d_err)}  # fmt: skip
+
+
+def _by_size_table(r: FiniteSizeResult) -> pd.DataFrame:
+    ex = r.extrapolated.set_index("key")
+    wide = r.by_size.pivot_table(index="key", columns="n", values="value")
+    err = r.by_size.pivot_table(index="key", columns="n", values="err")
+    table = pd.DataFrame({"claim": [CLAIMS[k].text for k in wide.index],
+                          "paper": [CLAIMS[k].paper for k in wide.index]})  # fmt: skip
+    for n in wide.columns:
+        table[f"n = {n}"] = [fmt(v, e) for v, e in zip(wide[n], err[n], strict=True)]
+    rows = [ex.loc[k] for k in wide.index]
+    table["n -> inf"] = [fmt(x.y_inf, x.y_inf_err) for x in rows]
+    table["chi2"] = [f"{x.chi2:.1f} / {x.dof}" for x in rows]
+    table["z_paper"] = [f"{x.z_paper:.2f}" for x in rows]
+    table[f"n -> inf, nu = {NU_CHECK.value}"] = [fmt(x.y_inf_nu_check, x.y_inf_nu_check_err)
+                                                 for x in rows]  # fmt: skip
+    table[f"z_paper, nu = {NU_CHECK.value}"] = [f"{x.z_paper_nu_check:.2f}" for x in rows]
+    return table
+
+
+def _smallest_table(r: FiniteSizeResult) -> pd.DataFrame | None:
+    t = r.pc_by_smallest
+    if t is None or len(t) < 2:
+        return None
+    return pd.DataFrame({
+        "sizes": [f"n >= {int(x.n_min)} ({int(x.sizes)})" for x in t.itertuples()],
+        "p_c": [fmt(x.p_c, x.p_c_err) for x in t.itertuples()],
+        "nu": [fmt(x.nu, x.nu_err) + (" " + T.label("at_bound")) * bool(x.nu_at_bound)
+               for x in t.itertuples()],
+        "chi2": [f"{x.chi2:.2f} / {x.dof}" for x in t.itertuples()],
+        "z": [f"{x.z:.2f}" for x in t.itertuples()],
+        "p_c_fixed": [fmt(x.p_c_fixed, x.p_c_fixed_err) for x in t.itertuples()],
+        "chi2_fixed": [f"{x.chi2_fixed:.2f} / {x.dof_fixed}" for x in t.itertuples()],
+        "z_fixed": [f"{x.z_fixed:.2f}" for x in t.itertuples()],
+    })  # fmt: skip
+
+
+def _against(quantity: str, how: str, value: float, err: float, keys) -> list[dict]:
+    """One row per literature value: ours, how it was measured, theirs, z."""
+    out = []
+    for key in keys:
+        ref = REFERENCES[key]
+        ref_err = ref.error or 0.0
+        z = abs(value - ref.value) / np.hypot(err, ref_err) if err > 0 or ref_err > 0 else np.nan
+        theirs = (
+            f"{ref.value} ± {ref.error:g}" if ref.error else T.label("no_error", value=ref.value)
+        )
+        out.append({"quantity": quantity, "ours": fmt(value, err), "how": how,
+                    "literature": theirs, "source": ref.citation.split(",")[0].split(" (")[0],
+                    "z": f"{z:.2f}"})  # fmt: skip
+    return out
+
+
+def _cluster_tables(r: FiniteSizeResult) -> dict:
+    if r.fractal is None or r.fractal_by_size is None:
+        return {}
+    pc, w, fixed = (
+        r.extrapolated.set_index("key").loc["rods_only_pc"],
+        r.pc_widths,
+        r.pc_at_check_nu,
+    )
+    pcs, nus = (
+        ("pc_javerzat_notarmuzi", "pc_jacobs_thorpe"),
+        ("nu_javerzat_notarmuzi", "nu_moukarzel_duxbury", "nu_jacobs_thorpe"),
+    )
+    rows = _against("p_c", T.label("how.free"), pc.y_inf, pc.y_inf_err, pcs)
+    if fixed is not None:
+        rows += _against("p_c", T.label("how.fixed", nu=NU_CHECK.value), fixed.y_inf,
+                         fixed.y_inf_err, pcs)  # fmt: skip
+    if w is not None and np.isfinite(w.p_c):
+        rows += _against("p_c", T.label("how.widths"), w.p_c, w.p_c_err, pcs)
+    rows += _against("nu", T.label("how.nu"), pc.nu, pc.nu_err, nus)
+    if w is not None and np.isfinite(w.nu):
+        rows += _against("nu", T.label("how.nu_widths"), w.nu, w.nu_err, nus)
+    f = r.fractal
+    refs = {"rigid": ("df_rigid_javerzat_notarmuzi", "df_rigid_jacobs_thorpe"),
+            "stressed": ("df_stressed_jacobs_thorpe",)}  # fmt: skip
+    for x in f[f.mass == "nodes"].itertuples():  # sites: tables/pc_fractal_dimensions
+        how = T.label("how.df", n_min=None if x.n_min == f.n_min.min() else x.n_min,
+                      chi2=x.chi2, dof=x.dof)  # fmt: skip
+        rows += _against(T.label(f"d_f.{x.cluster}"), how, x.d, x.d_err, refs[x.cluster])
+    by = r.fractal_by_size
+    masses = pd.DataFrame({"n": by.n, "samples": by.samples, **{
+        f"{c}_{m}": [fmt(v, e) for v, e in zip(by[f"{c}_{m}"], by[f"{c}_{m}_err"], strict=True)]
+        for c in ("rigid", "stressed") for m in ("nodes", "sites")}})  # fmt: skip
+    return {"clusters": pd.DataFrame(rows), "masses": masses}
+
+
+def report_tables(r: FiniteSizeResult) -> dict:
+    out = {"by_size": _by_size_table(r), "smallest": _smallest_table(r), **_cluster_tables(r)}
+    return {k: v for k, v in out.items() if v is not None}
+
+
+#: the panels of Fig. FS: (claim keys, the label of each, the y label)
+PANELS = (
+    (("rods_only_pc",), ("rods",), "y.pc"),
+    (("st_sr_cables_compression", "st_sr_cables_dilation", "st_sr_half_shear"),
+     ("cables_compression", "cables_dilation", "half_shear"), "y.st_sr"),
+    (tuple(f"alpha_compression_{p_t}" for p_t in PT4), ("p_t",) * 4, "y.alpha_compression"),
+    (tuple(f"alpha_dilation_{p_t}" for p_t in PT4), ("p_t",) * 4, "y.alpha_dilation"),
+    (("taut_cables_transition",), ("cables_compression",), "y.taut"),
+)  # fmt: skip
+
+
+def fss_panels(r) -> list[tuple[tuple[str, ...], tuple[str, ...], str]]:
+    """The panels of :data:`PANELS` with at least one claim extrapolated, reduced to those."""
+    ex, out = set(r.extrapolated.key), []
+    for keys, labels, ylabel in PANELS:
+        kept = [(k, lab) for k, lab in zip(keys, labels, strict=True) if k in ex]
+        if kept:
+            out.append((tuple(k for k, _ in kept), tuple(lab for _, lab in kept), ylabel))
+    return out
+
+
+def _panel(ax, r, keys, labels, nu, n_inf) -> None:
+    ex = r.extrapolated.set_index("key")
+    for key, label in zip(keys, labels, strict=True):
+        s = r.by_size[r.by_size.key == key].sort_values("n")
+        p_t = key.rsplit("_", 1)[-1]
+        colour = bars(ax, s.n, s.value, s.err, ls="none", label=T.label(f"line.{label}", p_t=p_t))
+        f = ex.loc[key]
+        if np.isfinite(f.y_inf):
+            ns = np.geomspace(s.n.min(), n_inf, 60)
+            ax.plot(ns, f.y_inf + f.a * ns ** (-1 / nu), "--", color=colour, lw=1)
+            bars(ax, [n_inf], [f.y_inf], [f.y_inf_err], marker="s", color=colour)
+        ax.axhline(CLAIMS[key].value, color=colour, ls=":", lw=1)
+    unresolved(ax)
+
+
+def figure_fs(r: FiniteSizeResult, figdir):
+    """Each kind of claim against n (log axis) with the fitted y_inf + a n^(-1/nu) (dashed),
+    the extrapolation at the axis' end and the paper's value (dotted); the widths beside the
+    rods-only point. Two panels per row."""
+    nu = r.extrapolated.set_index("key").loc["rods_only_pc"].nu
+    nu = nu if np.isfinite(nu) else 1.0
+    panels, w = fss_panels(r), r.pc_widths
+    widths = w is not None and np.isfinite(w.nu)
+    fig, axes = grid(len(panels) + widths, cols=2)
+    if widths:  # beside the rods-only point, whose second reading it is
+        width_panel(axes.pop(1), w)
+    sizes = np.unique(r.by_size.n.to_numpy(float))
+    n_inf = 4.0 * sizes.max() if sizes.size else 1.0
+    for ax, (keys, labels, ylabel) in zip(axes, panels, strict=False):
+        _panel(ax, r, keys, labels, nu, n_inf)
+        size_axis(ax, sizes, n_inf)
+        ax.set(xlabel=T.label("n"), ylabel=T.label(ylabel))
+        ax.legend()
+    fig.suptitle(T.label("title.fs", nu=nu))
+    return save(fig, figdir, "FS")
+
+
+def figure_rc(r: FiniteSizeResult, figdir):
+    """One pebble-game sample just after its threshold event with its spanning cluster and that
+    cluster's stressed sites; beside it, log-log, the mean masses at the threshold against n
+    with their fitted n^d (the line through the points' weighted centre, display only)."""
+    pic, fits, by = r.picture, r.fractal, r.fractal_by_size
+    assert fits is not None and by is not None, "the clusters' figure needs the pebble game's"
+    fig, (left, right) = plt.subplots(1, 2, figsize=(PAGE, 3.6))
+    if pic is not None:
+        below = {"loc": "upper center", "bbox_to_anchor": (0.5, 0.0), "ncol": 2}
+        draw_clusters(left, pic.network, pic.clusters, spanning=pic.spanning.sites, legend=below)
+        left.set_axis_off()
+        left.set_title(T.label("title.picture", n=pic.n, sample=pic.sample, p_r=pic.p_r,
+                               rods=pic.spanning.sites.size,
+                               stressed=int(pic.spanning.stressed.sum())))  # fmt: skip
+    n = by.n.to_numpy(float)
+    for cluster, colour in (("rigid", CYCLE[0]), ("stressed", CYCLE[1])):
+        mean, err = by[f"{cluster}_nodes"], by[f"{cluster}_nodes_err"]
+        f = fits[(fits.cluster == cluster) & (fits.mass == "nodes") & (fits.n_min == n.min())]
+        (row,) = f.itertuples()
+        right.errorbar(n, mean, yerr=err, marker="o", ls="none", color=colour, capsize=2)
+        w = (mean / err) ** 2
+        c = np.sum(w * (np.log(mean) - row.d * np.log(n))) / np.sum(w)
+        right.plot(n, np.exp(c) * n**row.d, "--", color=colour, lw=1,
+                   label=T.label(f"mass.{cluster}", d=row.d, d_err=row.d_err))  # fmt: skip
+    right.set(xscale="log", yscale="log", xlabel=T.label("n"), ylabel=T.label("y.mass"),
+              title=T.label("title.mass"))  # fmt: skip
+    right.set_xticks(n, [f"{v:g}" for v in n])
+    right.xaxis.set_minor_locator(NullLocator())
+    right.legend()
+    return save(fig, figdir, "RC")
+
+
+def figures(r: FiniteSizeResult, figdir) -> dict:
+    out = {"FS": figure_fs(r, figdir)}
+    if r.fractal is not None:
+        out["RC"] = figure_rc(r, figdir)
+    return out
+
+
+def tables(r: FiniteSizeResult) -> dict:
+    out = {"fss_by_size": r.by_size, "fss_extrapolated": r.extrapolated,
+           "fss_pc_by_smallest_size": r.pc_by_smallest, "pc_fractal_dimensions": r.fractal,
+           "pc_cluster_masses": r.fractal_by_size}  # fmt: skip
+    return {k: v for k, v in out.items() if v is not None}
+
+
+def cost(scale: Scale, costs) -> float:
+    """The analysis: per size, six collapse fits at Fig. 1C's rate."""
+    return costs.analysis(NAME) * len(scale[NAME].sizes) * scale.bootstrap / 100
+
+
+def errors(scale: Scale) -> list[tuple]:
+    """Every S_t/S_r claim has the first's error, every p_crit the rods-only p_c's."""
+    p = scale[NAME]
+    out = [("st_sr_cables_compression", f"fss n={n}", "st_sr", n, p.samples_at(n))
+           for n in p.sizes]  # fmt: skip
+    return out + [("rods_only_pc", f"fss n={n}", "p_crit", n, p.pc_at(n)) for n in p.pc_sizes]
+
+
+STUDY = Study(
+    name=NAME, params=PARAMS, default=Params(), sweeps=sweeps, analyse=analyse,
+    claims=lambda r: r.measured, cost=cost, numbers=numbers, figures=figures, tables=tables,
+    report_tables=report_tables, errors=errors, energy=energy_names, evidence=True,
+)  # fmt: skip

@@ -17,15 +17,16 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
 from ...analysis import estimators as an
 from ..claims import CLAIMS, REFERENCES, Measurement
 from ..comparison import verdict, z_score
+from ..study import Scale
+from ..template import load
 from .energy import energy_exponent, taut_with_error
-from .fig1c import FIG1C_PT
 from .nonaffinity import mask_uncertified_tensions
-from .rows import PT4, Rows, p_r_grid, strain_name
-from .scales import Scale
+from .rows import COLLAPSE_PT, PT4, Rows, p_r_grid, strain_name
 
 STRAINS3 = [0.0, math.pi / 2, math.pi]
 FC3 = [0.0, 0.5, 1.0]
@@ -38,6 +39,9 @@ LAMBDA_CLAIMS = [
     ("st_sr_struts_dilation", 0.0, "dilation"),
     ("st_sr_cables_dilation", 1.0, "dilation"),
 ]
+T = load("headline")
+#: most samples per point of the energy grids by default (the threshold sweeps have up to 400)
+ENERGY_SAMPLES = 24
 #: the check on the fitted exponent and the extrapolated threshold
 NU_CHECK = REFERENCES["nu_moukarzel_duxbury"]
 PC_CHECK = REFERENCES["pc_javerzat_notarmuzi"]
@@ -47,7 +51,7 @@ def chunk_size(n: int) -> int:
     """Samples per chunk of the threshold sweeps at size ``n`` (the unit of resumption).
 
     One threshold search takes about 1.6 s at n = 32, 48 s at n = 64 and, extrapolated, 25 min
-    at n = 128 (:data:`~tensegrity_rigidity.paper.budget.THRESHOLD_SECONDS`): chunks of 2
+    at n = 128 (``data/costs.toml``): chunks of 2
     samples at n = 64 and 1 beyond keep what an interruption loses to a few minutes per worker
     and let two workers share the last chunks of a sweep. Rows do not depend on it.
     """
@@ -58,19 +62,19 @@ def headline_sweeps(n: int, delta: float, samples: int) -> dict[str, dict]:
     """Sweep name -> spec of the headline claims at one (n, delta); seed 61, threshold mode.
 
     ``_rods``: p_t = 0 (f_c does not matter there) under dilation, shear and compression;
-    ``_mixed``: p_t = :data:`~tensegrity_rigidity.paper.studies.FIG1C_PT` at f_c = 0, 0.5, 1
+    ``_mixed``: p_t = :data:`~.rows.COLLAPSE_PT` at f_c = 0, 0.5, 1
     under the three strains (S_t/S_r from the collapse over p_t = 0 and 0.3, as Fig. 1C);
     ``_pcrit``: p_t = 0.1, 0.2 for rods + cables (f_c = 1) under dilation and compression, for
     p_crit at every p_t. The names carry (n, delta) only, so the two studies share a sweep where
-    they meet (n_delta among the sizes, delta the default), the smaller reading the first
-    samples of the larger.
+    they meet (the node-disorder study's size among the sizes, delta the default), the smaller
+    reading the first samples of the larger.
     """
     name = f"headline_n{n}_delta{delta:g}"
-    base = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": STRAINS3}
+    base = dict(n=n, delta=delta, samples=samples, seed=61, phi=STRAINS3)
     base |= {"threshold": {"path": "p_r"}, "output": {"chunk_size": chunk_size(n)}}
     return {
         f"{name}_rods": base | {"p_t": 0.0, "f_c": 0.5},
-        f"{name}_mixed": base | {"p_t": FIG1C_PT, "f_c": FC3},
+        f"{name}_mixed": base | {"p_t": COLLAPSE_PT, "f_c": FC3},
         f"{name}_pcrit": base | {"p_t": PT4[1:-1], "f_c": 1.0, "phi": [0.0, math.pi]},
     }
 
@@ -91,10 +95,10 @@ def rods_pc_sweep(n: int, delta: float, samples: int, method: str = "lp") -> dic
     pebble-game pass, which also records the spanning rigid cluster at the threshold; its sweeps
     are named ``rods_pc_pebble_...``, so they never meet the bisection's).
     """
-    spec = {"n": n, "delta": delta, "samples": samples, "seed": 61, "phi": [0.0]}
+    spec: dict[str, Any] = dict(n=n, delta=delta, samples=samples, seed=61, phi=[0.0])
     spec |= {"p_t": 0.0, "f_c": 0.5, "threshold": {"path": "p_r"}}
     if method == "pebble":
-        spec["threshold"] = {"path": "p_r", "method": "pebble"}
+        spec["threshold"] = dict(path="p_r", method="pebble")
         chunk = max(1, min(256, PEBBLE_CHUNK_SITES // n**2))
         return {f"rods_pc_pebble_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk}}}
     return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
@@ -108,16 +112,16 @@ ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
 def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
 
-    Per p_t of :data:`~tensegrity_rigidity.paper.studies.PT4`, f_c = 1 under dilation and
+    Per p_t of :data:`~.rows.PT4`, f_c = 1 under dilation and
     compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
     fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
     The same seed as :func:`headline_sweeps`, so sample k is the disorder of threshold sample k
     (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
     others have none). ``count`` samples per point
-    (:meth:`~tensegrity_rigidity.paper.studies.Scale.fss_energy_samples`); no minimum-norm
+    (:meth:`~.fss.Params.energy_at`); no minimum-norm
     displacements (the energy and the tensions do not need them).
     """
-    base: dict[str, Any] = {"n": n, "delta": delta, "samples": count, "seed": 61, "f_c": 1.0}
+    base: dict[str, Any] = dict(n=n, delta=delta, samples=count, seed=61, f_c=1.0)
     base |= {"phi": [0.0, math.pi], "solver": {"min_norm": False}}
     base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
     return {
@@ -144,7 +148,7 @@ def energy_claims(
     rows : DataFrame
         Grid rows of :func:`energy_sweeps` (every p_t, both strains): the decided ones and the
         undecided ones whose E* is bracketed
-        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`), which enter the mean
+        (:func:`~.rows.energy_bracketed`), which enter the mean
         energies and, not being rigid, not the taut fraction.
     thresholds : dict
         (strain name, p_t) -> threshold rows (``sample``, ``threshold_p_r``) of the same
@@ -160,7 +164,7 @@ def energy_claims(
         :func:`~tensegrity_rigidity.paper.studies.energy_exponent`) and
         ``taut_cables_transition`` (mean over p_t = 0.1, 0.2, 0.3 under compression of the taut
         fraction of rigid samples with certified tensions at the grid p_r nearest p_crit,
-        :func:`~tensegrity_rigidity.paper.studies.taut_with_error`). Both errors are
+        :func:`~.energy.taut_with_error`). Both errors are
         bootstraps over samples that re-estimate p_crit in every replica.
     """
     rows, _ = mask_uncertified_tensions(rows)
@@ -206,7 +210,7 @@ def headline(rows: Rows, n: int, delta: float, scale: Scale, *, samples: int, en
         Sweep name -> undecided rows.
     bracketed : dict
         Energy sweep name -> of those, the rows that still enter the energy analyses
-        (:func:`~tensegrity_rigidity.paper.studies.energy_bracketed`).
+        (:func:`~.rows.energy_bracketed`).
     """
     frames, excluded, bracketed = {}, {}, {}
     for name in headline_sweeps(n, delta, samples):
@@ -270,3 +274,15 @@ def judged(key: str, value: float, err: float) -> tuple[float, str]:
 
 
 # --------------------------------------------------------------------------- finite size
+
+
+#: a finite-size fit whose chi-square is less probable than this does not describe its sizes
+MISFIT_P = 0.01
+
+
+def misfit(chi2: float, dof: int) -> str:
+    """A clause for an extrapolation whose chi-square is above its 99th percentile (the values
+    do not follow the form, and y_inf says little); "" when it fits."""
+    if not (dof > 0 and np.isfinite(chi2)) or stats.chi2.sf(chi2, dof) >= MISFIT_P:
+        return ""
+    return " " + T.label("misfit", chi2=chi2, dof=dof)

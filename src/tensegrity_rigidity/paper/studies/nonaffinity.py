@@ -10,8 +10,8 @@ import pandas as pd
 
 from ...analysis import estimators as an
 from ...solver.core import energy_certified
+from ..study import stream
 from .rows import per_sample
-from .scales import stream
 
 
 def gamma_median_brackets(rows: pd.DataFrame) -> pd.DataFrame:

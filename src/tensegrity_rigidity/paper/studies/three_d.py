@@ -1,107 +1,54 @@
 """Beyond the paper: the headline questions asked of the disordered FCC lattice in 3D.
 
-Per size n (:attr:`~.scales.Scale.sizes_3d`), exact per-sample thresholds along p_r of the
-periodic FCC lattice (node disorder delta = 0.2, principal strain axes from the SO(3) sequence by
-sample index): rods only (p_t = 0) under dilation and shear; rods + cables and struts at p_t =
-:data:`~.fig1c.FIG1C_PT` with f_c = 0.5 under dilation, shear and compression; rods + cables (f_c
-= 1) under compression and dilation. Rods only under compression is rods only under dilation
-(compression is minus dilation and a rod resists both signs, sample by sample: one system), so it
-is read from the dilation sweep. From these, as in 2D:
-
-* the rods-only threshold (median of the per-sample thresholds; its own sweep with more samples
-  and one size more, :attr:`~.scales.Scale.pc_3d`);
-* S_t/S_r from the collapse P = F(p_r + lam p_t) over p_t = 0 and 0.3
-  (:func:`~tensegrity_rigidity.analysis.fits.fit_collapse`) for f_c = 0.5 per strain and for
-  rods + cables under compression and dilation (the paper's 37 % and 67 % questions);
-
-each extrapolated to n -> infinity with ``y(n) = y_inf + a n^(-1/nu)``
-(:func:`~tensegrity_rigidity.analysis.scaling.fit_finite_size`) in two readings: nu fitted to
-the rods-only thresholds (used for every quantity, as in 2D), and ``1/nu = d = 3``, the
-finite-size shift of a first-order transition, which is what the literature finds for bond-diluted
-central-force FCC (:data:`PC_3D_CHECK`). The widths of the rods-only threshold distributions
-give a third reading of p_c with no exponent
-(:func:`~tensegrity_rigidity.analysis.scaling.width_scaling`).
-
-The quantities are not claims of the paper (which is 2D): their measurements carry keys of
-their own (``fcc_<2D key>``), and the report's 3D section sets each beside its 2D counterpart:
-the paper's value (:data:`~tensegrity_rigidity.paper.claims.CLAIMS`) and ours extrapolated
-from the finite-size study (:data:`~tensegrity_rigidity.paper.claims.TWO_D_OURS`).
+Per size n, exact per-sample thresholds along p_r of the periodic FCC lattice (principal strain
+axes from the SO(3) sequence by sample index): rods only under dilation and shear (rods only
+under compression is the dilation system, sample by sample); rods + cables and struts at p_t =
+:data:`~.rows.COLLAPSE_PT` with f_c = 0.5 under three strains; rods + cables under compression
+and dilation. From them, as in 2D, the rods-only threshold (its own sweep with more samples and
+a size more) and S_t/S_r from the collapse, each extrapolated with ``y_inf + a n^(-1/nu)`` in
+two readings: nu fitted to the rods-only points, and ``1/nu = d = 3``, the shift of a
+first-order transition, which the literature finds for bond-diluted central-force FCC. The
+quantities are not the paper's claims: their measurements carry keys of their own
+(``fcc_<2D key>``), and the section sets each beside its 2D counterparts.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from ...analysis import estimators as an
+from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, TWO_D_OURS, Measurement
-from .fig1c import FIG1C_PT
-from .rows import Rows, interval_straddles, load_sweeps, threshold_matrix
-from .scales import Scale
+from ..comparison import fmt
+from ..study import Result, Scale, Study
+from ..style import (
+    CYCLE,
+    PAPER_MARKER,
+    STRAIN_COLOURS,
+    grid,
+    save,
+    size_axis,
+    unresolved,
+    width_panel,
+)
+from ..style import errorbar as bars
+from ..template import load
+from .headline import misfit
+from .rows import COLLAPSE_PT, Rows, interval_straddles, threshold_matrix
 
+NAME = "three_d"
+T = load(NAME)
 #: seed of the 3D sweeps (sample k's disorder derives from (seed, n, delta, k))
 SEED_3D = 33
-#: the strains of the 3D study
 DILATION, SHEAR, COMPRESSION = 0.0, math.pi / 2, math.pi
-#: (f_c, strains) of the one-sided sweeps at p_t = FIG1C_PT: name suffix -> (f_c, phi list)
+#: (f_c, strains) of the one-sided sweeps at p_t = COLLAPSE_PT: name suffix -> (f_c, phi list)
 MIXED_3D = {"half": (0.5, [DILATION, SHEAR, COMPRESSION]), "cables": (1.0, [COMPRESSION, DILATION])}
-
-
-def chunk_size_3d(n: int) -> int:
-    """Samples per chunk of a 3D threshold sweep at size ``n`` (the unit of resumption).
-
-    A threshold search at p_t = 0.3 takes about 0.35 s at n = 4, 2 s at 6, 9 s at 8 and about
-    30 s at 10 on one core: chunks of a minute or less keep what an interruption loses small
-    and let two workers share a sweep's last chunks. Rows do not depend on it.
-    """
-    return {4: 32, 5: 16, 6: 8, 8: 4}.get(n, 2 if n >= 10 else 32)
-
-
-def _base(n: int, samples: int) -> dict:
-    return {
-        "n": n,
-        "samples": samples,
-        "seed": SEED_3D,
-        "lattice": {"kind": "fcc"},
-        "threshold": {"path": "p_r"},
-        "output": {"chunk_size": chunk_size_3d(n)},
-    }
-
-
-def sweeps(scale: Scale) -> dict[str, dict]:
-    """Sweep name -> spec of the 3D study, smaller sizes first.
-
-    Per size of :attr:`~.scales.Scale.sizes_3d`: ``fcc_rods_n{n}`` (p_t = 0, dilation; the
-    scale's :attr:`~.scales.Scale.pc_3d` count, at least the size's count, for the rods-only
-    threshold), ``fcc_rods_shear_n{n}`` (p_t = 0, shear), ``fcc_half_n{n}`` (p_t = 0.3, f_c =
-    0.5, three strains) and ``fcc_cables_n{n}`` (p_t = 0.3, f_c = 1, compression and
-    dilation). Sizes of ``pc_3d`` beyond ``sizes_3d`` get the rods-only sweep only. One seed
-    (:data:`SEED_3D`), so sample k is the same disorder and rotation in every sweep of its size
-    (common random numbers).
-    """
-    out: dict[str, dict] = {}
-    pc = dict(scale.pc_3d)
-    sizes = sorted(set(scale.sizes_3d) | set(pc))
-    for n in sizes:
-        samples = scale.samples_3d_at(n)
-        rods = max(samples, pc.get(n, 0))
-        out[f"fcc_rods_n{n}"] = _base(n, rods) | {"p_t": 0.0, "f_c": 0.5, "phi": [DILATION]}
-        if n not in scale.sizes_3d:
-            continue
-        out[f"fcc_rods_shear_n{n}"] = _base(n, samples) | {"p_t": 0.0, "f_c": 0.5, "phi": [SHEAR]}
-        for suffix, (f_c, phis) in MIXED_3D.items():
-            out[f"fcc_{suffix}_n{n}"] = _base(n, samples) | {
-                "p_t": FIG1C_PT, "f_c": f_c, "phi": phis,
-            }  # fmt: skip
-    return out
-
-
-#: p_r grid of the outcomes the collapse fits read from the thresholds: the 3D thresholds at
-#: p_t = 0.3 lie near 0.3 (0.27 to 0.37 at n = 4 to 8), below the 2D grid's start
+#: p_r grid of the collapse fits' outcomes: the 3D thresholds at p_t = 0.3 lie near 0.3
 FIT_P_R_3D = np.arange(0.1, 0.9001, 0.01)
 #: 2D key -> (f_c, strain) of the S_t/S_r quantities measured in 3D
 LAMBDA_3D = {
@@ -113,44 +60,78 @@ LAMBDA_3D = {
 }
 #: the 2D keys of every 3D quantity, in the report's order
 KEYS_3D = ("rods_only_pc", *LAMBDA_3D)
-#: the literature's rods-only threshold of bond-diluted FCC, and Maxwell's count
 PC_3D_CHECK = REFERENCES["pc_fcc_chubynsky_thorpe"]
 PC_3D_MAXWELL = REFERENCES["pc_fcc_maxwell"]
-#: the second extrapolation's exponent: the shift of a first-order transition's finite-size
-#: threshold falls as the inverse volume, n^(-d) (1/nu = d = 3)
+#: the second extrapolation's exponent: a first-order transition's shift, 1/nu = d = 3
 NU_FIRST_ORDER = 1.0 / 3.0
+#: a size with fewer samples per point than this has error bars that are themselves uncertain
+#: by 1 / sqrt(2 (S - 1)) or more (the scales' floor wherever an error bar is compared)
+ERROR_FLOOR_SAMPLES = 24
+
+
+@dataclass(frozen=True, kw_only=True)
+class Params:
+    """FCC sizes and samples per point at each; (n, samples) of the rods-only thresholds
+    (sizes may go beyond)."""
+
+    sizes: tuple[int, ...] = ()
+    samples: tuple[int, ...] = ()
+    pc: tuple[tuple[int, int], ...] = ()
+
+    def samples_at(self, n: int) -> int:
+        return dict(zip(self.sizes, self.samples, strict=True)).get(n, 0)
+
+
+PARAMS = {
+    "3d": Params(sizes=(4, 6, 8, 10), samples=(160, 64, 24, 6),
+                 pc=((4, 640), (6, 320), (8, 160), (10, 48), (12, 16))),
+    "tiny-3d": Params(sizes=(2, 3, 4), samples=(4, 3, 2), pc=((2, 8), (3, 6), (4, 3))),
+}  # fmt: skip
 
 
 def key_3d(key: str) -> str:
-    """The measurement key of a 3D quantity (``fcc_`` and the 2D claim's key)."""
+    """The measurement key of a 3D quantity."""
     return f"fcc_{key}"
 
 
-@dataclass(frozen=True, eq=False)
-class ThreeDResult:
-    """The headline quantities on the FCC lattice at several n and their n -> infinity limits.
+def chunk_size_3d(n: int) -> int:
+    """Samples per chunk at size ``n``: a search at p_t = 0.3 takes about 0.35 s at n = 4, 9 s
+    at 8, 30 s at 10; chunks of a minute or less keep an interruption's loss small."""
+    return {4: 32, 5: 16, 6: 8, 8: 4}.get(n, 2 if n >= 10 else 32)
 
-    Attributes
-    ----------
-    by_size : DataFrame
-        Per (n, key): ``value``, ``err``, ``samples`` (key: the 2D claim's key, :data:`KEYS_3D`);
-        the S_t/S_r rows also ``contour``, ``contour_err`` (the slope of the P = 1/2 contour,
-        :func:`~tensegrity_rigidity.analysis.fits.contour_slope`, the model-free estimator);
-        the rods-only rows also ``width`` (standard deviation of the thresholds) and
-        ``intervals`` (thresholds left as intervals by undecided probes).
-    extrapolated : DataFrame
-        Per key: ``y_inf``, ``y_inf_err``, ``nu``, ``nu_err``, ``chi2``, ``dof`` with nu fitted
-        to the rods-only thresholds (every key uses that nu), and ``y_inf_first_order``,
-        ``y_inf_first_order_err``, ``chi2_first_order``, ``dof_first_order`` with 1/nu = 3.
-    widths : WidthScaling or None
-        The rods-only threshold distributions against n (p_c with no fitted exponent).
-    strain_free : float
-        Fraction of the samples whose rods-only threshold is the same under shear as under
-        dilation (a rods-only threshold should not depend on the strain).
-    half_strain_free : float
-        Fraction of the samples whose threshold at f_c = 0.5, p_t = 0.3 is the same under
-        dilation, shear and compression.
-    """
+
+def _base(n: int, samples: int) -> dict:
+    return {"n": n, "samples": samples, "seed": SEED_3D, "lattice": {"kind": "fcc"},
+            "threshold": {"path": "p_r"}, "output": {"chunk_size": chunk_size_3d(n)}}  # fmt: skip
+
+
+def sweeps(scale: Scale) -> dict[str, dict]:
+    """Per size, smaller first: ``fcc_rods_n{n}`` (dilation, the size's rods-only count),
+    ``fcc_rods_shear_n{n}``, ``fcc_half_n{n}`` and ``fcc_cables_n{n}``; sizes of ``pc`` only
+    get the first. One seed: sample k is the same disorder in every sweep of its size."""
+    p, out = scale[NAME], {}
+    pc = dict(p.pc)
+    for n in sorted(set(p.sizes) | set(pc)):
+        samples = p.samples_at(n)
+        rods = max(samples, pc.get(n, 0))
+        out[f"fcc_rods_n{n}"] = _base(n, rods) | {"p_t": 0.0, "f_c": 0.5, "phi": [DILATION]}
+        if n not in p.sizes:
+            continue
+        out[f"fcc_rods_shear_n{n}"] = _base(n, samples) | {"p_t": 0.0, "f_c": 0.5, "phi": [SHEAR]}
+        for suffix, (f_c, phis) in MIXED_3D.items():
+            out[f"fcc_{suffix}_n{n}"] = _base(n, samples) | {"p_t": COLLAPSE_PT, "f_c": f_c,
+                                                              "phi": phis}  # fmt: skip
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class ThreeDResult(Result):
+    """``by_size``: per (n, key) ``value``, ``err``, ``samples`` (the S_t/S_r rows also the
+    contour slope ``contour``, ``contour_err``; the rods-only rows ``width`` and ``intervals``);
+    ``extrapolated``: per key the fit with nu fitted to the rods-only points (``y_inf``, ``a``,
+    ``nu``, ``chi2``, ...) and with 1/nu = 3 (``*_first_order``); ``widths``: the rods-only
+    threshold distributions against n; ``strain_free``, ``half_strain_free``: the fractions of
+    samples whose threshold is the same under the strains (rods only; f_c = 0.5)."""
 
     by_size: pd.DataFrame
     extrapolated: pd.DataFrame
@@ -158,12 +139,9 @@ class ThreeDResult:
     samples: tuple[int, ...]
     pc_sizes: tuple[int, ...]
     pc_samples: tuple[int, ...]
-    excluded: dict[str, int]
-    widths: object = None
+    widths: Any = None
     strain_free: float = float("nan")
     half_strain_free: float = float("nan")
-    straddling: int | None = None
-    measured: tuple[Measurement, ...] = ()
 
     def at(self, key: str, n: int) -> tuple[float, float]:
         """(value, error) of one quantity at size n."""
@@ -178,111 +156,80 @@ def _rods_rows(parts: dict[str, pd.DataFrame], n: int, phi: float) -> pd.DataFra
     return parts[f"fcc_rods_n{n}"].assign(phi=phi)
 
 
-def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
-    """The 3D quantities per size (collapse fits, medians) and their extrapolations."""
-    parts = {name: frame for name, (frame, _) in rows.items()}
-    excluded = {name: count for name, (_, count) in rows.items()}
-    rng = scale.rng
-    by_size, straddle = [], []
-    for n in scale.sizes_3d:
+def _lambdas(parts, sizes, scale: Scale) -> tuple[list[dict], list[pd.DataFrame]]:
+    """S_t/S_r per size and quantity (collapse fit; contour slope beside it)."""
+    out, straddle = [], []
+    for n in sizes:
         mixed = pd.concat([parts[f"fcc_{s}_n{n}"] for s in MIXED_3D], ignore_index=True)
         for key, (f_c, strain) in LAMBDA_3D.items():
             phi = {"dilation": DILATION, "shear": SHEAR, "compression": COMPRESSION}[strain]
-            # the rods-only rows of the same samples (the one-sided sweeps' count)
-            rods = _rods_rows(parts, n, phi)
             one = mixed[np.isclose(mixed.phi, phi) & np.isclose(mixed.f_c, f_c)]
+            rods = _rods_rows(parts, n, phi)  # of the same samples (the one-sided count)
             rods = rods[rods["sample"].isin(one["sample"])]
             sub = pd.concat([rods.assign(f_c=f_c), one], ignore_index=True)
             straddle.append(sub)
             y, pr, pt = an.outcomes_from_thresholds(sub, FIT_P_R_3D)
-            fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=rng("collapse"))
-            units = len(an.common_samples(sub))
-            # the model-free alternative: the slope of the P = 1/2 contour
-            c = an.contour_slope(
-                threshold_matrix(sub, [0.0, FIG1C_PT]), np.array([0.0, FIG1C_PT]),
-                n_boot=scale.bootstrap, rng=rng("contour"),
-            )  # fmt: skip
-            by_size.append(
-                {"n": n, "key": key, "value": fit.lam, "err": fit.lam_err, "samples": units,
-                 "contour": c.value, "contour_err": c.err}
-            )  # fmt: skip
-    pc_sizes = sorted(set(scale.sizes_3d) | {m for m, _ in scale.pc_3d})
-    per_size = []
-    for n in pc_sizes:
-        rods = parts[f"fcc_rods_n{n}"]
-        t = rods.threshold_p_r.to_numpy(float)
-        per_size.append(t)
-        value, err = an.critical_point(t, rng=rng("critical_point"))
-        width = (rods.threshold_p_r_high - rods.threshold_p_r_low).to_numpy(float)
-        by_size.append(
-            {
-                "n": n,
-                "key": "rods_only_pc",
-                "value": value,
-                "err": err,
-                "samples": len(rods),
-                "width": float(np.std(t, ddof=1)) if t.size > 1 else np.nan,
-                "intervals": int(np.sum(width > 0)),
-            }
-        )
-    by = pd.DataFrame(by_size)
-    widths = (
-        an.width_scaling(np.asarray(pc_sizes, float), per_size, rng=rng("widths"))
-        if len(pc_sizes) >= 3
-        else None
-    )
-    same, total = 0, 0
-    for n in scale.sizes_3d:
+            fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=scale.rng("collapse"))
+            c = an.contour_slope(threshold_matrix(sub, [0.0, COLLAPSE_PT]),
+                                 np.array([0.0, COLLAPSE_PT]), n_boot=scale.bootstrap,
+                                 rng=scale.rng("contour"))  # fmt: skip
+            out.append({"n": n, "key": key, "value": fit.lam, "err": fit.lam_err,
+                        "samples": len(an.common_samples(sub)), "contour": c.value,
+                        "contour_err": c.err})  # fmt: skip
+    return out, straddle
+
+
+def _same_thresholds(parts, sizes) -> tuple[float, float]:
+    """The fractions of samples whose rods-only threshold is the same under shear as under
+    dilation, and whose threshold at f_c = 0.5 is the same under the three strains."""
+    same = total = alike = count = 0
+    for n in sizes:
         a = parts[f"fcc_rods_n{n}"].set_index("sample").threshold_p_r
         b = parts[f"fcc_rods_shear_n{n}"].set_index("sample").threshold_p_r
         common = a.index.intersection(b.index)
         same += int(np.sum(np.isclose(a[common], b[common], rtol=0, atol=1e-12)))
         total += len(common)
-    # f_c = 0.5: the fraction of samples whose threshold is the same under the three strains
-    alike, count = 0, 0
-    for n in scale.sizes_3d:
-        half = (
-            parts[f"fcc_half_n{n}"]
-            .pivot_table(index="sample", columns="phi", values="threshold_p_r")
-            .dropna()
-        )
+        half = parts[f"fcc_half_n{n}"].pivot_table(index="sample", columns="phi",
+                                                   values="threshold_p_r").dropna()  # fmt: skip
         if half.shape[1] == len(MIXED_3D["half"][1]):
             alike += int(np.sum(np.ptp(half.to_numpy(float), axis=1) <= 1e-12))
             count += len(half)
-    extrapolated = extrapolate(by, rng)
-    result = ThreeDResult(
-        by_size=by,
-        extrapolated=extrapolated,
-        sizes=tuple(scale.sizes_3d),
-        samples=tuple(scale.samples_3d),
-        pc_sizes=tuple(pc_sizes),
+    return same / total if total else np.nan, alike / count if count else np.nan
+
+
+def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
+    """The 3D quantities per size (collapse fits, medians) and their extrapolations."""
+    p = scale[NAME]
+    parts = {name: frame for name, (frame, _) in rows.items()}
+    by_size, straddle = _lambdas(parts, p.sizes, scale)
+    pc_sizes, per_size = sorted(set(p.sizes) | {m for m, _ in p.pc}), []
+    for n in pc_sizes:
+        rods = parts[f"fcc_rods_n{n}"]
+        per_size.append(rods.threshold_p_r.to_numpy(float))
+        value, err = an.critical_point(per_size[-1], rng=scale.rng("critical_point"))
+        width = (rods.threshold_p_r_high - rods.threshold_p_r_low).to_numpy(float)
+        spread = float(np.std(per_size[-1], ddof=1)) if per_size[-1].size > 1 else np.nan
+        by_size.append({"n": n, "key": "rods_only_pc", "value": value, "err": err,
+                        "samples": len(rods), "width": spread,
+                        "intervals": int(np.sum(width > 0))})  # fmt: skip
+    by = pd.DataFrame(by_size)
+    widths = (an.width_scaling(np.asarray(pc_sizes, float), per_size, rng=scale.rng("widths"))
+              if len(pc_sizes) >= 3 else None)  # fmt: skip
+    strain_free, half_free = _same_thresholds(parts, p.sizes)
+    return ThreeDResult(
+        by_size=by, extrapolated=extrapolate(by, scale.rng), sizes=tuple(p.sizes),
+        samples=tuple(p.samples), pc_sizes=tuple(pc_sizes),
         pc_samples=tuple(len(t) for t in per_size),
-        excluded=excluded,
-        widths=widths,
-        strain_free=same / total if total else float("nan"),
-        half_strain_free=alike / count if count else float("nan"),
+        excluded={name: count for name, (_, count) in rows.items()}, widths=widths,
+        strain_free=strain_free, half_strain_free=half_free,
         straddling=interval_straddles(pd.concat(straddle, ignore_index=True), FIT_P_R_3D)
-        if straddle
-        else None,
-    )
-    return dataclasses.replace(result, measured=claims(result))
+        if straddle else None,
+    )  # fmt: skip
 
 
 def extrapolate(by_size: pd.DataFrame, rng) -> pd.DataFrame:
-    """Each quantity of ``by_size`` extrapolated to n -> infinity in the two readings.
-
-    Parameters
-    ----------
-    by_size : DataFrame
-        :attr:`ThreeDResult.by_size` (``n``, ``key``, ``value``, ``err``).
-    rng : callable
-        ``Scale.rng``: the bootstrap stream of the finite-size fits.
-
-    Returns
-    -------
-    DataFrame
-        :attr:`ThreeDResult.extrapolated`, one row per key of ``by_size``.
-    """
+    """Each quantity of ``by_size`` extrapolated to n -> infinity in the two readings (``rng``:
+    a scale's ``rng``)."""
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
@@ -292,108 +239,225 @@ def extrapolate(by_size: pd.DataFrame, rng) -> pd.DataFrame:
     rows = []
     for key in [k for k in KEYS_3D if k in set(by_size.key)]:
         n, y, err = series(key)
-        free = (
-            pc
-            if key == "rods_only_pc"
-            else an.fit_finite_size(n, y, err, nu=pc.nu, nu_err=pc.nu_err, rng=rng("finite_size"))
-        )
+        free = pc if key == "rods_only_pc" else an.fit_finite_size(
+            n, y, err, nu=pc.nu, nu_err=pc.nu_err, rng=rng("finite_size"))  # fmt: skip
         first = an.fit_finite_size(n, y, err, nu=NU_FIRST_ORDER, rng=rng("finite_size"))
-        rows.append(
-            {
-                "key": key,
-                "y_inf": free.y_inf,
-                "y_inf_err": free.y_inf_err,
-                "nu": free.nu,
-                "nu_err": free.nu_err,
-                "chi2": free.chi2,
-                "dof": free.dof,
-                "y_inf_first_order": first.y_inf,
-                "y_inf_first_order_err": first.y_inf_err,
-                "chi2_first_order": first.chi2,
-                "dof_first_order": first.dof,
-            }
-        )
+        rows.append({"key": key, "y_inf": free.y_inf, "y_inf_err": free.y_inf_err, "a": free.a,
+                     "nu": free.nu, "nu_err": free.nu_err, "chi2": free.chi2, "dof": free.dof,
+                     "y_inf_first_order": first.y_inf, "y_inf_first_order_err": first.y_inf_err,
+                     "a_first_order": first.a, "chi2_first_order": first.chi2,
+                     "dof_first_order": first.dof})  # fmt: skip
     return pd.DataFrame(rows)
 
 
-def beside_2d(result: ThreeDResult) -> pd.DataFrame:
-    """Each 3D quantity beside its 2D counterparts, with the differences in units of both errors.
+def _z(v: float, e: float, two) -> float:
+    return an.agreement_z(v, e**2, two.value, two.error or np.nan)
 
-    Returns
-    -------
-    DataFrame
-        Per key of :data:`KEYS_3D`: ``quantity`` (the 2D claim's text), ``n_max`` and the value
-        there (``largest``, ``largest_err``), the two extrapolations (``y_inf``...,
-        ``y_inf_first_order``...), ``paper_2d`` (the paper's value as printed, or the
-        literature's for the rods-only threshold), ``ours_2d`` and ``ours_2d_err``
-        (:data:`~tensegrity_rigidity.paper.claims.TWO_D_OURS`) and ``z_2d``, the largest size's
-        value against ours in 2D, and ``z_2d_inf``, the free extrapolation against it (NaN where
-        an error is missing).
-    """
-    ex = result.extrapolated.set_index("key")
-    out = []
-    for key in KEYS_3D:
-        if key not in ex.index:
-            continue
-        s = result.by_size[result.by_size.key == key].sort_values("n").iloc[-1]
-        two = TWO_D_OURS[key]
-        out.append(
-            {
-                "key": key,
-                "quantity": CLAIMS[key].text,
-                "n_max": int(s.n),
-                "largest": float(s.value),
-                "largest_err": float(s.err),
-                "y_inf": float(ex.loc[key].y_inf),
-                "y_inf_err": float(ex.loc[key].y_inf_err),
-                "y_inf_first_order": float(ex.loc[key].y_inf_first_order),
-                "y_inf_first_order_err": float(ex.loc[key].y_inf_first_order_err),
-                "paper_2d": CLAIMS[key].paper,
-                "ours_2d": two.value,
-                "ours_2d_err": two.error or np.nan,
-                "z_2d": an.agreement_z(float(s.value), float(s.err) ** 2, two.value,
-                                       two.error or np.nan),
-                "z_2d_inf": an.agreement_z(float(ex.loc[key].y_inf),
-                                           float(ex.loc[key].y_inf_err) ** 2, two.value,
-                                           two.error or np.nan),
-            }
-        )  # fmt: skip
+
+def beside_2d(r: ThreeDResult) -> pd.DataFrame:
+    """Per quantity: the largest size's value, the two extrapolations, the paper's 2D value as
+    printed, ours in 2D (:data:`~tensegrity_rigidity.paper.claims.TWO_D_OURS`) and the z of the
+    largest size (``z_2d``) and of the free extrapolation (``z_2d_inf``) against ours in 2D."""
+    ex, out = r.extrapolated.set_index("key"), []
+    for key in [k for k in KEYS_3D if k in ex.index]:
+        s, f, two = (
+            r.by_size[r.by_size.key == key].sort_values("n").iloc[-1],
+            ex.loc[key],
+            TWO_D_OURS[key],
+        )
+        out.append({"key": key, "quantity": CLAIMS[key].text, "n_max": int(s.n),
+                    "largest": float(s.value), "largest_err": float(s.err),
+                    "y_inf": float(f.y_inf), "y_inf_err": float(f.y_inf_err),
+                    "y_inf_first_order": float(f.y_inf_first_order),
+                    "y_inf_first_order_err": float(f.y_inf_first_order_err),
+                    "paper_2d": CLAIMS[key].paper, "ours_2d": two.value,
+                    "ours_2d_err": two.error or np.nan, "z_2d": _z(s.value, s.err, two),
+                    "z_2d_inf": _z(f.y_inf, f.y_inf_err, two)})  # fmt: skip
     return pd.DataFrame(out)
 
 
-def claims(result: ThreeDResult) -> tuple[Measurement, ...]:
-    """The 3D quantities as measurements (keys :func:`key_3d`): each extrapolation and each size.
-
-    They are not claims of the paper, so the comparison table does not list them; the report's
-    3D section does, beside the 2D values.
-    """
+def claims(r: ThreeDResult) -> tuple[Measurement, ...]:
+    """Each extrapolation and each size as measurements of the 3D keys (not the paper's claims,
+    so the comparison table does not list them)."""
     out = []
-    sizes = ", ".join(map(str, result.sizes))
-    for row in result.extrapolated.itertuples():
-        ns = ", ".join(map(str, result.pc_sizes)) if row.key == "rods_only_pc" else sizes
-        system = f"FCC, extrapolated to n -> infinity from n = {ns}"
-        out.append(
-            Measurement.scalar(
-                key_3d(row.key), row.y_inf, row.y_inf_err, system,
-                label=f"y + a n^(-1/nu), nu = {row.nu:.2f} fitted to the rods-only thresholds",
-            )
-        )  # fmt: skip
-        out.append(
-            Measurement.scalar(
-                key_3d(row.key), row.y_inf_first_order, row.y_inf_first_order_err, system,
-                factor="finite size", label="y + a n^(-3): the shift of a first-order transition",
-            )
-        )  # fmt: skip
-    for row in result.by_size.itertuples():
-        out.append(
-            Measurement.scalar(
-                key_3d(row.key), row.value, row.err, f"FCC n = {row.n}, {row.samples} samples",
-                factor="finite size", label=f"n = {row.n}", size=int(row.n),
-            )
-        )  # fmt: skip
-    return tuple(out)
+    for row in r.extrapolated.itertuples():
+        system = T.label("system", sizes=r.pc_sizes if row.key == "rods_only_pc" else r.sizes)
+        out += [Measurement.scalar(key_3d(row.key), row.y_inf, row.y_inf_err, system,
+                                   label=T.label("free", nu=row.nu)),
+                Measurement.scalar(key_3d(row.key), row.y_inf_first_order,
+                                   row.y_inf_first_order_err, system, factor="finite size",
+                                   label=T.label("first_order"))]  # fmt: skip
+    return (*out, *(Measurement.scalar(
+        key_3d(row.key), row.value, row.err, T.label("size", n=row.n, samples=row.samples),
+        factor="finite size", label=T.label("n", n=row.n), size=int(row.n))
+        for row in r.by_size.itertuples()))  # fmt: skip
 
 
-def study(out, scale: Scale, **kw) -> ThreeDResult:
-    """Run (or resume) the sweeps of the 3D study into ``out`` and analyse them."""
-    return analyse(load_sweeps(out, sweeps(scale), **kw), scale)
+def _group(r: ThreeDResult, keys: tuple[str, ...], few: list[int]) -> dict:
+    """One paragraph's numbers: each quantity extrapolated, and the largest z against ours in
+    2D of the extrapolations and of the largest size."""
+    ex, n_top = r.extrapolated.set_index("key"), max(r.sizes)
+    parts, z_top, z_inf, misfits = [], [], [], ""
+    for key in keys:
+        f, (v, e), two = ex.loc[key], r.at(key, n_top), TWO_D_OURS[key]
+        parts.append(T.label("part", name=T.label(f"short.{key}"), value=fmt(f.y_inf, f.y_inf_err)))
+        z_top.append(_z(v, e, two))
+        z_inf.append(_z(f.y_inf, f.y_inf_err, two))
+        misfits += misfit(f.chi2, f.dof)
+    return {"parts": "; ".join(parts) + misfits, "z_inf": np.nanmax(z_inf),
+            "z_top": np.nanmax(z_top), "few": "" if n_top in few else None}  # fmt: skip
+
+
+def numbers(r: ThreeDResult) -> dict:
+    ex = r.extrapolated.set_index("key")
+    pc, n_max = ex.loc["rods_only_pc"], max(r.pc_sizes)
+    few = [n for n, s in zip(r.sizes, r.samples, strict=True) if s < ERROR_FLOOR_SAMPLES]
+    lam = r.by_size[r.by_size.key != "rods_only_pc"]
+    dz = np.abs(lam.value - lam.contour) / np.hypot(lam.err, lam.contour_err)
+    w = r.widths if r.widths is not None and np.isfinite(r.widths.p_c) else None
+    half, cables = (_group(r, keys, few) for keys in (tuple(LAMBDA_3D)[:3], tuple(LAMBDA_3D)[3:]))
+    z_check = an.agreement_z(
+        pc.y_inf_first_order, pc.y_inf_first_order_err**2, PC_3D_CHECK.value, 0.0
+    )
+    return {
+        "node_disorder": DEFAULT_DELTA,
+        "p_t": COLLAPSE_PT,
+        "counts": [
+            T.label("count", samples=s, n=n) for n, s in zip(r.sizes, r.samples, strict=True)
+        ],
+        "pc_counts": [
+            T.label("count", samples=s, n=n) for n, s in zip(r.pc_sizes, r.pc_samples, strict=True)
+        ],
+        "n_top": max(r.sizes),
+        "nodes": max(r.sizes) ** 3,
+        "n_2d": round(max(r.sizes) ** 1.5),
+        "n_max": n_max,
+        "pc_top": fmt(*r.at("rods_only_pc", n_max)),
+        "pc": fmt(pc.y_inf, pc.y_inf_err),
+        "nu": pc.nu,
+        "nu_err": pc.nu_err,
+        "at_bound": ""
+        if np.isfinite(pc.nu) and np.any(np.isclose(1 / pc.nu, an.THETA, rtol=1e-6))
+        else None,
+        "pc_first": fmt(pc.y_inf_first_order, pc.y_inf_first_order_err),
+        "w_pc": None if w is None else fmt(w.p_c, w.p_c_err),
+        "w_nu": None if w is None else w.nu,
+        "w_nu_err": None if w is None else w.nu_err,
+        "misfit": misfit(pc.chi2_first_order, pc.dof_first_order),
+        "check": PC_3D_CHECK.value,
+        "from_check": PC_3D_CHECK.value - pc.y_inf_first_order,
+        "consistent": z_check if z_check < 2 else None,
+        "different": z_check if z_check >= 2 else None,
+        "maxwell": PC_3D_MAXWELL.value,
+        "pc_2d": fmt(TWO_D_OURS["rods_only_pc"].value, TWO_D_OURS["rods_only_pc"].error),
+        "jacobs_thorpe": REFERENCES["pc_jacobs_thorpe"].value,
+        "strain_free": 100 * r.strain_free,
+        "few": few or None,
+        "floor": ERROR_FLOOR_SAMPLES,
+        **{f"half_{k}": v for k, v in half.items()},
+        **{f"cables_{k}": v for k, v in cables.items()},
+        "half_free": 100 * r.half_strain_free,
+        "contour_z": np.nanmax(dz) if len(lam) and np.isfinite(dz).any() else None,
+        "contour_diff": np.nanmax(np.abs(lam.value - lam.contour)) if len(lam) else None,
+    }
+
+
+def report_tables(r: ThreeDResult) -> dict:
+    """Each quantity per size (samples in brackets), and each beside its 2D values."""
+    wide = pd.DataFrame({"quantity": [T.label(f"quantity.{k}") for k in KEYS_3D]})
+    for n in sorted(set(r.by_size.n)):
+        s = r.by_size[r.by_size.n == n].set_index("key")
+        wide[f"n = {n}"] = [f"{fmt(s.value[k], s.err[k])} ({int(s.samples[k])})" if k in s.index
+                            else "" for k in KEYS_3D]  # fmt: skip
+    b = beside_2d(r)
+    side = pd.DataFrame({
+        "quantity": [T.label(f"quantity.{k}") for k in b.key],
+        "largest": [f"{fmt(v, e)} (n = {n})" for v, e, n in zip(b.largest, b.largest_err, b.n_max,
+                                                                 strict=True)],
+        "free": [fmt(v, e) for v, e in zip(b.y_inf, b.y_inf_err, strict=True)],
+        "first_order": [fmt(v, e) for v, e in zip(b.y_inf_first_order, b.y_inf_first_order_err,
+                                                  strict=True)],
+        "ours_2d": [fmt(TWO_D_OURS[k].value, TWO_D_OURS[k].error) for k in b.key],
+        "paper_2d": list(b.paper_2d), "z_2d": [f"{z:.2f}" for z in b.z_2d],
+        "z_2d_inf": [f"{z:.2f}" for z in b.z_2d_inf],
+    })  # fmt: skip
+    return {"by_size": wide, "beside_2d": side}
+
+
+def _curves(ax, r: ThreeDResult, keys, labels, n_inf: float) -> None:
+    """One panel: each quantity against n with both extrapolations, ours in 2D (dash-dot, grey
+    band) and the paper's 2D value (open star at infinity)."""
+    ex = r.extrapolated.set_index("key")
+    for i, (key, label) in enumerate(zip(keys, labels, strict=True)):
+        if key not in ex.index:
+            continue
+        s = r.by_size[r.by_size.key == key].sort_values("n")
+        dx = 1.0 + 0.03 * (i - (len(keys) - 1) / 2)  # side by side on the log axis
+        colour = STRAIN_COLOURS.get(label, CYCLE[i])
+        bars(ax, s.n * dx, s.value, s.err, color=colour, label=T.label("line", label=label))
+        f, ns = ex.loc[key], np.geomspace(s.n.min(), n_inf, 60)
+        first = (f.y_inf_first_order, f.y_inf_first_order_err, f.a_first_order, NU_FIRST_ORDER)
+        for y_inf, err, a, nu, ls, mark in ((f.y_inf, f.y_inf_err, f.a, f.nu, "--", "s"),
+                                            (*first, ":", "D")):  # fmt: skip
+            if np.isfinite(y_inf) and np.isfinite(nu):
+                ax.plot(ns, y_inf + a * ns ** (-1 / nu), ls, color=colour, lw=1)
+                bars(
+                    ax,
+                    [n_inf * dx],
+                    [y_inf],
+                    [err],
+                    marker=mark,
+                    ls="none",
+                    color=colour,
+                    mfc="none" if mark == "D" else colour,
+                )
+        two = TWO_D_OURS[key]
+        if key != "rods_only_pc":  # the 2D threshold (0.66) would flatten the 3D points
+            ax.axhline(two.value, color=colour, ls="-.", lw=0.9, alpha=0.8)
+            ax.axhspan(two.value - (two.error or 0), two.value + (two.error or 0), color="grey",
+                       alpha=0.12, lw=0)  # fmt: skip
+            ax.plot([n_inf * dx * 1.12], [CLAIMS[key].value], color=colour, **PAPER_MARKER)
+    unresolved(ax)
+
+
+#: the panels of Fig. 3D: (2D keys, legend labels, y label)
+PANELS_3D = (
+    (("rods_only_pc",), ("rods only",), "y.pc"),
+    (tuple(LAMBDA_3D)[:3], ("dilation", "shear", "compression"), "y.half"),
+    (tuple(LAMBDA_3D)[3:], ("compression", "dilation"), "y.cables"),
+)
+
+
+def figures(r: ThreeDResult, figdir) -> dict:
+    """A 2x2 grid: the rods-only P = 1/2 point (with the literature's 3D value, dashed, and
+    Maxwell's 1/2, dotted), S_t/S_r at f_c = 0.5 per strain, of rods + cables, and the widths
+    of the rods-only threshold distributions where measured."""
+    w = r.widths
+    widths = w is not None and np.isfinite(getattr(w, "nu", np.nan))
+    fig, axes = grid(len(PANELS_3D) + widths, cols=2)
+    sizes = np.unique(r.by_size.n.to_numpy(float))
+    n_inf = 2.5 * sizes.max()
+    for ax, (keys, labels, ylabel) in zip(axes, PANELS_3D, strict=False):
+        _curves(ax, r, keys, labels, n_inf)
+        size_axis(ax, sizes, n_inf)
+        ax.set(xlabel=T.label("xlabel"), ylabel=T.label(ylabel))
+        ax.legend()
+    axes[0].axhline(PC_3D_CHECK.value, color="grey", ls="--", lw=0.8)
+    axes[0].axhline(PC_3D_MAXWELL.value, color="grey", ls=":", lw=0.8)
+    fig.suptitle(T.label("title", check=PC_3D_CHECK.value))
+    if widths:
+        width_panel(axes[-1], w)
+    return {"3D": save(fig, figdir, "3D")}
+
+
+def cost(scale: Scale, costs) -> float:
+    """The analysis: per size, five collapse fits and a critical point."""
+    return costs.analysis(NAME) * len(scale[NAME].sizes) * scale.bootstrap / 100
+
+
+STUDY = Study(
+    name=NAME, params=PARAMS, default=Params(), sweeps=sweeps, analyse=analyse, claims=claims,
+    cost=cost, numbers=numbers, figures=figures, report_tables=report_tables,
+    tables=lambda r: {"three_d_by_size": r.by_size, "three_d_extrapolated": r.extrapolated,
+                      "three_d_beside_2d": beside_2d(r)},
+)  # fmt: skip
