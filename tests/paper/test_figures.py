@@ -89,3 +89,23 @@ def test_figures_share_one_colour_blind_safe_style_and_draw_the_paper_s_values(m
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     assert "paper" in legend and any("not resolved" in t for t in legend)
     plt.close(drawn["1C"])
+
+
+def test_a_figure_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
+    """A figure whose writing fails half way (a full disk, an interrupt) leaves neither a torn
+    file under its name nor a temporary file."""
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+
+    def torn(path, **kwargs):
+        with open(path, "wb") as fh:
+            fh.write(b"\x89PNG half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(fig, "savefig", torn)
+    try:
+        style.save(fig, tmp_path, "X")
+    except KeyboardInterrupt:
+        pass
+    plt.close(fig)
+    assert list(tmp_path.iterdir()) == []

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from ..model.io import atomic_output
 from ..model.lattice import DEFAULT_DELTA
 from .claims import TARGETS
 from .comparison import (
@@ -170,6 +171,19 @@ def _excluded(results: dict) -> pd.DataFrame:
     )
 
 
+def _write_csv(df, path: Path) -> None:
+    """``df`` as CSV at ``path``, whole or not at all (an interrupted report leaves no torn
+    table)."""
+    with atomic_output(path, "the report table", "table.csv") as tmp:
+        df.to_csv(tmp, index=False)
+
+
+def _write_text(text: str, path: Path) -> None:
+    """``text`` at ``path``, whole or not at all."""
+    with atomic_output(path, "the report", "report.md") as tmp:
+        tmp.write_text(text)
+
+
 def write_report(out: Path, results: dict, figures: dict, scale_name: str,
                  timings: dict[str, float]) -> dict[str, Path]:  # fmt: skip
     """Write report.md, report.html and the CSV tables; returns their paths. ``results`` maps
@@ -177,15 +191,15 @@ def write_report(out: Path, results: dict, figures: dict, scale_name: str,
     out = Path(out)
     tables = out / "tables"
     tables.mkdir(parents=True, exist_ok=True)
-    comparison_frame(compare(results)).to_csv(tables / "comparison.csv", index=False)
+    _write_csv(comparison_frame(compare(results)), tables / "comparison.csv")
     extra = tables_of(results)
     if (out / "studies").is_dir():
         extra["undecided_by_kind"] = undecided_by_kind(out / "studies")
     for name, df in extra.items():
-        df.to_csv(tables / f"{name}.csv", index=False)
+        _write_csv(df, tables / f"{name}.csv")
     blocks = report_blocks(results, figures, scale_name, timings, extra)
     title = REPORT.label("title")
-    (out / "report.md").write_text(to_markdown(title, blocks))
-    (out / "report.html").write_text(to_html(title, blocks))
+    _write_text(to_markdown(title, blocks), out / "report.md")
+    _write_text(to_html(title, blocks), out / "report.html")
     return {"md": out / "report.md", "html": out / "report.html",
             "comparison": tables / "comparison.csv"}  # fmt: skip

@@ -20,6 +20,7 @@ import numpy as np  # noqa: E402
 from cycler import cycler  # noqa: E402
 from matplotlib.ticker import NullLocator  # noqa: E402
 
+from ..model.io import atomic_output  # noqa: E402
 from .claims import CLAIMS  # noqa: E402
 from .plotting import BLUE, CYCLE, GREEN, OKABE_ITO, VERMILLION  # noqa: E402
 from .template import load  # noqa: E402
@@ -46,8 +47,10 @@ def save(fig, figdir: Path, fid: str) -> list[Path]:
     """Write ``fig`` as ``fig<fid>.png`` and ``.svg`` under ``figdir``; close it."""
     figdir.mkdir(parents=True, exist_ok=True)
     paths = [figdir / f"fig{fid}.png", figdir / f"fig{fid}.svg"]
-    fig.savefig(paths[0], dpi=150, bbox_inches="tight")
-    fig.savefig(paths[1], bbox_inches="tight")
+    with atomic_output(paths[0], "the figure", "fig.png") as tmp:
+        fig.savefig(tmp, dpi=150, bbox_inches="tight")
+    with atomic_output(paths[1], "the figure", "fig.svg") as tmp:
+        fig.savefig(tmp, bbox_inches="tight")
     plt.close(fig)
     return paths
 
