@@ -169,7 +169,7 @@ def test_larger_lattices_agree_with_lp_and_qp():
 # ------------------------------------------------------------------ each stage on its own
 
 #: how many of 40 random lattice samples each stage decides on its own (at least)
-STAGE_MINIMUM = {"affine": 5, "newton": 25, "ipm": 36, "refine": 25, "lp": 36}
+STAGE_MINIMUM = {"affine": 5, "newton": 25, "ipm": 36, "refine": 25, "lp": 36, "smallest": 36}
 
 
 @pytest.mark.parametrize("name", sorted(STAGE_MINIMUM))
@@ -325,7 +325,7 @@ def test_the_feasibility_simplex_proves_rigidity_by_its_dual_ray():
         if not lp_verdict(inst).rigid:
             continue
         p = Problem(inst, unit_stiffness=True)
-        vertex, ray = _feasibility_lp(p, 50 * p.sites.size)
+        vertex, ray, _ = _feasibility_lp(p, 50 * p.sites.size)
         assert vertex is None
         if ray is None:
             continue
@@ -547,7 +547,7 @@ def test_the_primal_feasibility_lp_proves_infeasibility_where_the_dual_stalls():
 
     inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12452)  # CONFIGS[2]
     p = Problem(inst, unit_stiffness=True)
-    vertex, ray = _feasibility_lp(p, LinearProgram()._feasibility_budget(p), ("primal",))
+    vertex, ray, _ = _feasibility_lp(p, LinearProgram()._feasibility_budget(p), ("primal",))
     assert vertex is None and ray is not None
     s = Search(p, Resolution())
     assert s.offer_t(ray, "lp") and s.rigid_verdict
@@ -564,9 +564,9 @@ def test_the_primal_simplex_takes_over_where_the_dual_stops_without_an_answer():
     inst = near_threshold_instance(64, [64, 2, 0], "shear", 0.3, 0.5, 12452)  # CONFIGS[2]
     p = Problem(inst, unit_stiffness=True)
     budget = LinearProgram()._feasibility_budget(p)
-    vertex, ray = _feasibility_lp(p, budget, ("dual",))
+    vertex, ray, _ = _feasibility_lp(p, budget, ("dual",))
     assert vertex is None and ray is None
-    vertex, ray = _feasibility_lp(p, budget)
+    vertex, ray, _ = _feasibility_lp(p, budget)
     assert vertex is None and ray is not None
     s = Search(p, Resolution())
     assert s.offer_t(ray, "lp") and s.rigid_verdict
@@ -840,3 +840,16 @@ def test_reprs_are_a_few_lines_with_the_arrays_by_shape():
     assert "<(144, 2) float64 array>" in text and "<(432,) float64 array>" in text
     assert f"method={res.method!r}" in text
     assert "accepted=True" in repr(decide(inst))
+
+
+def test_an_unresolved_verdict_names_how_its_solvers_ended():
+    """A search that runs out says which solver ran out and how (HiGHS's model status)."""
+    from tensegrity_rigidity import lattice_instance
+    from tensegrity_rigidity.solver.stages import LinearProgram
+
+    starved = LinearProgram(max_iter=1, refine=0, simplex_iterations_per_site=0.01)
+    inst = lattice_instance(8, 0.6, 0.2, 0.5, phi="shear", seed=1)
+    v = decide(inst, SolverOptions(stages=(starved,), min_norm=False))
+    assert v.reason == "not resolved"
+    assert "lp: verdict LP Iteration limit reached" in v.message
+    assert "lp: feasibility LP Iteration limit reached" in v.message

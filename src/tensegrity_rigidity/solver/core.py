@@ -208,6 +208,8 @@ def _undecided_message(s, reason: str, evidence: str) -> str:
         parts.append(f"best self-stress: work {s.rigid.work:.2e}, residual {s.rigid.residual:.2e}")
     if (f := s.floppy) is not None:
         parts.append(f"best displacement: violation {f.violation:.2e}, size {f.size:.2e}")
+    if s.ends:
+        parts.append("solvers ended: " + ", ".join(s.ends))
     return "; ".join(parts)
 
 

@@ -14,16 +14,15 @@ import numpy as np
 from ..errors import InputError
 from ..model.network import show
 from .certificates import Resolution, violation_roundoff
-from .stages import DEFAULT_STRATEGIES, Refiner
+from .stages import DEFAULT_STRATEGIES, STRATEGIES, Refiner
 from .tolerances import DEFAULT_REGULARIZATION, Tolerances
 
 
 def strategy_named(name: str):
-    """The strategy of :data:`~.stages.DEFAULT_STRATEGIES` named ``name`` ("lp", say)."""
-    table = {s.name: s for s in DEFAULT_STRATEGIES}
-    if name not in table:
-        raise InputError(f"unknown solver stage {show(name)}; choose from {', '.join(table)}")
-    return table[name]
+    """The strategy of :data:`~.stages.STRATEGIES` named ``name`` ("lp", say)."""
+    if name not in STRATEGIES:
+        raise InputError(f"unknown solver stage {show(name)}; choose from {', '.join(STRATEGIES)}")
+    return STRATEGIES[name]
 
 
 @dataclass(frozen=True)

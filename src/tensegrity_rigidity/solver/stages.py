@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from functools import partial
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..errors import InputError
 from ..model.network import Instance
@@ -52,6 +53,9 @@ class Search:
     balanced: int = 0
     #: Where the interior point strategy ended, for the relaxation to go on from.
     ipm_end: IpmState | None = None
+    #: How the strategies' solvers ended ("lp: verdict LP Iteration limit reached", ...): an
+    #: undecided verdict names them.
+    ends: list[str] = field(default_factory=list)
 
     def __post_init__(self):
         if self.u.size == 0:  # start at the origin
@@ -130,6 +134,10 @@ class Search:
         if cert.accepted:
             self.stage = stage
         return cert.accepted
+
+    def note(self, stage: str, what: str, h) -> None:
+        """Record how the solved ``highspy.Highs`` ``h`` of ``stage``'s ``what`` ended."""
+        self.ends.append(f"{stage}: {what} {h.modelStatusToString(h.getModelStatus())}")
 
     def offer_point(self, u: np.ndarray, stage: str) -> bool:
         """Offer displacements ``u`` (2N,) and the tensions of the energy at them; True once
@@ -501,10 +509,13 @@ class LinearProgram:
     def run(self, s: Search) -> None:
         p = s.p
         h, A, lo, hi = self.verdict_lp(p)
+        s.note(self.name, "verdict LP", h)
         sol = h.getSolution()
         if not sol.value_valid and self.refine and self.interior_fallback:
             # the crossover's clean-up hit its limit and HiGHS dropped the interior point with it
-            sol = self.verdict_lp(p, crossover=False)[0].getSolution()
+            h2 = self.verdict_lp(p, crossover=False)[0]
+            s.note(self.name, "verdict LP without crossover", h2)
+            sol = h2.getSolution()
         if sol.value_valid and sol.dual_valid:
             t = np.asarray(sol.col_value, dtype=float)
             if s.offer_t(np.clip(t, lo, hi), self.name):
@@ -519,7 +530,8 @@ class LinearProgram:
         max_iter = self._feasibility_budget(p)
         if max_iter <= 0:
             return
-        vertex, ray = _feasibility_lp(p, max_iter, tolerance=self.feasibility_tolerance)
+        vertex, ray, h = _feasibility_lp(p, max_iter, tolerance=self.feasibility_tolerance)
+        s.note(self.name, "feasibility LP", h)
         if vertex is not None and not s.offer_u(vertex, self.name):
             s.crossovers(vertex, self.name)
         if ray is not None:
@@ -603,7 +615,8 @@ def _feasibility_lp(
     ``variants`` in turn, the next only after status "Unknown", each at most ``max_iter`` iterations
     at HiGHS's primal feasibility ``tolerance``. Returns ``(vertex, ray)``: a vertex (2N,) when
     feasible; when infeasible, minus the dual ray (m,): by Farkas' lemma admissible tensions doing
-    positive work with ``R^T t = 0`` up to round-off (the caller purifies and checks them).
+    positive work with ``R^T t = 0`` up to round-off (the caller purifies and checks them); and
+    the last solved ``highspy.Highs``.
     """
     import highspy
 
@@ -617,18 +630,76 @@ def _feasibility_lp(
         h = run_lp(A, *free, *rows, **options, simplex_strategy=4 if variant == "primal" else 1)
         status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kOptimal:
-            return np.asarray(h.getSolution().col_value, dtype=float), None
+            return np.asarray(h.getSolution().col_value, dtype=float), None, h
         if status == highspy.HighsModelStatus.kInfeasible:
             # (status, has_ray, values); missing from highspy's type stubs
             *_, has_ray, ray = h.getDualRay()  # type: ignore[attr-defined]
-            return (None, -np.asarray(ray, dtype=float)) if has_ray else (None, None)
+            return (None, -np.asarray(ray, dtype=float) if has_ray else None, h)
         if status != highspy.HighsModelStatus.kUnknown:
             break  # the budget is spent (or HiGHS failed otherwise): no second variant
-    return None, None
+    return None, None, h
+
+
+@dataclass(frozen=True)
+class SmallestDisplacement:
+    """The smallest floppy displacement: ``min |u|_inf`` s.t. ``e0 + R u`` admissible, by HiGHS's
+    dual simplex.
+
+    The resolution model accepts a floppy certificate only within ``U``, so near the threshold the
+    search needs the smallest displacement, not any one: a feasibility LP's vertex there lies
+    anywhere up to 1e9. The LP's end point (optimal or not) is offered and, being accurate to
+    double precision relative to its size, polished when its violation is within
+    ``polish_relative`` of its size; when the LP is infeasible its dual ray, admissible tensions
+    doing positive work (Farkas), is offered. Skipped when the search already holds an exact
+    self-stress doing positive work: the LP is then infeasible (Farkas) and adds nothing.
+    """
+
+    #: Dual simplex iterations per non-empty site.
+    iterations_per_site: float = 4.0
+    #: A candidate is polished when its violation is at most this times its size.
+    polish_relative: float = 1e-12
+    name: str = "smallest"
+
+    def run(self, s: Search) -> None:
+        import highspy
+
+        r = s.rigid
+        if r is not None and 0 < r.work and s.resolution.displacement * r.residual < r.work:
+            return
+        p, inf = s.p, highspy.kHighsInf
+        n2, m = p.n2, p.sites.size
+        one = sp.csr_matrix(np.ones((n2, 1)))
+        eye = sp.identity(n2, format="csr")
+        A = sp.vstack(
+            [sp.hstack([p.R, sp.csr_matrix((m, 1))]), sp.hstack([eye, -one]), sp.hstack([eye, one])]
+        )
+        rows_lo = np.r_[np.where(p.sigma > 0, -inf, -p.e0), np.full(n2, -inf), np.zeros(n2)]
+        rows_hi = np.r_[np.where(p.sigma < 0, inf, -p.e0), np.zeros(n2), np.full(n2, inf)]
+        free = np.full(n2 + 1, inf)
+        options = {"solver": "simplex", "simplex_strategy": 1}
+        options["simplex_iteration_limit"] = int(self.iterations_per_site * m)
+        h = run_lp(A, np.r_[np.zeros(n2), 1.0], -free, free, rows_lo, rows_hi, **options)
+        s.note(self.name, "smallest-displacement LP", h)
+        sol = h.getSolution()
+        if sol.value_valid:
+            u = np.asarray(sol.col_value[:n2], dtype=float)
+            if s.offer_u(u, self.name):
+                return
+            cert = p.exact.floppy(u, s.resolution)
+            if cert.violation <= self.polish_relative * max(cert.size, 1.0):
+                x = s.refiner.polished(s, u)
+                if x is not None and s.offer_u(x, self.name):
+                    return
+        if h.getModelStatus() == highspy.HighsModelStatus.kInfeasible:
+            *_, has_ray, ray = h.getDualRay()  # type: ignore[attr-defined]
+            if has_ray:
+                s.offer_t(-np.asarray(ray, dtype=float)[:m], self.name)
 
 
 #: The default strategies of the verdict search, in order.
 DEFAULT_STRATEGIES = (Affine(), Newton(), Refine(), InteriorPoint(), Support(), LinearProgram())
+#: Every strategy by name, the default ones and the opt-in ones.
+STRATEGIES = {x.name: x for x in (*DEFAULT_STRATEGIES, SmallestDisplacement())}
 
 
 def search(
