@@ -4,7 +4,8 @@ The probes are the ``.npz`` files that ``bench_stages.py --save-undecided FOLDER
 element kinds of one configuration of a near-threshold sample and the hints its threshold search
 passed. Every design (``bench_stages.py``'s syntax) decides every probe in the same run; the
 table gives per design the probes decided rigid or floppy, those left within resolution or not
-resolved, and the seconds per probe (median, max). Certified verdicts of two designs must never
+resolved, and the seconds per probe (wall: median, max; CPU: median, steadier when the machine is
+shared). Certified verdicts of two designs must never
 contradict each other ('contradictions': must be 0).
 
 Run: python benchmarks/resolve_probes.py FOLDER [--designs DESIGN ...] [--rods-only]
@@ -29,7 +30,7 @@ from tensegrity_rigidity.solver.core import SolverOptions, decide
 from tensegrity_rigidity.solver.linalg import one_blas_thread
 
 HEADER = ["stages", "probes", "rigid", "floppy", "within resolution", "not resolved",
-          "median s", "max s", "contradictions", "decided by"]  # fmt: skip
+          "median s", "max s", "median cpu s", "contradictions", "decided by"]  # fmt: skip
 
 
 def load(path: Path, configs) -> tuple[str, Instance, dict]:
@@ -59,27 +60,29 @@ def main() -> None:
         label = text.replace(",", " ")
         kinds: Counter = Counter()
         by: Counter = Counter()
-        secs = []
+        secs, cpus = [], []
         for name, inst, hints in probes:
             probe()
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             with one_blas_thread(), warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 v = decide(inst, opts, **hints)
             secs.append(time.perf_counter() - t0)
+            cpus.append(time.process_time() - c0)
             kinds[v.reason or v.status] += 1
             by[v.stage or "undecided"] += 1
             verdicts.setdefault(name, {})[label] = v.status
             per_probe.append(
                 {"probe": name, "stages": label, "status": v.status, "reason": v.reason,
-                 "stage": v.stage, "seconds": secs[-1]}
+                 "stage": v.stage, "seconds": secs[-1], "cpu seconds": cpus[-1]}
             )  # fmt: skip
             print(name, label, v.status, v.reason, v.stage, f"{secs[-1]:.2f}", flush=True)
         clash = sum({"rigid", "floppy"} <= set(d.values()) for d in verdicts.values())
         s = np.asarray(secs)
         rows.append(
             [label, len(probes), kinds["rigid"], kinds["floppy"], kinds["within resolution"],
-             kinds["not resolved"], f"{np.median(s):.2f}", f"{s.max():.2f}", clash,
+             kinds["not resolved"], f"{np.median(s):.2f}", f"{s.max():.2f}",
+             f"{np.median(cpus):.2f}", clash,
              ", ".join(f"{k} {v}" for k, v in sorted(by.items()))]
         )  # fmt: skip
         body = (
