@@ -206,8 +206,8 @@ class Estimate:
 
     def table(self) -> pd.DataFrame:
         """Per study and size: threshold searches (pebble-game passes included), grid solves,
-        paper verdicts, packings (rows still to compute), CPU and wall minutes (in-process work on the
-        study's first row)."""
+        paper verdicts, packings (rows still to compute), CPU and wall minutes (in-process work
+        on the study's first row)."""
         rows = []
         for study in self.studies:
             mine = [s for s in self.sweeps if s.study == study]

@@ -105,9 +105,7 @@ def plot_packing(
     return fig
 
 
-def plot_jamming_probability(
-    table: pd.DataFrame, path: str | os.PathLike | None = None, axes=None
-):
+def plot_jamming_probability(table: pd.DataFrame, path: str | os.PathLike | None = None, axes=None):
     """P(collectively jammed) against ``phi`` per size with Wilson intervals (left), and the
     fraction strictly jammed among the collectively jammed (right).
 
