@@ -223,10 +223,9 @@ def numbers(r: JammingOnsetResult) -> dict:
     sizes = [int(n) for n in by.n]
     phis = np.unique(r.table.phi.to_numpy(float)) if len(r.table) else np.array([math.nan])
     resolved = pts[np.isfinite(pts.phi_j) & np.isfinite(pts.phi_j_err)]
-    top = resolved.iloc[-1] if len(resolved) else None
-    shift, accepted = r.shift, r.shift.accepted if r.shift is not None else ()
-    best = min(accepted, key=lambda f: f.chi2_dof if np.isfinite(f.chi2_dof) else 0.0,
-               default=None)  # fmt: skip
+    fits, accepted = (r.shift.fits, r.shift.accepted) if r.shift is not None else ((), ())
+    # phi_inf and its spread over the accepted forms (None when no form is accepted)
+    inf = (r.shift.phi_inf, r.shift.spread) if r.shift is not None and accepted else None
     d = r.drawn
     rattlers = d.result.n_rattlers if d is not None else None
     at_ref = [_near(r.table, n, PHI_J_REFERENCE.value) for n in sizes]
@@ -244,19 +243,15 @@ def numbers(r: JammingOnsetResult) -> dict:
         "points": [T.label("point", n=int(q.n), value=fmt(q.phi_j, q.phi_j_err))
                    for q in resolved.itertuples()] or None,
         "unresolved": [int(n) for n in pts.n[~pts.index.isin(resolved.index)]] or None,
-        "n_top": int(top.n) if top is not None else None,
-        "width_top": fmt(top.width, top.width_err) if top is not None else None,
         "widths": [T.label("point", n=int(q.n), value=fmt(q.width, q.width_err))
                    for q in resolved.itertuples()] or None,
-        "phi_inf": fmt(shift.phi_inf, shift.spread) if accepted else None,
+        "phi_inf": fmt(*inf) if inf is not None else None,
         "forms": [T.label("form", b=f.exponent, free=T.label("free") if f.free else "",
                           value=fmt(f.phi_inf.value, f.phi_inf.err), chi2=f.chi2_dof)
                   for f in accepted] or None,
-        "rejected": len(shift.fits) - len(accepted) if shift is not None and
-                    len(shift.fits) > len(accepted) else None,
-        "best_b": best.exponent if best is not None else None,
+        "rejected": len(fits) - len(accepted) if len(fits) > len(accepted) else None,
         "reference": PHI_J_REFERENCE.value,
-        "from_reference": shift.phi_inf - PHI_J_REFERENCE.value if accepted else None,
+        "from_reference": inf[0] - PHI_J_REFERENCE.value if inf is not None else None,
         "p_at_reference": [T.label("p_at", n=int(q.n), phi=float(q.phi), p=q.p, lo=q.p_lo,
                                    hi=q.p_hi, k=int(q.jammed), m=int(q.decided))
                            for q in at_ref] or None,
