@@ -81,3 +81,65 @@ def test_the_renderer_checker_sees_a_forbidden_import(tmp_path):
     probe = tmp_path / "probe.py"
     probe.write_text("from scipy import stats\nimport numpy as np\n")
     assert _imported_modules(probe) == {"scipy", "numpy"}
+
+
+def _study_modules() -> dict[str, str]:
+    """Module name (``studies/<stem>.py``) of every registered study -> the study's name."""
+    from tensegrity_rigidity.paper import registry
+
+    out = {}
+    for path in (ROOT / "paper" / "studies").glob("*.py"):
+        module = __import__(f"tensegrity_rigidity.paper.studies.{path.stem}", fromlist=["_"])
+        study = getattr(module, "STUDY", None)
+        if study is not None and study in registry.REGISTRY:
+            out[path.stem] = study.name
+    return out
+
+
+def _study_imports(path: Path, stems: set[str]) -> set[str]:
+    """The study modules (of ``stems``) that a file imports, however it spells the import."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            parts = (node.module or "").split(".")
+            if parts[-1] in stems and "studies" in parts[:-1]:
+                found.add(parts[-1])
+            if parts[-1] == "studies" or (not node.module and path.parent.name == "studies"):
+                found |= {a.name for a in node.names} & stems
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                parts = a.name.split(".")
+                if "studies" in parts and parts[-1] in stems:
+                    found.add(parts[-1])
+    return found
+
+
+def test_studies_are_plug_ins_that_only_the_registry_imports():
+    """A study is one module and its template: no other module of the package imports it (the
+    report, figures, budget and comparison loop over the registry), and its module loads no
+    other study's template."""
+    stems = _study_modules()
+    assert len(stems) >= 10 and "jamming_onset" in stems
+    for path in ROOT.rglob("*.py"):
+        if path.name == "registry.py" and path.parent.name == "paper":
+            continue
+        bad = _study_imports(path, set(stems)) - {path.stem}
+        assert not bad, f"{path.relative_to(ROOT)} imports the study module(s) {sorted(bad)}"
+    for stem, name in stems.items():
+        text = (ROOT / "paper" / "studies" / f"{stem}.py").read_text()
+        others = {n for n in stems.values() if n != name}
+        assert not any(f'load("{n}")' in text for n in others), stem
+
+
+def test_the_study_checker_sees_an_import_of_a_study(tmp_path):
+    probe = tmp_path / "probe.py"
+    probe.write_text(
+        "from ..paper.studies import jamming_onset\n"
+        "import tensegrity_rigidity.paper.studies.three_d\n"
+        "from .studies.fss import sweeps\n"
+    )
+    assert _study_imports(probe, {"jamming_onset", "three_d", "fss", "fig2"}) == {
+        "jamming_onset",
+        "three_d",
+        "fss",
+    }

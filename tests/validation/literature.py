@@ -94,6 +94,15 @@ LITERATURE = {
         "a node has 3 degrees of freedom and each bond, shared by two nodes, removes one: "
         "rigid when 12 p / 2 >= 3",
     ),
+    "phi_j_ohern": LiteratureValue(
+        "jamming point of 50:50 bidisperse disks (diameter ratio 1.4, harmonic repulsion) in 2D",
+        0.842,
+        None,
+        "C. S. O'Hern, L. E. Silbert, A. J. Liu and S. R. Nagel, Phys. Rev. E 68, 011306 (2003)",
+        "energy minimisation from random positions, the large-N limit of the packing fraction "
+        "at which half the packings jam; the value as commonly quoted (not read in the paper's "
+        "text): approximate, no error",
+    ),
     "pc_maxwell": LiteratureValue(
         "mean-field (Maxwell counting) rigidity threshold of the triangular lattice",
         2 / 3,

@@ -46,10 +46,15 @@ def _run(args) -> int:
     print(f"  grid      {grid}")
     path = f", path {spec.threshold['path']}" if spec.threshold else ""
     axes = "SO(3) sequence rotations" if spec.lattice == "fcc" else f"{spec.angles} angles"
-    print(
-        f"  settings  {spec.lattice} lattice, gamma = {spec.gamma:g}, {axes}"
-        f"{path}, solver {spec.solver or 'defaults'}, chunks of {spec.chunk_size}"
-    )
+    if spec.packing is not None:
+        dim, ratio = spec.packing["dim"], spec.packing["ratio"]
+        print(f"  settings  bidisperse soft packings in {dim}D, diameter ratio {ratio:g}, "
+              f"chunks of {spec.chunk_size}")  # fmt: skip
+    else:
+        print(
+            f"  settings  {spec.lattice} lattice, gamma = {spec.gamma:g}, {axes}"
+            f"{path}, solver {spec.solver or 'defaults'}, chunks of {spec.chunk_size}"
+        )
     print(
         f"  done      {d['done']} of {d['total']} samples ({d['undecided']} undecided); "
         f"{d['chunks_missing']} chunks missing"
@@ -78,6 +83,8 @@ def _sub_sweeps(root: Path) -> list[Path]:
 
 
 def _kind(spec) -> str:
+    if spec.mode == "packing":
+        return "packing (jamming)"
     if spec.mode == "threshold":
         method = (spec.threshold or {}).get("method")
         return "threshold (pebble)" if method == "pebble" else "threshold"

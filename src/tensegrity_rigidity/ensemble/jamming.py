@@ -107,6 +107,35 @@ def jamming_row(
     }  # fmt: skip
 
 
+#: Columns of a packing sweep's row after its key columns (:func:`packing_record`).
+RECORD = (*(c for c in COLUMNS if c not in ("n", "phi", "sample")), "decided", "undecided_reason")
+
+
+def packing_record(
+    n: int, fraction: float, sample: int, seed: int, dim: int = 2, ratio: float = DIAMETER_RATIO
+) -> dict:
+    """One sample of a packing sweep (``[packing]`` mode of the sweep engine): its record after
+    the key columns.
+
+    Parameters
+    ----------
+    n, fraction, sample, seed, dim, ratio
+        As :func:`jamming_row` (``fraction``: its ``phi``).
+
+    Returns
+    -------
+    dict
+        The :data:`RECORD` columns: :func:`jamming_row`'s record, with ``decided`` (the
+        collective test decided: an undecided sample is kept, counted and reported by the
+        studies, never dropped silently) and ``undecided_reason`` (its reason, "" if decided).
+    """
+    row = jamming_row(n, fraction, sample, seed, dim, ratio)
+    return {key: row[key] for key in RECORD[:-2]} | {
+        "decided": row["collective"] != "undecided",
+        "undecided_reason": row["collective_reason"],
+    }
+
+
 def _row(args) -> dict:
     return jamming_row(*args)
 
@@ -184,6 +213,28 @@ def load_costs() -> dict:
     return json.loads(text.read_text())
 
 
+def sample_seconds(n: int, dim: int = 2) -> float:
+    """CPU seconds of one sample at ``n`` particles: its packing and both tests, from the
+    measured costs (:func:`load_costs`).
+
+    Parameters
+    ----------
+    n : int
+        Particles.
+    dim : int
+        2 or 3.
+
+    Returns
+    -------
+    float
+        ``a_p n^b_p + a_t n^b_t``: the minimisation's and the tests' power laws.
+    """
+    model = load_costs().get(str(dim))
+    if model is None:
+        raise InputError(f"no measured costs for dim = {dim}")
+    return float(sum(a * float(n) ** b for a, b in (model["packing"], model["tests"])))
+
+
 def estimate_cost(sizes, phis, samples: int, dim: int = 2, workers: int = 1) -> dict:
     """What a jamming study costs, from the measured per-sample costs (:func:`load_costs`).
 
@@ -208,7 +259,7 @@ def estimate_cost(sizes, phis, samples: int, dim: int = 2, workers: int = 1) -> 
     per_size = {}
     largest = 0.0
     for n in sizes:
-        one = sum(a * float(n) ** b for a, b in (model["packing"], model["tests"]))
+        one = sample_seconds(n, dim)
         per_size[int(n)] = one * len(phis) * samples
         largest = max(largest, one)
     cpu = float(sum(per_size.values()))

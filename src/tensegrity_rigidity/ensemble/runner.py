@@ -25,6 +25,7 @@ from ..model.sampling import lattice_geometry
 from ..model.strain import sequence_rotation, strain_tensor
 from ..solver.core import solve
 from .inexact import paper_verdict
+from .jamming import packing_record
 from .spec import GridPoint, Spec
 from .thresholds import find_threshold, pebble_pass
 
@@ -243,6 +244,34 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
     return pd.DataFrame(rows)
 
 
+def packing_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
+    """Random soft packings at one grid point, each tested for jamming (packing mode).
+
+    Parameters
+    ----------
+    spec : Spec
+        The sweep (its ``packing`` section: dimension and diameter ratio).
+    point : GridPoint
+        The grid point (its ``n``, ``fraction`` and ``seed``).
+    samples : list of int
+        Sample indices, 1-based.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per sample: ``n``, ``fraction``, ``seed``, ``theta`` (0), ``sample``,
+        ``point_key``, then :func:`~tensegrity_rigidity.ensemble.jamming.packing_record`.
+    """
+    assert spec.packing is not None, "packing_chunk needs a packing spec"
+    rows = []
+    for k in samples:
+        key = {"n": point.n, "fraction": point.fraction, "seed": point.seed, "theta": 0.0,
+               "sample": k, "point_key": spec.point_key(point)}  # fmt: skip
+        rows.append(key | packing_record(point.n, point.fraction, k, point.seed,
+                                         spec.packing["dim"], spec.packing["ratio"]))  # fmt: skip
+    return pd.DataFrame(rows)
+
+
 def run_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
     """Compute one chunk: what executors run.
 
@@ -258,7 +287,8 @@ def run_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        :func:`threshold_chunk` or :func:`grid_chunk`, by the spec's mode.
+        :func:`threshold_chunk`, :func:`packing_chunk` or :func:`grid_chunk`, by the spec's
+        mode.
     """
-    fn = threshold_chunk if spec.mode == "threshold" else grid_chunk
+    fn = {"threshold": threshold_chunk, "packing": packing_chunk}.get(spec.mode, grid_chunk)
     return fn(spec, point, samples)

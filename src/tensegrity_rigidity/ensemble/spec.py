@@ -34,9 +34,20 @@ Optional sections (defaults shown, but for ``[solver]``, whose line is an exampl
     method = "lp"           # "lp": certified bisection; "pebble": one pebble-game pass,
                             # rods-only paths only (path "p_r", p_t = 0)
 
-In threshold mode the grid's ``p_r`` key is not used (omit it). ``verdict = "paper"`` applies to
-grid mode only (a bisection needs verdicts monotone in p_r, which the paper's are not); its rows
-hold the verdict, the energy reached, the affine energy and the iteration count.
+    [packing]               # packing mode: random bidisperse soft packings, each tested
+    dim = 2                 # for collective and strict jamming (ensemble.jamming); 2 or 3
+    ratio = 1.4             # diameter ratio of the large to the small particles
+
+In threshold mode the grid's ``p_r`` key is not used (omit it). In packing mode the grid is
+``n`` (particles), ``fraction`` (packing fractions, required) and ``seed``; the lattice's keys
+and sections (``delta``, ``p_r``, ``p_t``, ``f_c``, ``phi``, ``verdict``, ``[lattice]``,
+``[strain]``, ``[solver]``, ``[threshold]``) do not apply and are refused. Sample ``k`` at
+``(n, fraction, seed)`` is drawn from ``default_rng([seed, n, round(fraction 1e6), k])``
+(:func:`~tensegrity_rigidity.ensemble.jamming.sample_rng`); its strain angle is 0.
+
+``verdict = "paper"`` applies to grid mode only (a bisection needs verdicts monotone in p_r,
+which the paper's are not); its rows hold the verdict, the energy reached, the affine energy and
+the iteration count.
 
 Strain angles. Sample ``k`` is strained along principal axes at angle ``theta_k``:
 
@@ -88,11 +99,15 @@ from ..model.lattice import CROSSING_DELTA
 from ..model.limits import check_gamma
 from ..model.network import show
 from ..model.sampling import LATTICE_DIMENSIONS, LATTICES
+from ..model.softdisks import DIAMETER_RATIO, FIRE, GRADIENT_TOL, MAX_STEPS
 from ..model.strain import parse_phi
 from ..solver.core import SolverOptions
+from ..solver.jamming import JammingOptions
 
 GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
-FLAT_KEYS = GRID_KEYS + ("samples", "verdict")
+#: the grid of packing mode: particles, packing fraction, seed
+PACKING_KEYS = ("n", "fraction", "seed")
+FLAT_KEYS = GRID_KEYS + ("samples", "verdict", "fraction")
 VERDICTS = ("exact", "paper")
 #: how threshold mode finds a sample's threshold (:func:`~.thresholds.find_threshold`)
 THRESHOLD_METHODS = ("lp", "pebble")
@@ -104,7 +119,11 @@ SECTIONS = {
     "solver": {f.name for f in fields(SolverOptions)} - {"refiner", "tolerances"},
     "output": {"chunk_size"},
     "threshold": {"path", "method"},
+    "packing": {"dim", "ratio"},
 }
+#: the keys and sections of lattice sweeps, which a packing sweep refuses
+LATTICE_ONLY = ("delta", "p_r", "p_t", "f_c", "phi", "verdict", "lattice", "strain", "solver",
+                "threshold")  # fmt: skip
 DEFAULTS: dict[str, list] = {
     "n": [16],
     "delta": [0.2],
@@ -173,6 +192,8 @@ class GridPoint:
         Strain type.
     seed : int
         Seed of the samples' randomness.
+    fraction : float
+        Packing fraction (packing mode; NaN otherwise, where it is not part of the point's key).
     """
 
     n: int
@@ -182,9 +203,11 @@ class GridPoint:
     f_c: float
     phi: float
     seed: int
+    fraction: float = math.nan
 
 
-_POINT_FIELDS = tuple(f.name for f in fields(GridPoint))
+#: the fields of a lattice point's key (a packing point's are :data:`PACKING_KEYS`)
+_POINT_FIELDS = GRID_KEYS
 #: the largest finite double: an integer beyond it is not a number a float key can hold
 _LARGEST_FLOAT = sys.float_info.max
 #: the largest integer a row stores (int64 columns)
@@ -221,6 +244,28 @@ def solver_settings(options: SolverOptions) -> dict:
     return _plain(options)
 
 
+def packing_settings(packing: dict) -> dict:
+    """The settings of a packing sweep: what changes its rows besides the grid.
+
+    Parameters
+    ----------
+    packing : dict
+        The spec's ``[packing]`` section as parsed (``dim``, ``ratio``).
+
+    Returns
+    -------
+    dict
+        JSON-ready: ``mode`` ("packing"), ``packing``, ``minimiser`` (FIRE's constants, the
+        force tolerance and the step limit of :mod:`~tensegrity_rigidity.model.softdisks`)
+        and ``jamming`` (the test's :class:`~tensegrity_rigidity.solver.jamming.JammingOptions`,
+        whole).
+    """
+    minimiser = {"fire": dict(sorted(FIRE.items())), "gradient_tol": GRADIENT_TOL,
+                 "max_steps": MAX_STEPS}  # fmt: skip
+    return {"mode": "packing", "packing": dict(sorted(packing.items())), "minimiser": minimiser,
+            "jamming": _plain(JammingOptions())}  # fmt: skip
+
+
 def _digest(obj) -> str:
     return hashlib.sha256(json.dumps(obj, sort_keys=True).encode()).hexdigest()
 
@@ -251,6 +296,9 @@ class Spec:
         Strain-angle sequence, "golden" or "uniform".
     verdict : str
         "exact" or "paper".
+    packing : dict or None
+        ``{"dim": d, "ratio": r}`` in packing mode (its grid: :data:`PACKING_KEYS`), None
+        otherwise.
     """
 
     grid: dict[str, list]
@@ -262,11 +310,21 @@ class Spec:
     threshold: dict | None = None
     angles: str = "golden"
     verdict: str = "exact"
+    packing: dict | None = None
 
     @property
     def mode(self) -> str:
-        """ "threshold" (a ``[threshold]`` section) or "grid"."""
+        """ "packing" (a ``[packing]`` section), "threshold" (a ``[threshold]`` section) or
+        "grid"."""
+        if self.packing is not None:
+            return "packing"
         return "threshold" if self.threshold is not None else "grid"
+
+    def _keys(self) -> tuple[str, ...]:
+        """The grid's keys, in the order of :meth:`points`."""
+        if self.mode == "packing":
+            return PACKING_KEYS
+        return tuple(k for k in GRID_KEYS if k != "p_r" or self.mode == "grid")
 
     def n_points(self) -> int:
         """Number of grid points, without building them.
@@ -276,8 +334,7 @@ class Spec:
         int
             The product of the lengths of the grid's lists.
         """
-        keys = [k for k in GRID_KEYS if k != "p_r" or self.mode == "grid"]
-        return math.prod(len(self.grid[k]) for k in keys)
+        return math.prod(len(self.grid[k]) for k in self._keys())
 
     def points(self) -> list[GridPoint]:
         """All grid points, in a fixed order.
@@ -285,9 +342,16 @@ class Spec:
         Returns
         -------
         list of GridPoint
-            The product of the grid's lists in the order n, delta, p_r, p_t, f_c, phi, seed.
+            The product of the grid's lists in the order n, delta, p_r, p_t, f_c, phi, seed
+            (packing mode: n, fraction, seed; the lattice's fields NaN).
         """
         g = self.grid
+        if self.mode == "packing":
+            nan = math.nan
+            return [
+                GridPoint(int(n), nan, nan, nan, nan, nan, int(sd), float(fr))
+                for n, fr, sd in itertools.product(g["n"], g["fraction"], g["seed"])
+            ]
         p_r = g["p_r"] if self.mode == "grid" else [math.nan]
         return [
             GridPoint(int(n), float(d), float(pr), float(pt), float(fc), float(ph), int(sd))
@@ -319,8 +383,11 @@ class Spec:
         Returns
         -------
         float
-            theta_k of the spec's angle sequence (:func:`strain_angle`).
+            theta_k of the spec's angle sequence (:func:`strain_angle`); 0 in packing mode,
+            which strains nothing.
         """
+        if self.mode == "packing":
+            return 0.0
         return strain_angle(k, self.samples, self.angles)
 
     def settings(self) -> dict:
@@ -336,8 +403,12 @@ class Spec:
             ``mode``, ``threshold_path``, ``lattice``, ``gamma``, ``angles``, ``verdict``,
             ``solver`` (and ``threshold_method`` when it is not ``"lp"``). A
             pebble-game sweep records ``solver`` as ``None``: no solver option can change its
-            rows, so a change to the solver leaves them current.
+            rows, so a change to the solver leaves them current. A packing sweep records
+            ``mode``, ``packing`` (dimension and diameter ratio), ``minimiser`` (FIRE's
+            constants, its force tolerance and step limit) and ``jamming`` (the test's options).
         """
+        if self.mode == "packing":
+            return packing_settings(self.packing or {})
         pebble = self.threshold is not None and self.threshold.get("method") == "pebble"
         return {
             "mode": self.mode,
@@ -378,7 +449,8 @@ class Spec:
         str
             24 hexadecimal digits, stored in every row as ``point_key``.
         """
-        p = {name: getattr(point, name) for name in _POINT_FIELDS}
+        keys = PACKING_KEYS if self.mode == "packing" else _POINT_FIELDS
+        p = {name: getattr(point, name) for name in keys}
         if self.mode == "threshold":
             p["p_r"] = None  # NaN is not JSON
         # the digest of {"settings": ..., "point": p} exactly as json.dumps(..., sort_keys=True)
@@ -418,6 +490,9 @@ class Spec:
         dict
             What a results directory records as its spec (``_spec.json``).
         """
+        if self.mode == "packing":
+            return {"grid": self.grid, "samples": self.samples, "packing": self.packing,
+                    "chunk_size": self.chunk_size}  # fmt: skip
         out = {
             "grid": self.grid,
             "samples": self.samples,
@@ -526,6 +601,10 @@ def parse_spec(data: dict) -> Spec:
                     f"unknown key(s) {', '.join(map(repr, bad))} in [{sec}]; "
                     f"known: {', '.join(sorted(allowed))}"
                 )
+    if "packing" in data:
+        return _packing_spec(data)
+    if "fraction" in data:
+        raise SpecError("'fraction' (packing fractions) needs a [packing] section")
     threshold = None
     if "threshold" in data:
         path = _choice("[threshold] path", data["threshold"].get("path", "p_r"), THRESHOLD_PATHS)
@@ -620,6 +699,39 @@ def parse_spec(data: dict) -> Spec:
     if verdict != "exact" and threshold is not None:
         raise SpecError("verdict = 'paper' needs grid mode: remove the [threshold] section")
     return Spec(grid, samples, lattice, gamma, solver, chunk, threshold, angles, verdict)
+
+
+def _packing_spec(data: dict) -> Spec:
+    """A packing sweep's spec (``data`` has a ``[packing]`` section; keys already known)."""
+    other = [k for k in LATTICE_ONLY if k in data]
+    if other:
+        raise SpecError(
+            f"a [packing] sweep has no lattice: remove {', '.join(map(repr, other))} (its grid "
+            "is n, fraction and seed)"
+        )
+    if "fraction" not in data:
+        raise SpecError("'fraction' (packing fractions) is required in a [packing] sweep")
+    grid = {
+        "n": [_number("n", v, integer=True) for v in _as_list("n", data.get("n", 64))],
+        "fraction": [_number("fraction", v) for v in _as_list("fraction", data["fraction"])],
+        "seed": [_number("seed", v, integer=True) for v in _as_list("seed", data.get("seed", 0))],
+    }
+    for key, values in grid.items():
+        _check_distinct(key, values)
+    if min(grid["n"]) < 4 or min(grid["seed"]) < 0:
+        raise SpecError("'n' must be at least 4 particles and 'seed' non-negative")
+    if not all(0 < f < 1 for f in grid["fraction"]):
+        raise SpecError(f"'fraction' must lie in (0, 1), got {show(grid['fraction'])}")
+    section = data["packing"]
+    dim = _number("[packing] dim", section.get("dim", 2), integer=True)
+    ratio = _number("[packing] ratio", section.get("ratio", DIAMETER_RATIO))
+    if dim not in (2, 3) or not 1 <= ratio <= 10:
+        raise SpecError(f"[packing] needs dim 2 or 3 and a ratio in [1, 10], got {dim}, {ratio}")
+    samples = _number("samples", data.get("samples", 1), integer=True)
+    chunk = _number("chunk_size", data.get("output", {}).get("chunk_size", 32), integer=True)
+    if samples < 1 or chunk < 1:
+        raise SpecError(f"'samples' and [output] chunk_size must be at least 1: {samples}, {chunk}")
+    return Spec(grid, samples, chunk_size=chunk, packing={"dim": dim, "ratio": ratio})
 
 
 def _check_distinct(key: str, values: list) -> None:

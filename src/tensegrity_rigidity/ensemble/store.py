@@ -103,7 +103,8 @@ FORMAT = 2
 #: 14 (grid) -- rows carry ``nonaffinity_lower``: the nonaffinity where it is certified, and a
 #: certified lower bound on it where the projection ran uncertified (weak duality from its
 #: multipliers, ``displacements.norm_lower_bound``), so that those samples are bracketed.
-ROWS_REVISION = {"grid": 14, "threshold": 4}
+#: Packing rows (one soft packing and its jamming tests per sample): 1.
+ROWS_REVISION = {"grid": 14, "threshold": 4, "packing": 1}
 
 
 def rows_revision(spec: Spec) -> int:
@@ -119,7 +120,7 @@ def rows_revision(spec: Spec) -> int:
     int
         The revision.
     """
-    return ROWS_REVISION["threshold" if spec.threshold is not None else "grid"]
+    return ROWS_REVISION[spec.mode]
 
 
 KEY_COLUMNS = ["point_key", "sample", "theta"]
@@ -165,6 +166,10 @@ def spec_from_canonical(canonical: dict) -> Spec:
     """The :class:`Spec` recorded in a directory's ``_spec.json``."""
     data: dict = dict(canonical["grid"])
     data["samples"] = canonical["samples"]
+    if canonical.get("packing") is not None:
+        data["packing"] = canonical["packing"]
+        data["output"] = {"chunk_size": canonical["chunk_size"]}
+        return parse_spec(data)
     data["lattice"] = {"kind": canonical["lattice"]}
     data["strain"] = {"gamma": canonical["gamma"], "angles": canonical["angles"]}
     data["solver"] = canonical["solver"]

@@ -1,4 +1,5 @@
-"""Short tables of a sweep's rows: P with Wilson intervals (grid mode), thresholds (threshold mode).
+"""Short tables of a sweep's rows: P with Wilson intervals (grid mode; packing mode: P of the
+collectively jammed), thresholds (threshold mode).
 
 What ``tensegrity-rigidity sweep`` prints at the end and ``tensegrity-rigidity info`` shows.
 Undecided samples (a verdict below double-precision resolution) are counted, never guessed:
@@ -15,7 +16,7 @@ import pandas as pd
 from ..analysis.estimators import wilson
 from ..model.strain import NAMED_STRAINS
 
-GRID_COLUMNS = ["n", "delta", "p_r", "p_t", "f_c", "phi", "seed"]
+GRID_COLUMNS = ["n", "delta", "p_r", "p_t", "f_c", "phi", "fraction", "seed"]
 
 
 def probability_table(rows: pd.DataFrame) -> pd.DataFrame:
@@ -31,7 +32,9 @@ def probability_table(rows: pd.DataFrame) -> pd.DataFrame:
     pandas.DataFrame
         The grid columns, then ``N`` (decided samples) and ``undecided``; in grid mode ``rigid``,
         ``P``, ``lo``, ``hi`` (95% Wilson interval); in threshold mode ``median_p_r`` (median
-        threshold, a never-rigid sample counting as above every p_r) and ``never_rigid``.
+        threshold, a never-rigid sample counting as above every p_r) and ``never_rigid``; in
+        packing mode ``rigid`` counts the collectively jammed packings (P is theirs) and
+        ``strict`` the strictly jammed ones.
     """
     if rows.empty:
         return pd.DataFrame()
@@ -51,9 +54,13 @@ def probability_table(rows: pd.DataFrame) -> pd.DataFrame:
             )
             line["never_rigid"] = int(np.isnan(t).sum())
         else:
-            k = int(good["rigid"].astype(bool).sum())
+            packing = "collective" in good
+            jammed = good["collective"] == "jammed" if packing else good["rigid"]
+            k = int(jammed.astype(bool).sum())
             p, lo, hi = wilson(k, len(good))
             line |= {"rigid": k, "P": float(p), "lo": float(lo), "hi": float(hi)}
+            if packing:  # strictly jammed; a strict test left undecided counts as not strict
+                line["strict"] = int((good["strict"] == "jammed").sum())
         out.append(line)
     return pd.DataFrame(out)
 
@@ -91,8 +98,9 @@ def format_table(table: pd.DataFrame, max_rows: int = 40) -> str:
     -------
     str
         Right-aligned columns: the varying grid values, ``N``, ``undecided``, then
-        ``rigid`` and ``P [95% Wilson]`` (grid mode) or ``median p_r*`` and ``never rigid``
-        (threshold mode); "(no rows)" for an empty table.
+        ``rigid`` and ``P [95% Wilson]`` (grid mode), ``jammed``, ``strict`` and ``P [95%
+        Wilson]`` (packing mode) or ``median p_r*`` and ``never rigid`` (threshold mode); "(no
+        rows)" for an empty table.
     """
     if table.empty:
         return "(no rows)"
@@ -103,6 +111,8 @@ def format_table(table: pd.DataFrame, max_rows: int = 40) -> str:
         row += [str(int(r["N"])), str(int(r["undecided"]))]
         if "P" in table:
             row.append(str(int(r["rigid"])))
+            if "strict" in table:
+                row.append(str(int(r["strict"])))
             row.append("-" if r["N"] == 0 else f"{r['P']:.3f} [{r['lo']:.3f}, {r['hi']:.3f}]")
         else:
             m = r["median_p_r"]
@@ -110,7 +120,10 @@ def format_table(table: pd.DataFrame, max_rows: int = 40) -> str:
             row.append(str(int(r["never_rigid"])))
         cells.append(row)
     head = grid + ["N", "undecided"]
-    head += ["rigid", "P [95% Wilson]"] if "P" in table else ["median p_r*", "never rigid"]
+    if "strict" in table:  # packing mode: P of the collectively jammed
+        head += ["jammed", "strict", "P [95% Wilson]"]
+    else:
+        head += ["rigid", "P [95% Wilson]"] if "P" in table else ["median p_r*", "never rigid"]
     widths = [max([len(h)] + [len(c[i]) for c in cells]) for i, h in enumerate(head)]
     lines = ["  ".join(h.rjust(w) for h, w in zip(head, widths, strict=True))]
     lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)) for row in cells]

@@ -37,6 +37,7 @@ from ..model.limits import (
     stage_bytes,
 )
 from .executors import open_pool
+from .jamming import sample_seconds
 from .runner import run_chunk
 from .spec import GridPoint, Spec, load_spec
 from .store import ResultStore, load_source
@@ -172,14 +173,17 @@ def estimate(spec: Spec) -> dict:
     -----
     The memory of one sample is :func:`sample_bytes`. CPU seconds per solve follow the
     benchmark medians (4 ms at n = 16, 0.37 s at n = 128 on the reference machine: about
-    ``4e-3 (n / 16)^2.2``); a threshold costs about ``log2(3 n^2) + 2`` solves.
+    ``4e-3 (n / 16)^2.2``); a threshold costs about ``log2(3 n^2) + 2`` solves. A packing
+    sweep's are the measured per-sample costs of :func:`~.jamming.sample_seconds`.
     """
     rows = spec.n_samples()
     n_max = max(spec.grid["n"])
     per_point = spec.samples * spec.n_points() // len(spec.grid["n"])
     solves = 1.0
     cpu = 0.0
-    for n in spec.grid["n"]:
+    if spec.packing is not None:
+        cpu = per_point * sum(sample_seconds(n, spec.packing["dim"]) for n in spec.grid["n"])
+    for n in spec.grid["n"] if spec.packing is None else ():
         if spec.mode == "threshold":
             solves = math.log2(3 * n * n) + 2
         cpu += per_point * solves * 4e-3 * (n / 16) ** 2.2
@@ -212,6 +216,9 @@ def sample_bytes(spec: Spec, n: int) -> float:
     float
         Bytes.
     """
+    if spec.packing is not None:  # an N-node contact network in its dimension, tested by LPs
+        dim = spec.packing["dim"]
+        return stage_bytes("build", float(n), dim=dim) + stage_bytes("solve", float(n), dim=dim)
     work = "solve"
     if spec.threshold is not None:
         work = "clusters" if spec.threshold.get("method") == "pebble" else "threshold"
@@ -248,11 +255,15 @@ def check_size(spec: Spec, out: str | os.PathLike, worker_memory: int | None = N
     if est["sample_bytes"] > have:
         where = "a Dask worker has" if worker_memory else "this machine has"
         n = est["n_max"]
+        what = (
+            f"{n} particles"
+            if spec.packing is not None
+            else f"{n}^{lattice_dimension(spec.lattice)} nodes of the {spec.lattice} lattice"
+        )
         raise SpecError(
             f"n = {n} needs about {format_bytes(est['sample_bytes'])} of memory per sample "
-            f"({n}^{lattice_dimension(spec.lattice)} nodes of the {spec.lattice} lattice); "
-            f"{where} {format_bytes(have)}"
-        )
+            f"({what}); {where} {format_bytes(have)}"
+        )  # fmt: skip
     ram = physical_memory()
     if est["rows_bytes"] > ram:
         raise SpecError(
@@ -558,7 +569,8 @@ def load_results(
         spec = spec or _recorded_spec(store)
         if spec is not None:
             df = store.rows_of(spec, df)
-    keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed", "sample") if c in df]
+    keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "fraction", "seed", "sample")
+            if c in df]  # fmt: skip
     df = df.sort_values(keys, kind="stable").reset_index(drop=True)
     if "phi" in df and "strain" not in df:  # derived on reading: the stored parts are unchanged
         df.insert(df.columns.get_loc("phi") + 1, "strain", df["phi"].map(phi_name))

@@ -25,6 +25,7 @@ __all__ = [
     "DIAMETER_RATIO",
     "FIRE",
     "GRADIENT_TOL",
+    "MAX_STEPS",
     "SoftPacking",
     "bidisperse_radii",
     "box_side",
@@ -38,6 +39,9 @@ DIAMETER_RATIO = 1.4
 #: Largest force component at which the minimisation stops (units of the energy scale over
 #: the small diameter): far below the forces of any packing this package tests.
 GRADIENT_TOL = 1e-14
+#: Most FIRE steps of one minimisation (a packing near its jamming point at N = 1024 takes up to
+#: about 10^5).
+MAX_STEPS = 200_000
 
 
 @dataclass(frozen=True)
@@ -158,7 +162,7 @@ FIRE = {"dt": 0.05, "dt_max": 0.5, "n_min": 5, "grow": 1.1, "cut": 0.5, "alpha":
 
 
 def minimise(
-    positions: np.ndarray, radii: np.ndarray, side: float, max_steps: int = 200_000
+    positions: np.ndarray, radii: np.ndarray, side: float, max_steps: int = MAX_STEPS
 ) -> tuple[np.ndarray, float, float, int]:
     """Minimise the overlap energy from ``positions`` (N, d) in a cubic box of ``side`` by FIRE,
     until every force component is below :data:`GRADIENT_TOL` or after ``max_steps`` steps.
@@ -229,7 +233,7 @@ def soft_packing(
     rng: np.random.Generator,
     dim: int = 2,
     ratio: float = DIAMETER_RATIO,
-    max_steps: int = 200_000,
+    max_steps: int = MAX_STEPS,
 ) -> SoftPacking:
     """A random bidisperse soft packing at packing fraction ``phi``, energy minimised.
 

@@ -29,13 +29,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..ensemble.spec import parse_spec
+from ..ensemble.jamming import sample_seconds
 from ..ensemble.store import ResultStore
 from ..ensemble.sweep import plan_chunks
 from ..errors import InputError
-from ..model.lattice import DEFAULT_DELTA
 from .claims import CLAIMS
 from .claims import TARGETS as CLAIM_TARGETS
+from .studies.rows import study_spec
 from .study import Scale
 from .template import load
 
@@ -206,8 +206,8 @@ class Estimate:
 
     def table(self) -> pd.DataFrame:
         """Per study and size: threshold searches (pebble-game passes included), grid solves,
-        paper verdicts (rows still to compute), CPU and wall minutes (in-process work on the
-        study's first row)."""
+        paper verdicts, packings (rows still to compute), CPU and wall minutes (in-process work
+        on the study's first row)."""
         rows = []
         for study in self.studies:
             mine = [s for s in self.sweeps if s.study == study]
@@ -216,7 +216,7 @@ class Estimate:
                 serial = self.serial.get(study, 0.0) if i == 0 else 0.0
                 count = {m: sum(s.new_rows for s in here if s.mode in ms) for m, ms in (
                     ("thresholds", ("threshold", "pebble")), ("grid", ("grid", "energy")),
-                    ("paper", ("paper",)))}  # fmt: skip
+                    ("paper", ("paper",)), ("packings", ("packing",)))}  # fmt: skip
                 rows.append({"study": study, "n": n, **count,
                              "cpu_min": (sum(s.cpu_seconds for s in here) + serial) / 60,
                              "wall_min": (sum(s.wall_seconds for s in here) + serial) / 60,
@@ -240,13 +240,19 @@ def _stored_keys(path: Path) -> set:
 
 def _sweep(study: str, name: str, raw: dict, done: set, workers: int, notes: list) -> SweepCost:
     """One sweep's rows to compute, priced; ``done`` (its rows stored or planned) grows."""
-    spec = parse_spec(dict(delta=DEFAULT_DELTA) | raw)
+    spec = study_spec(raw)
     chunks = plan_chunks(spec, done)
     mode = "threshold" if spec.mode == "threshold" else spec.verdict
     mode = "pebble" if spec.settings().get("threshold_method") == "pebble" else mode
     mode = "grid" if mode == "exact" else mode
     mode = "energy" if mode == "grid" and not spec.solver_options().min_norm else mode
     price = COSTS.row_seconds_3d if spec.lattice == "fcc" else COSTS.row_seconds
+    if spec.packing is not None:  # a packing and its tests, by the jamming benchmark's costs
+        mode, dim = "packing", spec.packing["dim"]
+
+        def price(mode, n, p_t):  # noqa: ARG001 (the lattice models' signature)
+            return sample_seconds(n, dim), False
+
     costs, ext = [], False
     for point, ks in chunks:
         sec, e = price(mode, point.n, point.p_t)
@@ -328,16 +334,21 @@ def describe(est: Estimate, errors: pd.DataFrame | None = None) -> str:
         verdict = WORDS.label("over" if est.over_budget else "within")
         lines.append(WORDS.label("budget", minutes=est.budget_minutes, verdict=verdict))
     t = est.table()
-    lines += ["", f"{'study':<8} {'n':>4} {'thresholds':>11} {'grid':>8} {'paper':>7} "
-              f"{'CPU min':>8} {'wall min':>9}"]  # fmt: skip
+    packings = bool(t.packings.sum())  # a column only for the scales that run packings
+    w = max([8, *(len(name) for name in est.studies)])  # the longest study name
+    lines += ["", f"{'study':<{w}} {'n':>4} {'thresholds':>11} {'grid':>8} {'paper':>7} "
+              + (f"{'packings':>9} " if packings else "")
+              + f"{'CPU min':>8} {'wall min':>9}"]  # fmt: skip
     for r in t.itertuples():
         n = "-" if r.n is None or (isinstance(r.n, float) and math.isnan(r.n)) else int(r.n)
         mark = f"  ({WORDS.label('mark')})" if r.extrapolated else ""
-        lines.append(f"{r.study:<8} {n!s:>4} {r.thresholds:>11,} {r.grid:>8,} {r.paper:>7,} "
-                     f"{r.cpu_min:>8.1f} {r.wall_min:>9.1f}{mark}")  # fmt: skip
-    lines.append(f"{'total':<8} {'':>4} {int(t.thresholds.sum()):>11,} {int(t.grid.sum()):>8,} "
-                 f"{int(t.paper.sum()):>7,} {est.cpu_seconds / 60:>8.1f} "
-                 f"{est.wall_seconds / 60:>9.1f}")  # fmt: skip
+        lines.append(f"{r.study:<{w}} {n!s:>4} {r.thresholds:>11,} {r.grid:>8,} {r.paper:>7,} "
+                     + (f"{r.packings:>9,} " if packings else "")
+                     + f"{r.cpu_min:>8.1f} {r.wall_min:>9.1f}{mark}")  # fmt: skip
+    lines.append(f"{'total':<{w}} {'':>4} {int(t.thresholds.sum()):>11,} {int(t.grid.sum()):>8,} "
+                 f"{int(t.paper.sum()):>7,} "
+                 + (f"{int(t.packings.sum()):>9,} " if packings else "")
+                 + f"{est.cpu_seconds / 60:>8.1f} {est.wall_seconds / 60:>9.1f}")  # fmt: skip
     lines += [f"note: {note}" for note in est.notes]
     if errors is not None and len(errors):
         lines += ["", WORDS.label("errors"), f"{'claim':<28} {'study':<10} {'n':>4} "

@@ -2,7 +2,8 @@
 P(jammed) against packing fraction per size (with the fraction strictly jammed).
 
 Plain functions of their data (a packing and its :class:`~tensegrity_rigidity.JammingResult`, a
-:func:`~tensegrity_rigidity.analysis.jamming.jamming_table`), not yet a study of the report.
+:func:`~tensegrity_rigidity.analysis.jamming.jamming_table`), which the report's study of the
+jamming onset draws into its figures.
 """
 
 from __future__ import annotations
@@ -104,7 +105,7 @@ def plot_packing(
     return fig
 
 
-def plot_jamming_probability(table: pd.DataFrame, path: str | os.PathLike | None = None):
+def plot_jamming_probability(table: pd.DataFrame, path: str | os.PathLike | None = None, axes=None):
     """P(collectively jammed) against ``phi`` per size with Wilson intervals (left), and the
     fraction strictly jammed among the collectively jammed (right).
 
@@ -114,6 +115,8 @@ def plot_jamming_probability(table: pd.DataFrame, path: str | os.PathLike | None
         :func:`~tensegrity_rigidity.analysis.jamming.jamming_table`.
     path : str or path-like, optional
         Where to save the figure.
+    axes : pair of matplotlib Axes, optional
+        Where to draw the two panels (a new figure when omitted).
 
     Returns
     -------
@@ -121,10 +124,14 @@ def plot_jamming_probability(table: pd.DataFrame, path: str | os.PathLike | None
     """
     import matplotlib
 
-    matplotlib.use("Agg", force=False)
+    if axes is None:
+        matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4), sharex=True)
+    if axes is None:
+        fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4), sharex=True)
+    else:
+        (left, right), fig = axes, axes[0].figure
     for n, g in table.groupby("n"):
         g = g.sort_values("phi")
         lo, hi = g["p"] - g["p_lo"], g["p_hi"] - g["p"]

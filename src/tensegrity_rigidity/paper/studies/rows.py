@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ...ensemble.spec import parse_spec
+from ...ensemble.spec import Spec, parse_spec
 from ...ensemble.sweep import load_results, run_sweep
 from ...model.lattice import DEFAULT_DELTA
 from ...model.strain import NAMED_STRAINS
@@ -142,6 +142,12 @@ def interval_straddles(df: pd.DataFrame, grid) -> int | None:
     return int(hit.any(axis=1).sum())
 
 
+def study_spec(spec: dict) -> Spec:
+    """A study's sweep spec parsed: a lattice sweep with the default node disorder unless it
+    names one, a packing sweep (``[packing]``, no lattice) as it is."""
+    return parse_spec(spec if "packing" in spec else dict(delta=DEFAULT_DELTA) | spec)
+
+
 #: ``workers`` value that reads stored rows only: nothing is computed or written (the caller has
 #: checked that every row is stored, as :func:`~tensegrity_rigidity.paper.reproduce.read_evidence`)
 STORED = "stored"
@@ -158,7 +164,7 @@ def sweep_rows(
     anything.
     """
     path = out / "studies" / name
-    parsed = parse_spec(dict(delta=DEFAULT_DELTA) | spec)
+    parsed = study_spec(spec)
     if workers == STORED:
         return keep_decided(load_results(path, parsed), energy)
     run_sweep(parsed, path, executor=workers, scheduler=scheduler, progress=progress)
