@@ -291,3 +291,36 @@ def test_paired_efficacies_count_samples_never_rigid():
     assert e.never == 1 and e.samples == 4
     with pytest.raises(ValueError, match="same samples"):
         limits.paired_efficacies(rods, comp[:3], comp, 0.2)
+
+
+# --------------------------------------------------------------------------- unknown exponent
+
+XS = np.round(np.arange(0.5, 3.0001, 0.05), 2)
+SMALL = np.array([4.0, 6, 8, 10, 12])
+
+
+def test_the_envelope_covers_the_limit_when_the_exponent_is_unknown():
+    """Truth with x = 0.7: a fit at an assumed x = 3 is off by several of its own errors; the
+    envelope over the declared range holds the truth, with an error wider than any one fit's."""
+    err = np.full(SMALL.size, 0.0008)
+    y = noisy(0.494 + 0.02 * SMALL**-0.7, err, 18)
+    env = limits.exponent_envelope(SMALL, y, err, XS, n_mins=(4, 6))
+    assert env.low <= 0.494 <= env.high and env.value == pytest.approx(0.5 * (env.low + env.high))
+    at3 = [f for f in env.fits if f.x == 3.0 and f.n_min == 4][0]
+    assert abs(at3.y_inf - 0.494) > 3 * at3.y_inf_err
+    assert env.err > max(f.y_inf_err for f in env.fits if f.x == 0.7)
+    assert len(env.fits) == 2 * XS.size and env.x_low == 0.5
+
+
+def test_the_envelope_coverage_over_replicas():
+    err = np.full(SMALL.size, 0.001)
+    truth = 0.494 + 0.03 * SMALL**-1.3
+    envs = [limits.exponent_envelope(SMALL, noisy(truth, err, 400 + k), err, XS)
+            for k in range(200)]  # fmt: skip
+    assert np.mean([e.low <= 0.494 <= e.high for e in envs]) >= 0.85
+
+
+def test_an_envelope_without_an_allowed_fit_is_nan():
+    err = np.full(SMALL.size, 1e-4)
+    env = limits.exponent_envelope(SMALL, np.array([0.5, 0.4, 0.5, 0.4, 0.5]), err, XS)
+    assert env.allowed == 0 and np.isnan(env.value) and np.isnan(env.err)

@@ -11,6 +11,8 @@
   into the binomial part (how many sites fall below each p) and the geometric part, and the
   exponent of the geometric part's decay, ``n^(-1/nu)``; :func:`widths_against_binomial`:
   whether the widths are the binomial part alone.
+* :func:`exponent_envelope`: a limit whose correction's exponent is not known, from every
+  exponent of a declared range the data allow (an exponent-agnostic error).
 * :func:`fit_corrected`, :func:`corrected_limit`: a threshold extrapolated with a known nu and
   one correction to scaling, ``p_c + a n^(-1/nu) (1 + b n^-omega)``, over a range of omega
   (the systematic).
@@ -726,3 +728,97 @@ def widths_against_binomial(
                      for c, m in zip(centres, sites, strict=True)])  # fmt: skip
     chi2, dof, p = width_excess(total, err, binom)
     return BinomialWidths(total, err, binom, total / binom, err / binom, chi2, dof, p)
+
+
+@dataclass(frozen=True)
+class ExponentFit:
+    """``y_inf + a n^-x`` with x given, over ``n >= n_min`` (weighted least squares)."""
+
+    n_min: float
+    x: float
+    y_inf: float
+    y_inf_err: float
+    chi2: float
+    dof: int
+    p_value: float
+    acceptable: bool
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """A limit over every exponent the data allow.
+
+    Attributes
+    ----------
+    fits : tuple of ExponentFit
+        One per (smallest size, exponent).
+    value, err : float
+        The centre and half-width of the union of the allowed fits' intervals
+        ``y_inf +- y_inf_err``: an error that holds the statistical one and the unknown
+        exponent's together (NaN when no fit is allowed).
+    low, high : float
+        That union's ends.
+    x_low, x_high : float
+        The smallest and largest exponent allowed (at any smallest size).
+    allowed : int
+    """
+
+    fits: tuple
+    value: float
+    err: float
+    low: float
+    high: float
+    x_low: float
+    x_high: float
+    allowed: int
+
+
+def exponent_envelope(n, y, err, xs, n_mins=(0,)) -> Envelope:
+    """The limit n -> infinity of ``y(n) = y_inf + a n^-x`` for an exponent known only to lie
+    in a range.
+
+    Parameters
+    ----------
+    n, y, err : (K,) float
+        Sizes, values and standard errors (independent between sizes).
+    xs : (G,) float
+        The exponents the physics allows (declared before the fits).
+    n_mins : sequence of float
+        Smallest sizes tried.
+
+    Returns
+    -------
+    Envelope
+
+    Notes
+    -----
+    Each x gives a linear fit; an x the data reject (:func:`allowed`) is dropped, and the
+    answer is every value some allowed fit leaves within one error. Unlike a fit with a free
+    exponent, whose error curvature understates the spread at few sizes, and unlike a fit at
+    one assumed exponent, it does not hide how far p_c moves with the exponent.
+    """
+    n, y, err = (np.asarray(a, float) for a in (n, y, err))
+    ok = np.isfinite(y) & np.isfinite(err) & (err > 0)
+    n, y, err = n[ok], y[ok], err[ok]
+    fits = []
+    for m in n_mins:
+        keep = n >= m
+        if keep.sum() < 2:
+            continue
+        nn, yy, W = n[keep], y[keep], 1 / err[keep] ** 2
+        for x in np.asarray(xs, float):
+            X = np.column_stack([np.ones(nn.size), nn**-x])
+            cov = np.linalg.inv(X.T @ (W[:, None] * X))
+            beta = cov @ (X.T @ (W * yy))
+            chi2 = float(np.sum(W * (yy - X @ beta) ** 2))
+            dof = int(nn.size - 2)
+            p, ok_ = allowed(chi2, dof)
+            fits.append(ExponentFit(float(m), float(x), float(beta[0]), float(np.sqrt(cov[0, 0])),
+                                    chi2, dof, p, ok_))  # fmt: skip
+    good = [f for f in fits if f.acceptable]
+    if not good:
+        return Envelope(tuple(fits), *(np.nan,) * 6, 0)
+    lo = min(f.y_inf - f.y_inf_err for f in good)
+    hi = max(f.y_inf + f.y_inf_err for f in good)
+    return Envelope(tuple(fits), 0.5 * (lo + hi), 0.5 * (hi - lo), lo, hi,
+                    min(f.x for f in good), max(f.x for f in good), len(good))  # fmt: skip
