@@ -29,7 +29,8 @@ def test_a_finite_limit_is_recovered_and_the_power_law_to_zero_rejected():
     finite, zero = lim.fits["finite"], lim.fits["zero"]
     assert abs(finite.y_inf - 0.3) <= 3 * finite.y_inf_err
     assert finite.acceptable and not zero.acceptable
-    assert lim.value == finite.y_inf and lim.syst == 0.0  # no other law allowed
+    assert lim.law == "finite" and lim.value == finite.y_inf
+    assert lim.syst == 0.0  # no other law allowed
     assert limits.vanishing_verdict(lim) == "finite"
 
 
@@ -94,7 +95,18 @@ def test_a_series_no_law_fits_says_so():
     lim = limits.limit_laws(SIZES, y, err, laws=("finite", "zero", "constant"))
     assert not any(f.acceptable for f in lim.fits.values())
     assert limits.vanishing_verdict(lim) == "no law fits"
-    assert lim.syst == 0.0 and np.isnan(lim.low)
+    assert lim.law == "" and np.isnan(lim.value) and np.isnan(lim.syst) and np.isnan(lim.low)
+
+
+def test_a_rejected_reference_law_gives_no_value_and_an_allowed_one_does():
+    """Four sizes alternating by 1.2 errors about 0.5: a constant is allowed (chi-square 5.8
+    with 3 degrees of freedom), the finite law is not (the same misfit on 1): the limit is the
+    constant's, not the rejected law's, with no systematic from the rejected one."""
+    n, err = np.array([4.0, 6, 8, 10]), np.full(4, 0.002)
+    y = 0.5 + np.array([0.0024, -0.0024, 0.0024, -0.0024])
+    lim = limits.limit_laws(n, y, err, laws=("finite", "constant"), n_boot=50)
+    assert not lim.fits["finite"].acceptable and lim.fits["constant"].acceptable
+    assert lim.law == "constant" and lim.value == pytest.approx(0.5) and lim.syst == 0.0
 
 
 def test_the_finite_limit_errors_are_calibrated():

@@ -651,3 +651,28 @@ def test_the_fss_scale_keeps_its_bisection_thresholds():
     assert set(pc_sizes) == {32, 64, 128, 256, 512}
     assert all(pc_sizes[n] >= 1000 for n in (32, 64, 128))
     assert pc_sizes[256] >= 200 and pc_sizes[512] >= 48  # 200 meant: see scales.PC_PEBBLE
+
+
+def test_every_claim_is_also_read_from_laws_with_its_own_exponent(runs):
+    """Besides the nu-fixed extrapolations, each claim's limit from a finite law with its own
+    exponent and a constant (no exponent borrowed), the spread over the allowed laws as its
+    fit-form systematic; the report counts the laws each claim allows."""
+    fss, _, _ = runs
+    ex = fss.extrapolated.set_index("key")
+    for key in ("rods_only_pc", "st_sr_cables_compression"):
+        s = fss.by_size[fss.by_size.key == key].sort_values("n")
+        n, y, err = (s[c].to_numpy(float) for c in ("n", "value", "err"))
+        lim = fsm.limits.limit_laws(n, y, err, laws=fsm.LIMIT_LAWS, n_boot=TINY.bootstrap,
+                                    rng=TINY.rng("finite_size"))  # fmt: skip
+        row = ex.loc[key]
+        np.testing.assert_equal((row.limit, row.limit_stat, row.limit_syst, row.limit_law),
+                                (lim.value, lim.stat, lim.syst, lim.law))  # fmt: skip
+        assert row.limit_laws == ",".join(k for k, f in lim.fits.items() if f.acceptable)
+    v = fsm.numbers(fss)
+    assert v["laws_total"] == len(ex)
+    assert v["laws_none"] == int((ex.limit_laws == "").sum())
+    assert v["laws_constant"] == int(ex.limit_laws.str.contains("constant").sum())
+    table = fsm.report_tables(fss)["by_size"]
+    assert {"n -> inf, laws", "fit form", "laws allowed", "own x"} <= set(table.columns)
+    text = " ".join(b[1] for b in render(fsm.T, v, {}, {}, []) if b[0] == "p")
+    assert f"Of {len(ex)} extrapolated quantities" in text

@@ -193,3 +193,16 @@ def test_the_committed_3d_threshold_without_an_assumed_exponent():
         assert e.low <= v <= e.high
     assert 2 * e.err > abs(pc.y_inf - pc.y_inf_first_order)
     assert e.low <= REFERENCES["pc_fcc_chubynsky_thorpe"].value <= e.high
+
+
+def test_every_3d_limit_is_also_read_with_its_own_exponent(tiny_3d):
+    ex = tiny_3d.extrapolated.set_index("key")
+    for key in three_d.KEYS_3D:
+        s = tiny_3d.by_size[tiny_3d.by_size.key == key].sort_values("n")
+        n, y, err = (s[c].to_numpy(float) for c in ("n", "value", "err"))
+        lim = limits.limit_laws(n, y, err, laws=three_d.LIMIT_LAWS,
+                                rng=TINY_3D.rng("finite_size"))  # fmt: skip
+        np.testing.assert_equal((ex.loc[key].limit, ex.loc[key].limit_syst, ex.loc[key].limit_law),
+                                (lim.value, lim.syst, lim.law), err_msg=key)  # fmt: skip
+    side = three_d.report_tables(tiny_3d)["beside_2d"]
+    assert {"own", "fit_form", "laws"} <= set(side.columns)

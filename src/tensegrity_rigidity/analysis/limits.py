@@ -278,16 +278,21 @@ class Limit:
     ----------
     fits : dict
         Law name -> :class:`LawFit`.
+    law : str
+        The law ``value`` is read from: the first of the laws asked for that the data allow
+        ("" when they allow none).
     value, stat : float
-        The finite law's limit and its statistical error.
+        That law's limit and its statistical error (NaN when no law is allowed: no limit is
+        quoted from a law the data reject).
     syst : float
-        The fit-form systematic: the largest distance from ``value`` of another law's limit
-        among the laws the data allow (``acceptable``); 0 when no other law fits.
+        The fit-form systematic: the largest distance from ``value`` of another allowed law's
+        limit; 0 when no other law is allowed.
     low, high : float
-        The range of the limits of the acceptable laws (NaN when none fits).
+        The range of the limits of the allowed laws (NaN when none is).
     """
 
     fits: dict
+    law: str
     value: float
     stat: float
     syst: float
@@ -319,16 +324,17 @@ def limit_laws(
     Returns
     -------
     Limit
-        The reference law's limit and statistical error, and the spread over the laws the
-        data allow: the systematic.
+        The limit of the first allowed law in the order of ``laws`` and its statistical
+        error, and the spread over the laws the data allow: the systematic.
     """
     rng = rng or np.random.default_rng(11)
     fits = {law: fit_law(law, n, y, err, n_boot, rng) for law in laws}
-    ref = fits[laws[0]]
-    ok = [f.y_inf for f in fits.values() if f.acceptable and np.isfinite(f.y_inf)]
-    others = [abs(v - ref.y_inf) for v in ok]
-    return Limit(fits, ref.y_inf, ref.y_inf_err, max(others, default=0.0),
-                 min(ok, default=np.nan), max(ok, default=np.nan))  # fmt: skip
+    good = [f for f in fits.values() if f.acceptable and np.isfinite(f.y_inf)]
+    if not good:
+        return Limit(fits, "", np.nan, np.nan, np.nan, np.nan, np.nan)
+    ref, ok = good[0], [f.y_inf for f in good]
+    return Limit(fits, ref.law, ref.y_inf, ref.y_inf_err, max(abs(v - ref.y_inf) for v in ok),
+                 min(ok), max(ok))  # fmt: skip
 
 
 #: the answers of :func:`vanishing_verdict`

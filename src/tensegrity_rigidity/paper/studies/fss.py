@@ -65,6 +65,10 @@ PC_ANCHORS = ("pc_javerzat_notarmuzi", "pc_dynamic_pebble")
 #: systematic. The reference fit takes OMEGA_REF over every size
 OMEGAS = (0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0)
 OMEGA_REF = 1.0
+#: the laws every claim's limit is read from besides the nu-fixed extrapolations: a finite
+#: limit with the claim's own correction exponent, and no size dependence (no headline claim
+#: can vanish, so no power law to zero); the spread over the allowed ones is the systematic
+LIMIT_LAWS = ("finite", "constant")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -391,7 +395,7 @@ def extrapolate(by_size: pd.DataFrame, scale: Scale, *, pc_widths=None, excluded
     nu_check, nu_check_err = NU_CHECK.value, NU_CHECK.error or 0.0
     checks = {key: an.fit_finite_size(*series[key], nu=nu_check, nu_err=nu_check_err,
                                       rng=rng("finite_size")) for key in fits}  # fmt: skip
-    ex = _extrapolated(fits, checks)
+    ex = with_laws(_extrapolated(fits, checks), series, scale)
     w = pc_widths
     z = {
         "nu_z": an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, nu_check, nu_check_err),
@@ -444,6 +448,30 @@ def _extrapolated(fits: dict, checks: dict) -> pd.DataFrame:
     ex["z_paper_nu_check"] = [z for z, _ in fixed]
     ex["verdict_paper_nu_check"] = [v for _, v in fixed]
     return ex
+
+
+def with_laws(ex: pd.DataFrame, series: dict, scale: Scale) -> pd.DataFrame:
+    """``ex`` with each key's limit from :data:`LIMIT_LAWS`
+    (:func:`~tensegrity_rigidity.analysis.limits.limit_laws`), borrowing no exponent:
+    ``limit_law`` (the first law allowed), ``limit`` (NaN where none is), ``limit_stat``,
+    ``limit_syst`` (the fit-form systematic), ``limit_low``, ``limit_high``, the finite law's
+    exponent ``limit_x``, ``limit_x_err``, ``limit_x_at_bound`` (an end of the profiled range:
+    not determined), ``limit_chi2``, ``limit_dof``, and ``limit_laws``, the laws the data
+    allow (comma-separated)."""
+    out = []
+    for key in ex.key:
+        n, y, err = series[key]
+        lim = limits.limit_laws(n, y, err, laws=LIMIT_LAWS, n_boot=scale.bootstrap,
+                                rng=scale.rng("finite_size"))  # fmt: skip
+        f = lim.fits[LIMIT_LAWS[0]]
+        fitting = ",".join(k for k, g in lim.fits.items() if g.acceptable)
+        out.append({"limit_law": lim.law, "limit": lim.value, "limit_stat": lim.stat,
+                    "limit_syst": lim.syst,
+                    "limit_low": lim.low, "limit_high": lim.high, "limit_x": f.x,
+                    "limit_x_err": f.x_err, "limit_x_at_bound": f.x_at_bound,
+                    "limit_chi2": f.chi2, "limit_dof": f.dof,
+                    "limit_laws": fitting})  # fmt: skip
+    return pd.concat([ex.reset_index(drop=True), pd.DataFrame(out)], axis=1)
 
 
 def _samples_text(p: Params, key: str) -> str:
@@ -598,7 +626,21 @@ def numbers(r: FiniteSizeResult) -> dict:
         **_smallest(r),
         **_calibration(r),
         **_clusters(r),
+        **_laws(r),
     }
+
+
+def _laws(r: FiniteSizeResult) -> dict:
+    """How many extrapolated claims each law of :data:`LIMIT_LAWS` fits."""
+    ex = r.extrapolated
+    if "limit_laws" not in ex or not len(ex):
+        return {}
+    allowed = [set(filter(None, v.split(","))) for v in ex.limit_laws.fillna("")]
+    return {"laws_total": len(ex), "laws_finite": sum("finite" in a for a in allowed),
+            "laws_constant": sum("constant" in a for a in allowed),
+            "laws_none": sum(not a for a in allowed),
+            "laws_syst": int(np.sum(ex.limit_syst > 0)), "laws_x_lo": limits.X_GRID[0],
+            "laws_x_hi": limits.X_GRID[-1]}  # fmt: skip
 
 
 def _calibration(r: FiniteSizeResult) -> dict:
@@ -646,6 +688,11 @@ def _by_size_table(r: FiniteSizeResult) -> pd.DataFrame:
     table[f"n -> inf, nu = {NU_CHECK.value}"] = [fmt(x.y_inf_nu_check, x.y_inf_nu_check_err)
                                                  for x in rows]  # fmt: skip
     table[f"z_paper, nu = {NU_CHECK.value}"] = [f"{x.z_paper_nu_check:.2f}" for x in rows]
+    table["n -> inf, laws"] = [fmt(x.limit, x.limit_stat) for x in rows]
+    table["fit form"] = [f"{x.limit_syst:.2g}" for x in rows]
+    table["own x"] = [f"{x.limit_x:.2f}" + (" " + T.label("at_bound")) * bool(x.limit_x_at_bound)
+                      for x in rows]  # fmt: skip
+    table["laws allowed"] = [x.limit_laws or "-" for x in rows]
     return table
 
 

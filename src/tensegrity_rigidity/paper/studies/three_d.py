@@ -69,6 +69,9 @@ NU_FIRST_ORDER = 1.0 / 3.0
 #: exponent is assumed: 1/nu for nu from 1/3 (1/nu = d, the shift of a first-order
 #: transition) to 2 (well above 3D percolation's 0.88)
 X_3D = np.round(np.arange(0.5, 3.0001, 0.05), 2)
+#: the laws of each quantity's limit with no exponent borrowed (analysis.limits): a finite
+#: limit with its own exponent, and no size dependence
+LIMIT_LAWS = ("finite", "constant")
 #: a size with fewer samples per point than this has error bars that are themselves uncertain
 #: by 1 / sqrt(2 (S - 1)) or more (the scales' floor wherever an error bar is compared)
 ERROR_FLOOR_SAMPLES = 24
@@ -259,8 +262,10 @@ def pc_envelope(by_size: pd.DataFrame) -> limits.Envelope | None:
 
 
 def extrapolate(by_size: pd.DataFrame, rng) -> pd.DataFrame:
-    """Each quantity of ``by_size`` extrapolated to n -> infinity in the two readings (``rng``:
-    a scale's ``rng``)."""
+    """Each quantity of ``by_size`` extrapolated to n -> infinity in the two readings, and by
+    :data:`LIMIT_LAWS` with the quantity's own exponent (``limit_law``, the first allowed,
+    ``limit``, ``limit_stat``, the fit-form systematic ``limit_syst``, the allowed
+    ``limit_laws``; NaN where none is); ``rng``: a scale's ``rng``."""
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
@@ -273,11 +278,16 @@ def extrapolate(by_size: pd.DataFrame, rng) -> pd.DataFrame:
         free = pc if key == "rods_only_pc" else an.fit_finite_size(
             n, y, err, nu=pc.nu, nu_err=pc.nu_err, rng=rng("finite_size"))  # fmt: skip
         first = an.fit_finite_size(n, y, err, nu=NU_FIRST_ORDER, rng=rng("finite_size"))
+        lim = limits.limit_laws(n, y, err, laws=LIMIT_LAWS, rng=rng("finite_size"))
+        fitting = ",".join(k for k, f in lim.fits.items() if f.acceptable)
         rows.append({"key": key, "y_inf": free.y_inf, "y_inf_err": free.y_inf_err, "a": free.a,
                      "nu": free.nu, "nu_err": free.nu_err, "chi2": free.chi2, "dof": free.dof,
                      "y_inf_first_order": first.y_inf, "y_inf_first_order_err": first.y_inf_err,
                      "a_first_order": first.a, "chi2_first_order": first.chi2,
-                     "dof_first_order": first.dof})  # fmt: skip
+                     "dof_first_order": first.dof, "limit": lim.value, "limit_stat": lim.stat,
+                     "limit_law": lim.law,
+                     "limit_syst": lim.syst,
+                     "limit_laws": fitting})  # fmt: skip
     return pd.DataFrame(rows)
 
 
@@ -426,6 +436,7 @@ def report_tables(r: ThreeDResult) -> dict:
         wide[f"n = {n}"] = [f"{fmt(s.value[k], s.err[k])} ({int(s.samples[k])})" if k in s.index
                             else "" for k in KEYS_3D]  # fmt: skip
     b = beside_2d(r)
+    ex_rows = [r.extrapolated.set_index("key").loc[k] for k in b.key]
     side = pd.DataFrame({
         "quantity": [T.label(f"quantity.{k}") for k in b.key],
         "largest": [f"{fmt(v, e)} (n = {n})" for v, e, n in zip(b.largest, b.largest_err, b.n_max,
@@ -436,6 +447,9 @@ def report_tables(r: ThreeDResult) -> dict:
         "ours_2d": [fmt(TWO_D_OURS[k].value, TWO_D_OURS[k].error) for k in b.key],
         "paper_2d": list(b.paper_2d), "z_2d": [f"{z:.2f}" for z in b.z_2d],
         "z_2d_inf": [f"{z:.2f}" for z in b.z_2d_inf],
+        "own": [fmt(x.limit, x.limit_stat) for x in ex_rows],
+        "fit_form": [f"{x.limit_syst:.2g}" for x in ex_rows],
+        "laws": [x.limit_laws or "-" for x in ex_rows],
     })  # fmt: skip
     return {"by_size": wide, "beside_2d": side}
 
