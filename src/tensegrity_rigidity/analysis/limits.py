@@ -40,9 +40,23 @@ ONE_SIGMA = (15.865, 84.135)
 
 
 def robust_spread(draws: np.ndarray, axis: int = 0) -> np.ndarray:
-    """Half the central 68 % range of bootstrap draws (finite ones only; NaN with fewer than
-    two): a standard error for a normal spread that heavy tails (a fit that runs off at a
-    few replicas) do not inflate, as they do a standard deviation."""
+    """Half the central 68 % range of bootstrap draws: a standard error that heavy tails do
+    not inflate.
+
+    Parameters
+    ----------
+    draws : array
+        Bootstrap replicas along ``axis`` (non-finite ones left out).
+    axis : int
+        The replicas' axis.
+
+    Returns
+    -------
+    numpy.ndarray
+        The spread of each remaining entry (NaN with fewer than two finite replicas): for a
+        normal spread its standard deviation, while a fit that runs off at a few replicas
+        does not inflate it, as it does a standard deviation.
+    """
     d = np.moveaxis(np.asarray(draws, float), axis, 0)
     flat = d.reshape(d.shape[0], -1)
     out = np.full(flat.shape[1], np.nan)
@@ -55,9 +69,23 @@ def robust_spread(draws: np.ndarray, axis: int = 0) -> np.ndarray:
 
 
 def allowed(chi2: float, dof: int) -> tuple[float, bool]:
-    """(p-value, allowed) of a fit: allowed unless its chi-square's p-value is below
-    :data:`ACCEPT_P`; a fit with no degree of freedom cannot be rejected and is allowed
-    (its p-value NaN)."""
+    """Whether the data allow a fit, by the rule fixed in advance.
+
+    Parameters
+    ----------
+    chi2 : float
+        The fit's chi-square.
+    dof : int
+        Its degrees of freedom.
+
+    Returns
+    -------
+    p_value : float
+        Of the chi-square (NaN without a degree of freedom).
+    allowed : bool
+        Unless ``p_value < ACCEPT_P``; a fit with no degree of freedom cannot be rejected and
+        is allowed; a non-finite chi-square is not.
+    """
     if not np.isfinite(chi2):
         return np.nan, False
     if dof <= 0:
@@ -68,12 +96,25 @@ def allowed(chi2: float, dof: int) -> tuple[float, bool]:
 
 @dataclass(frozen=True)
 class PairedEfficacies:
-    """S_t/S_r of one system under compression (``c``) and dilation (``d``) at one size, from
-    the P = 1/2 points of thresholds of the same samples, and their asymmetry ``d - c`` and sum
-    ``c + d``; ``*_mean`` the same from per-sample threshold differences (means, not medians);
-    every error a paired bootstrap's (:func:`robust_spread`). ``samples``: samples with all
-    three thresholds; ``never``: samples never rigid on some path (their threshold counts as
-    above every other's in the medians, and they are left out of the means)."""
+    """S_t/S_r of one system under compression and dilation from thresholds of the same
+    samples; every error a paired bootstrap's (:func:`robust_spread`).
+
+    Attributes
+    ----------
+    samples : int
+        Samples given.
+    never : int
+        Samples never rigid on some path (their threshold counts as above every other's in
+        the medians, and they are left out of the means).
+    c, c_err, d, d_err : float
+        The efficacies under compression and dilation from the P = 1/2 points (medians).
+    asym, asym_err : float
+        The asymmetry ``d - c``.
+    total, total_err : float
+        The sum ``c + d``.
+    asym_mean, asym_mean_err, total_mean, total_mean_err : float
+        The same from the means of per-sample threshold differences.
+    """
 
     samples: int
     never: int
@@ -344,6 +385,18 @@ VERDICTS = ("finite", "vanishes", "undetermined", "no law fits")
 def vanishing_verdict(limit: Limit) -> str:
     """Whether a series stays finite or vanishes as n -> infinity, by a rule fixed in advance.
 
+    Parameters
+    ----------
+    limit : Limit
+        From :func:`limit_laws` with the laws "finite" and "zero".
+
+    Returns
+    -------
+    str
+        One of :data:`VERDICTS`.
+
+    Notes
+    -----
     "finite": the power law to zero is rejected (p < :data:`ACCEPT_P`) and the finite law's
     limit lies :data:`Z_NONZERO` statistical errors or more from zero; "vanishes": the power
     law to zero fits and the finite law's limit lies within that distance of zero;
@@ -510,9 +563,23 @@ def width_exponents(
 
 @dataclass(frozen=True)
 class CorrectedFit:
-    """``y(n) = p_c + a n^(-1/nu) (1 + b n^-omega)`` with nu and omega given (``b`` free, or
-    0 when ``omega`` is None), weighted least squares over ``n >= n_min``; ``acceptable``
-    as :func:`allowed`."""
+    """``y(n) = p_c + a n^(-1/nu) (1 + b n^-omega)`` with nu and omega given, weighted least
+    squares.
+
+    Attributes
+    ----------
+    omega : float
+        The correction's exponent (NaN: no correction, ``b = 0``).
+    n_min : float
+        The smallest size fitted.
+    p_c, p_c_err : float
+        The limit and its error (nu's error included where given).
+    chi2 : float
+    dof : int
+    p_value : float
+    acceptable : bool
+        As :func:`allowed`.
+    """
 
     omega: float
     n_min: float
@@ -682,7 +749,24 @@ class BinomialWidths:
 
 
 def width_excess(total, total_err, binomial) -> tuple[float, int, float]:
-    """(chi2, dof, p-value) of widths ``total +- total_err`` equal to ``binomial``."""
+    """How well widths equal their binomial part alone.
+
+    Parameters
+    ----------
+    total, total_err : (K,) float
+        Standard deviations of the thresholds and their errors.
+    binomial : (K,) float
+        The binomial part, ``sqrt(binomial_variance)``.
+
+    Returns
+    -------
+    chi2 : float
+        Of ``total = binomial`` over the sizes with finite values.
+    dof : int
+        Those sizes.
+    p_value : float
+        Of the chi-square (NaN without sizes).
+    """
     t, e, b = (np.asarray(a, float) for a in (total, total_err, binomial))
     ok = np.isfinite(t) & np.isfinite(e) & (e > 0) & np.isfinite(b)
     chi2 = float(np.sum(((t[ok] - b[ok]) / e[ok]) ** 2))
@@ -738,7 +822,22 @@ def widths_against_binomial(
 
 @dataclass(frozen=True)
 class ExponentFit:
-    """``y_inf + a n^-x`` with x given, over ``n >= n_min`` (weighted least squares)."""
+    """``y_inf + a n^-x`` with x given, weighted least squares.
+
+    Attributes
+    ----------
+    n_min : float
+        The smallest size fitted.
+    x : float
+        The exponent.
+    y_inf, y_inf_err : float
+        The limit and its error.
+    chi2 : float
+    dof : int
+    p_value : float
+    acceptable : bool
+        As :func:`allowed`.
+    """
 
     n_min: float
     x: float
