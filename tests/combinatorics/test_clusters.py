@@ -19,7 +19,7 @@ from tensegrity_rigidity import (
     rigid_clusters,
 )
 from tensegrity_rigidity.combinatorics import pebble
-from tensegrity_rigidity.combinatorics.clusters import first_wrapping, game_arrays
+from tensegrity_rigidity.combinatorics.clusters import NO_COMP, first_wrapping, game_arrays
 from tensegrity_rigidity.model.mechanics import rigidity_matrix
 from tensegrity_rigidity.model.strain import strain_tensor
 
@@ -82,7 +82,7 @@ def test_balanced_circuit_on_a_wrapping_body_does_not_resist_strain():
     # lifted test of the kernel must find its balanced circuit
     eu, ev, gx, gy = game_arrays(net)
     status, first, _, _ = pebble.play(
-        4, eu, ev, gx, gy, np.array([6, 0, 1, 2, 3, 4, 5]), False, True
+        4, eu, ev, gx, gy, np.array([6, 0, 1, 2, 3, 4, 5]), False, True, NO_COMP
     )
     assert status[5] == pebble.BALANCED and first == -1
 
@@ -176,7 +176,7 @@ def test_each_circuit_is_balanced_iff_its_stress_has_zero_virial(seed):
     net = inst.network
     order = rng.permutation(np.flatnonzero(net.kinds != Element.EMPTY)).astype(np.int64)
     eu, ev, gx, gy = game_arrays(net)
-    status, _, _, _ = pebble.play(net.n_nodes, eu, ev, gx, gy, order, False, False)
+    status, _, _, _ = pebble.play(net.n_nodes, eu, ev, gx, gy, order, False, False, NO_COMP)
     d = net.bond_vectors()
     dhat = d / np.hypot(d[:, 0], d[:, 1])[:, None]
     lattice_part = net.shifts @ net.box
@@ -245,7 +245,7 @@ def test_labelling_can_stop_after_the_first_seeded_cluster():
     net = lattice_instance(8, p_r=0.7, seed=5).network
     eu, ev, gx, gy = game_arrays(net)
     sites = np.flatnonzero(net.kinds == Element.ROD).astype(np.int64)
-    _, _, out, _ = pebble.play(net.n_nodes, eu, ev, gx, gy, sites, False, False)
+    _, _, out, _ = pebble.play(net.n_nodes, eu, ev, gx, gy, sites, False, False, NO_COMP)
     every = pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, sites, out)
     one = pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, sites, out, 1)
     np.testing.assert_array_equal(one >= 0, every == every[sites[0]])
@@ -274,3 +274,43 @@ def test_orders_the_kernel_cannot_take_are_refused(order, match):
             entry(net, np.array(order))
     with pytest.raises(InputError, match="PeriodicNetwork"):
         first_wrapping("net", np.arange(3))
+
+
+def _strain_stress(net, order, position, strain):
+    """(m,) |t*| / max |t*| of the rods ``order[: position + 1]`` under ``strain``: the
+    projection of the affine extensions onto the self-stresses (dense oracle)."""
+    from tensegrity_rigidity.model.mechanics import affine_extensions
+
+    kinds = np.zeros(net.n_sites, dtype=np.int64)
+    kinds[order[: position + 1]] = Element.ROD
+    at = net.with_kinds(kinds)
+    sites = np.flatnonzero(kinds != Element.EMPTY)
+    stresses = sl.null_space(rigidity_matrix(at, sites).toarray().T, rcond=1e-9)
+    e0 = affine_extensions(at, strain)[sites]
+    t = np.zeros(net.n_sites)
+    t[sites] = np.abs(stresses @ (stresses.T @ e0))
+    return t / t.max()
+
+
+@pytest.mark.parametrize(
+    "n, sample", [(16, 8), (16, 1), (12, 3), pytest.param(32, 3, marks=pytest.mark.slow)]
+)
+def test_the_backbone_is_what_a_strain_stresses_at_the_threshold(n, sample):
+    """The threshold bond's component in the rigidity matroid carries every bond a generic
+    strain stresses, and no other: the backbone (at n = 16, sample 8 and n = 32, sample 3
+    smaller than the overconstrained part of the spanning cluster, by 12 and 108 bonds)."""
+    from tensegrity_rigidity.combinatorics.clusters import spanning_cluster
+    from tensegrity_rigidity.model.sampling import lattice_geometry
+
+    net, u, _ = lattice_geometry(n, 0.2, np.random.default_rng([n, sample]), "triangular")
+    order = np.argsort(u).astype(np.int64)
+    sc = spanning_cluster(net, order)
+    backbone = np.zeros(net.n_sites, dtype=bool)
+    backbone[sc.sites[sc.backbone]] = True
+    assert backbone[order[sc.position]] and np.all(sc.stressed[sc.backbone])
+    assert sc.backbone_nodes == np.unique(net.bonds[backbone]).size
+    t = _strain_stress(net, order, sc.position, strain_tensor(1.0, 0.3))
+    # stresses of the backbone stand clear of the dense oracle's rounding elsewhere
+    assert t[backbone].min() > 100 * t[~backbone].max()
+    if (n, sample) in ((16, 8), (32, 3)):
+        assert sc.backbone.sum() < sc.stressed.sum()

@@ -103,6 +103,34 @@ def test_a_threshold_sweep_can_use_the_pebble_game(tmp_path):
     assert (b.solves == 0).all() and b.decided.all()
     ok = a.decided.values
     np.testing.assert_array_equal(a.threshold_p_r.values[ok], b.threshold_p_r.values[ok])
+    # the rods at the threshold: the pebble game's m*, the same by both methods
+    np.testing.assert_array_equal(a.threshold_rods.values[ok], b.threshold_rods.values[ok])
+    assert (b.threshold_one_sided == 0).all() and (b.sites == 3 * 36).all()
+    assert (b.backbone_sites <= b.stressed_sites).all() and (b.backbone_sites > 0).all()
+    assert (b.backbone_nodes <= b.stressed_nodes).all()
+
+
+def test_threshold_rows_count_the_elements_just_after_the_threshold(tmp_path):
+    import tomllib
+
+    from tensegrity_rigidity import load_results, parse_spec, run_sweep
+    from tensegrity_rigidity.ensemble.runner import sample_geometry
+    from tensegrity_rigidity.model.network import Element
+
+    text = SWEEP_SPEC.replace("p_t = 0.0", "p_t = 0.3\nf_c = 1.0").replace("= 8", "= 3")
+    spec = parse_spec(tomllib.loads(text))
+    run_sweep(spec, tmp_path / "os", executor="serial", progress=False)
+    rows = load_results(tmp_path / "os")
+    point = spec.points()[0]
+    for r in rows.itertuples():
+        _, u, v, _ = sample_geometry(spec, point, r.sample)
+        ev = EventPath(u, v, "p_r", 0.3, 1.0)
+        c = int(np.searchsorted(ev.positions, r.threshold_p_r)) + 1  # after the threshold event
+        assert ev.positions[c - 1] == r.threshold_p_r
+        at = ev.kinds(c)
+        assert np.sum(at != ev.kinds(c - 1)) == 1  # one event: a rod, or a cable entering
+        assert r.threshold_rods == np.sum(at == Element.ROD)
+        assert r.threshold_one_sided == np.sum(at == Element.CABLE)
 
 
 @pytest.mark.parametrize(

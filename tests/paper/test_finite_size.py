@@ -106,8 +106,34 @@ def test_the_extrapolation_is_refitted_without_the_smallest_sizes(runs):
     assert (t.p_c.iloc[0], t.p_c_err.iloc[0]) == (pc.y_inf, pc.y_inf_err)
     assert t.p_c_fixed.iloc[0] == fss.pc_at_check_nu.y_inf
     assert np.isnan(t.p_c.iloc[-1]) and np.isfinite(t.p_c_fixed).all()
-    assert set(fsm.report_tables(fss)) == {"by_size", "smallest"}
+    assert set(fsm.report_tables(fss)) == {"by_size", "smallest", "calibration"}
     assert fsm.numbers(fss)["smallest"] == ""
+
+
+def test_the_calibration_fixes_nu_at_its_own_value_over_the_omega_range(runs):
+    """The rods-only p_c with nu fixed at this transition's 1.1694 (no fitted or borrowed nu),
+    one correction per omega of the range, from every size and without the smallest; the
+    report sets it beside both recent anchors."""
+    fss, _, _ = runs
+    c = fss.pc_calibration
+    n = np.array(FSS.pc_sizes, float)
+    assert fsm.NU_PC.value == 1.1694 and fsm.NU_PC.error == 0.0008
+    assert len(c.fits) == 2 * len(fsm.OMEGAS)
+    assert {f.n_min for f in c.fits} == set(np.sort(n)[:2])
+    by = fss.by_size[fss.by_size.key == "rods_only_pc"].sort_values("n")
+    ref = fsm.limits.fit_corrected(by.n, by.value, by.err, 1.1694, fsm.OMEGA_REF, 0.0008)
+    assert (c.value, c.stat) == (ref.p_c, ref.p_c_err)
+    v = fsm.numbers(fss)
+    assert v["cal_fits"] == len(c.fits) and v["anchor0"] == 0.6602741 and v["anchor1"] == 0.6602778
+    assert v["anchors_z"] == pytest.approx(3.44, abs=0.01)
+    text = " ".join(b[1] for b in render(fsm.T, v, {}, fsm.report_tables(fss), []) if b[0] == "p")
+    assert "0.6602741" in text and "0.6602778" in text and "nu is not fitted" in text
+    assert len(fsm.report_tables(fss)["calibration"]) == len(c.fits)
+    assert "pc_calibration_fits" in fsm.tables(fss)
+
+
+def test_no_calibration_from_fewer_than_four_sizes():
+    assert fsm.pc_calibration([8.0, 16, 32], [0.64, 0.65, 0.655], [1e-3] * 3) is None
 
 
 def test_dropping_a_size_with_a_large_correction_recovers_the_threshold():
@@ -602,6 +628,9 @@ def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run,
     table = fsm.report_tables(r)["clusters"]
     assert {"p_c", "nu"} <= set(table.quantity)
     assert {"Javerzat & Notarmuzi", "Jacobs & Thorpe"} <= set(table.source)
+    dynamic = "High-precision Dynamic Monte Carlo Study of Rigidity Percolation"
+    assert dynamic in set(table[table.quantity == "p_c"].source)
+    assert table.how.str.contains("nu fixed at 1.1694, one correction").any()
     blocks = render(fsm.T, v, {}, fsm.report_tables(r), [])
     text = " ".join(b[1] for b in blocks if b[0] == "p")
     assert "pebble game" in text and f"d_f = {v['d_rigid']}" in text
@@ -622,3 +651,28 @@ def test_the_fss_scale_keeps_its_bisection_thresholds():
     assert set(pc_sizes) == {32, 64, 128, 256, 512}
     assert all(pc_sizes[n] >= 1000 for n in (32, 64, 128))
     assert pc_sizes[256] >= 200 and pc_sizes[512] >= 48  # 200 meant: see scales.PC_PEBBLE
+
+
+def test_every_claim_is_also_read_from_laws_with_its_own_exponent(runs):
+    """Besides the nu-fixed extrapolations, each claim's limit from a finite law with its own
+    exponent and a constant (no exponent borrowed), the spread over the allowed laws as its
+    fit-form systematic; the report counts the laws each claim allows."""
+    fss, _, _ = runs
+    ex = fss.extrapolated.set_index("key")
+    for key in ("rods_only_pc", "st_sr_cables_compression"):
+        s = fss.by_size[fss.by_size.key == key].sort_values("n")
+        n, y, err = (s[c].to_numpy(float) for c in ("n", "value", "err"))
+        lim = fsm.limits.limit_laws(n, y, err, laws=fsm.LIMIT_LAWS, n_boot=TINY.bootstrap,
+                                    rng=TINY.rng("finite_size"))  # fmt: skip
+        row = ex.loc[key]
+        np.testing.assert_equal((row.limit, row.limit_stat, row.limit_syst, row.limit_law),
+                                (lim.value, lim.stat, lim.syst, lim.law))  # fmt: skip
+        assert row.limit_laws == ",".join(k for k, f in lim.fits.items() if f.acceptable)
+    v = fsm.numbers(fss)
+    assert v["laws_total"] == len(ex)
+    assert v["laws_none"] == int((ex.limit_laws == "").sum())
+    assert v["laws_constant"] == int(ex.limit_laws.str.contains("constant").sum())
+    table = fsm.report_tables(fss)["by_size"]
+    assert {"n -> inf, laws", "fit form", "laws allowed", "own x"} <= set(table.columns)
+    text = " ".join(b[1] for b in render(fsm.T, v, {}, {}, []) if b[0] == "p")
+    assert f"Of {len(ex)} extrapolated quantities" in text

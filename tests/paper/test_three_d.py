@@ -9,8 +9,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from tensegrity_rigidity.analysis import limits
 from tensegrity_rigidity.ensemble.spec import parse_spec
 from tensegrity_rigidity.errors import InputError
+from tensegrity_rigidity.model.lattice import fcc_lattice
 from tensegrity_rigidity.paper import budget
 from tensegrity_rigidity.paper.claims import CLAIMS, REFERENCES, TWO_D_OURS
 from tensegrity_rigidity.paper.comparison import compare
@@ -143,3 +145,64 @@ def test_beside_2d_and_the_report_section(tiny_3d, tmp_path):
     assert f"The literature's {literature:g}" in text and "1/nu = 3" in text
     ((png, svg),) = three_d.figures(tiny_3d, tmp_path).values()
     assert png.stat().st_size > 0 and svg.exists()
+
+
+def test_the_widths_are_compared_with_the_binomial_noise_and_p_c_assumes_no_exponent(tiny_3d):
+    """The result carries the widths against sqrt(p (1 - p) / M), M the lattice's bond sites
+    read from the rows, and the rods-only p_c over the declared exponent range; the section
+    quotes them and no longer a nu from the widths."""
+    b, e = tiny_3d.binomial_widths, tiny_3d.pc_envelope
+    sizes = tiny_3d.pc_sizes
+    assert tiny_3d.sites == tuple(fcc_lattice(n, 0.0).n_sites for n in sizes)
+    assert b.dof == len(sizes) and np.all(b.total > 0)
+    # sqrt(p (1 - p) / M) at thresholds near 1/2: about 1 / (2 sqrt(M))
+    np.testing.assert_allclose(b.binomial * 2 * np.sqrt(tiny_3d.sites), 1.0, atol=0.02)
+    np.testing.assert_allclose(b.ratio, b.total / b.binomial)
+    assert len(e.fits) == three_d.X_3D.size  # three sizes: every size only
+    v = three_d.numbers(tiny_3d)
+    assert "w_nu" not in v and v["bw_dof"] == len(sizes)
+    text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
+    assert "binomial noise of the bond count" in text and "With none assumed" in text
+
+
+def test_the_committed_3d_widths_are_the_binomial_bond_count_noise():
+    """reports/3d: the standard deviations of the rods-only thresholds at n = 4 to 12 equal
+    sqrt(p (1 - p) / 6 n^3) within their errors (normal theory, sd / sqrt(2 (S - 1)), the
+    smallest a heavy tail allows): their fall with n is counting noise, not a nu. A geometric
+    part as large as the binomial one would be rejected."""
+    by = pd.read_csv(REPORTS / "3d" / "tables" / "three_d_by_size.csv")
+    rods = by[by.key == "rods_only_pc"].sort_values("n")
+    sites = [fcc_lattice(int(n), 0.0).n_sites for n in rods.n]
+    binomial = np.sqrt([limits.binomial_variance(p, 0.0, 0.0, m)
+                        for p, m in zip(rods.value, sites, strict=True)])  # fmt: skip
+    err = rods.width / np.sqrt(2 * (rods.samples - 1))
+    chi2, dof, p = limits.width_excess(rods.width, err, binomial)
+    assert dof == 5 and p >= limits.ACCEPT_P
+    assert limits.width_excess(rods.width, err, np.sqrt(2) * binomial)[2] < 1e-3
+
+
+def test_the_committed_3d_threshold_without_an_assumed_exponent():
+    """reports/3d's rods-only points over the declared exponent range: the envelope holds the
+    readings at the fitted nu and at 1/nu = 3 (each assuming its exponent) and is wider than
+    their difference; the literature's 0.495 lies inside it."""
+    by = pd.read_csv(REPORTS / "3d" / "tables" / "three_d_by_size.csv")
+    ex = pd.read_csv(REPORTS / "3d" / "tables" / "three_d_extrapolated.csv").set_index("key")
+    e = three_d.pc_envelope(by)
+    pc = ex.loc["rods_only_pc"]
+    for v in (pc.y_inf, pc.y_inf_first_order):
+        assert e.low <= v <= e.high
+    assert 2 * e.err > abs(pc.y_inf - pc.y_inf_first_order)
+    assert e.low <= REFERENCES["pc_fcc_chubynsky_thorpe"].value <= e.high
+
+
+def test_every_3d_limit_is_also_read_with_its_own_exponent(tiny_3d):
+    ex = tiny_3d.extrapolated.set_index("key")
+    for key in three_d.KEYS_3D:
+        s = tiny_3d.by_size[tiny_3d.by_size.key == key].sort_values("n")
+        n, y, err = (s[c].to_numpy(float) for c in ("n", "value", "err"))
+        lim = limits.limit_laws(n, y, err, laws=three_d.LIMIT_LAWS,
+                                rng=TINY_3D.rng("finite_size"))  # fmt: skip
+        np.testing.assert_equal((ex.loc[key].limit, ex.loc[key].limit_syst, ex.loc[key].limit_law),
+                                (lim.value, lim.syst, lim.law), err_msg=key)  # fmt: skip
+    side = three_d.report_tables(tiny_3d)["beside_2d"]
+    assert {"own", "fit_form", "laws"} <= set(side.columns)

@@ -33,8 +33,33 @@ LITERATURE = {
         "rigidity threshold p_c of the generic bond-diluted triangular lattice",
         0.6602741,
         0.0000004,
-        "Javerzat & Notarmuzi (2025), as quoted in the project's brief (not verified here)",
+        "Javerzat & Notarmuzi (2025), arXiv:2507.00741, as quoted in the project's brief "
+        "(not verified here)",
         "pebble game in Newman-Ziff order with wrapping detection, up to 5e8 nodes",
+    ),
+    "pc_dynamic_pebble": LiteratureValue(
+        "rigidity threshold p_c of the generic bond-diluted triangular lattice",
+        0.6602778,
+        0.0000010,
+        "High-precision Dynamic Monte Carlo Study of Rigidity Percolation (2026), "
+        "arXiv:2601.21399 (abstract read)",
+        "a dynamic pebble game adding bonds one at a time, event-based ensemble",
+    ),
+    "nu_dynamic_pebble": LiteratureValue(
+        "correlation-length exponent nu of generic rigidity percolation in 2D",
+        1.1765,
+        0.0042,
+        "High-precision Dynamic Monte Carlo Study of Rigidity Percolation (2026), "
+        "arXiv:2601.21399 (abstract read)",
+        "1/nu = 0.850(3) inverted: 1/0.850 = 1.1765, error 0.003/0.850^2 = 0.0042",
+    ),
+    "df_dynamic_pebble": LiteratureValue(
+        "fractal dimension of the rigid clusters at p_c",
+        1.850,
+        0.002,
+        "High-precision Dynamic Monte Carlo Study of Rigidity Percolation (2026), "
+        "arXiv:2601.21399 (abstract read)",
+        "the same runs' cluster masses at the threshold",
     ),
     "nu_javerzat_notarmuzi": LiteratureValue(
         "correlation-length exponent nu of generic rigidity percolation in 2D",

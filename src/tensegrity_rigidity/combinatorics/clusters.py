@@ -9,7 +9,7 @@ proofs: docs/guide/rigid-clusters.md.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -89,6 +89,10 @@ def _check_order(network: PeriodicNetwork, order) -> np.ndarray:
     return arr
 
 
+#: the kernel's argument when the matroid's components are not tracked
+NO_COMP = np.zeros(0, dtype=np.int64)
+
+
 def game_arrays(network: PeriodicNetwork) -> tuple[np.ndarray, ...]:
     """Ends and gains of every site, as the kernel takes them.
 
@@ -152,7 +156,7 @@ def first_wrapping(network: PeriodicNetwork, order: np.ndarray) -> int:
     network = _as_network(network)
     order = _check_order(network, order)
     eu, ev, gx, gy = game_arrays(network)
-    _, first, _, _ = pebble.play(network.n_nodes, eu, ev, gx, gy, order, True, False)
+    _, first, _, _ = pebble.play(network.n_nodes, eu, ev, gx, gy, order, True, False, NO_COMP)
     return int(first)
 
 
@@ -170,11 +174,18 @@ class SpanningCluster:
         that wraps the torus at the threshold (its mass is ``sites.size``).
     stressed : (k,) bool
         Which of ``sites`` are overconstrained (in some circuit) at the threshold: the
-        stressed part of the spanning cluster.
+        overconstrained part of the spanning cluster, the backbone and any stressed region
+        hinged to it.
     nodes : int
         Nodes that ``sites`` touch.
     stressed_nodes : int
         Nodes that the stressed sites touch.
+    backbone : (k,) bool
+        Which of ``sites`` lie in a circuit with the threshold bond (its connected component in
+        the rigidity matroid): the bonds a generic strain stresses at the threshold, the
+        load-carrying backbone (a stressed region hinged to it at one node carries no load).
+    backbone_nodes : int
+        Nodes that the backbone touches.
     """
 
     position: int
@@ -182,6 +193,8 @@ class SpanningCluster:
     stressed: np.ndarray
     nodes: int
     stressed_nodes: int
+    backbone: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    backbone_nodes: int = 0
 
 
 def spanning_cluster(network: PeriodicNetwork, order: np.ndarray) -> SpanningCluster:
@@ -198,13 +211,15 @@ def spanning_cluster(network: PeriodicNetwork, order: np.ndarray) -> SpanningClu
     -------
     SpanningCluster
         One incremental pass stopped at the threshold event (as :func:`first_wrapping`), with
-        the circuits tracked; then only the cluster of the threshold bond is grown, not every
-        cluster (which costs far more at large n, the clusters being many).
+        the circuits and the matroid's components tracked; then only the cluster of the
+        threshold bond is grown, not every cluster (which costs far more at large n, the
+        clusters being many).
     """
     network = _as_network(network)
     order = _check_order(network, order)
     eu, ev, gx, gy = game_arrays(network)
-    _, first, out, over = pebble.play(network.n_nodes, eu, ev, gx, gy, order, True, True)
+    comp = np.arange(network.n_sites, dtype=np.int64)
+    _, first, out, over = pebble.play(network.n_nodes, eu, ev, gx, gy, order, True, True, comp)
     if first < 0:
         empty = np.zeros(0, dtype=np.int64)
         return SpanningCluster(-1, empty, np.zeros(0, dtype=bool), 0, 0)
@@ -213,6 +228,7 @@ def spanning_cluster(network: PeriodicNetwork, order: np.ndarray) -> SpanningClu
     raw = pebble.label_clusters(network.n_nodes, eu, ev, gx, gy, seeds, out, 1)
     sites = np.flatnonzero(raw == 0).astype(np.int64)
     stressed = over[sites]
+    backbone = _roots(comp, sites) == _roots(comp, order[first : first + 1])[0]
     bonds = network.bonds[sites]
     return SpanningCluster(
         position=int(first),
@@ -220,7 +236,19 @@ def spanning_cluster(network: PeriodicNetwork, order: np.ndarray) -> SpanningClu
         stressed=stressed,
         nodes=int(np.unique(bonds).size),
         stressed_nodes=int(np.unique(bonds[stressed]).size),
+        backbone=backbone,
+        backbone_nodes=int(np.unique(bonds[backbone]).size),
     )
+
+
+def _roots(comp: np.ndarray, sites: np.ndarray) -> np.ndarray:
+    """The union-find root of each of ``sites`` in ``comp`` (no compression: read only)."""
+    roots = comp[sites]
+    while True:
+        up = comp[roots]
+        if np.array_equal(up, roots):
+            return roots
+        roots = up
 
 
 def rigid_clusters(network: PeriodicNetwork | Instance, as_rods: bool = False) -> RigidClusters:
@@ -270,7 +298,7 @@ def rigid_clusters(network: PeriodicNetwork | Instance, as_rods: bool = False) -
         )
     sites = np.flatnonzero(kinds != Element.EMPTY).astype(np.int64)
     eu, ev, gx, gy = game_arrays(net)
-    status, first, out, over = pebble.play(net.n_nodes, eu, ev, gx, gy, sites, False, True)
+    status, first, out, over = pebble.play(net.n_nodes, eu, ev, gx, gy, sites, False, True, NO_COMP)
     independent = status[sites] == pebble.INDEPENDENT
     seeds = np.r_[sites[independent], sites[~independent]]
     raw = pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, seeds, out)

@@ -217,12 +217,35 @@ def _reach(i, j, g0, g1, out, eu, ev, gx, gy, seen, stamp, px, py, lst):
 
 
 @nb.njit(cache=True)
-def _mark_out(lst, n, out, over):
+def _root(comp, x):
+    """Root of site x in the union-find forest ``comp`` (paths halved on the way)."""
+    while comp[x] != x:
+        comp[x] = comp[comp[x]]
+        x = comp[x]
+    return x
+
+
+@nb.njit(cache=True)
+def _join(comp, a, b):
+    """Put sites a and b in one set of ``comp`` (nothing when ``comp`` is empty)."""
+    if comp.size == 0:
+        return
+    ra = _root(comp, a)
+    rb = _root(comp, b)
+    if ra != rb:
+        comp[max(ra, rb)] = min(ra, rb)
+
+
+@nb.njit(cache=True)
+def _mark_out(lst, n, out, over, comp, b):
+    """Flag the out-bonds of the nodes ``lst[:n]`` (a circuit closed by bond b) and join them
+    with b in ``comp``."""
     for k in range(n):
         v = lst[k]
         for s in range(2):
             if out[v, s] >= 0:
                 over[out[v, s]] = True
+                _join(comp, out[v, s], b)
 
 
 @nb.njit(cache=True)
@@ -359,14 +382,15 @@ def _lifted_path(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path):
 
 
 @nb.njit(cache=True)
-def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path, over, track):
+def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path, over, track, comp, new):
     """Balancedness of the circuit of bond (i, j, g) when only 2 pebbles reach {i, j}.
 
     Step 1 (:func:`_lifted_path`): a directed path in the lift to another image of i or j
     holding a pebble; its reversal (an overlay: the game itself is not changed) puts a third
     pebble on the pair. Step 2: the reach of the pair in the modified lift meets every node at
     one potential iff the circuit is balanced. Returns True for a balanced circuit; with
-    ``track``, flags the circuit's bonds in ``over``.
+    ``track``, flags the circuit's bonds in ``over`` and joins them with the new bond ``new``
+    in ``comp``.
     """
     npath = _lifted_path(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path)
     if npath < 0:  # cannot happen for an independent set; be conservative
@@ -420,13 +444,18 @@ def _lifted_test(i, j, g0, g1, out, eu, ev, gx, gy, stamp, work, path, over, tra
                         lst[m] = w
                         m += 1
     if track:
-        _mark_circuit(mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv, ohx, ohy, over)
+        _mark_circuit(
+            mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv, ohx, ohy, over, comp, new
+        )
     return True
 
 
 @nb.njit(cache=True)
-def _mark_circuit(mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv, ohx, ohy, over):
-    """Flag the bonds of a balanced circuit: out-bonds of its nodes in the modified lift."""
+def _mark_circuit(
+    mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv, ohx, ohy, over, comp, new
+):
+    """Flag the bonds of a balanced circuit: out-bonds of its nodes in the modified lift; join
+    them with the bond ``new`` that closed it in ``comp``."""
     for k in range(m):
         v = lst[k]
         for s in range(2):
@@ -435,14 +464,16 @@ def _mark_circuit(mark, ost, m, lst, out, px, py, npath, oe, otv, otx, oty, ohv,
                 continue
             if not (mark[v] == ost and _reversed(b, v, px[v], py[v], npath, oe, otv, otx, oty)):
                 over[b] = True
+                _join(comp, b, new)
         if mark[v] == ost:
             for t in range(npath):
                 if ohv[t] == v and ohx[t] == px[v] and ohy[t] == py[v]:
                     over[oe[t]] = True
+                    _join(comp, oe[t], new)
 
 
 @nb.njit(cache=True)
-def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
+def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits, comp):
     """Insert the bonds ``order`` one by one into a fixed-torus pebble game.
 
     Parameters
@@ -457,6 +488,12 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
         Stop after the first bond whose circuit is unbalanced.
     track_circuits : bool
         Flag the bonds of every fundamental circuit (the overconstrained bonds).
+    comp : (m,) or (0,) int64
+        With ``track_circuits``, a union-find forest over the sites (``comp[s] = s`` on entry)
+        in which every fundamental circuit's bonds are joined: its sets are then the connected
+        components of the rigidity matroid of the bonds inserted (two bonds share a set iff some
+        circuit holds both; the fundamental circuits of one basis connect exactly these).
+        Empty: not tracked.
 
     Returns
     -------
@@ -495,7 +532,7 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
                 if ok:  # the minimal tight set plus b is balanced: dependent, balanced circuit
                     status[b] = BALANCED
                     if track_circuits:
-                        _mark_out(lst, n, out, over)
+                        _mark_out(lst, n, out, over, comp, b)
                         over[b] = True
                 else:
                     status[b] = INDEPENDENT
@@ -515,6 +552,8 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
                     path,
                     over,
                     track_circuits,
+                    comp,
+                    b,
                 )
                 if bal:
                     status[b] = BALANCED
@@ -524,7 +563,7 @@ def play(n_nodes, eu, ev, gx, gy, order, stop_at_wrap, track_circuits):
                         n, _ = _reach(
                             i, j, gx[b], gy[b], out, eu, ev, gx, gy, seen, stamp, px, py, lst
                         )
-                        _mark_out(lst, n, out, over)
+                        _mark_out(lst, n, out, over, comp, b)
                 if track_circuits:
                     over[b] = True
             if status[b] == INDEPENDENT:

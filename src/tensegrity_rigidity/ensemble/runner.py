@@ -27,7 +27,7 @@ from ..solver.core import solve
 from .inexact import paper_verdict
 from .jamming import packing_record
 from .spec import GridPoint, Spec
-from .thresholds import find_threshold, pebble_pass
+from .thresholds import elements_at, find_threshold, pebble_pass
 
 
 def sample_rng(point: GridPoint, k: int) -> np.random.Generator:
@@ -203,7 +203,12 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
         the spanning rigid cluster at the threshold
         (:class:`~tensegrity_rigidity.combinatorics.clusters.SpanningCluster`): its bond sites
         ``cluster_sites`` and nodes ``cluster_nodes``, and those of its stressed
-        (overconstrained) part, ``stressed_sites`` and ``stressed_nodes`` (0 when never rigid).
+        (overconstrained) part, ``stressed_sites`` and ``stressed_nodes``, and its
+        load-carrying backbone (the threshold bond's component in the rigidity matroid),
+        ``backbone_sites`` and ``backbone_nodes`` (0 when never rigid). Every row also counts
+        the ``sites`` of its lattice and the elements just after its threshold,
+        ``threshold_rods`` and ``threshold_one_sided`` (NaN when never rigid:
+        :func:`~tensegrity_rigidity.ensemble.thresholds.elements_at`).
     """
     assert spec.threshold is not None, "threshold_chunk needs a threshold spec"
     opts = spec.solver_options()
@@ -222,9 +227,12 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
                 "cluster_nodes": cl.nodes,
                 "stressed_sites": int(cl.stressed.sum()),
                 "stressed_nodes": cl.stressed_nodes,
+                "backbone_sites": int(cl.backbone.sum()),
+                "backbone_nodes": cl.backbone_nodes,
             }
         else:
             th = find_threshold(net, u, v, strain, point.p_t, point.f_c, path, opts, method)
+        rods, one_sided = elements_at(u, th.s, point.p_t, path)
         rows.append(
             key_columns(spec, point, k, theta)
             | {
@@ -238,6 +246,9 @@ def threshold_chunk(spec: Spec, point: GridPoint, samples: list[int]) -> pd.Data
                 "solves": th.solves,
                 "decided": th.decided,
                 "solve_seconds": time.perf_counter() - start,
+                "sites": net.n_sites,
+                "threshold_rods": rods,
+                "threshold_one_sided": one_sided,
             }
             | extra
         )

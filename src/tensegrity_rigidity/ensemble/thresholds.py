@@ -458,6 +458,35 @@ def pebble_pass(
     return Threshold(s, p_t, 0, s, s), cluster
 
 
+def elements_at(u: np.ndarray, s: float, p_t: float, path: str = "p_r") -> tuple[float, float]:
+    """Rods and one-sided elements of the first rigid configuration of a path.
+
+    Parameters
+    ----------
+    u : (m,) float
+        The sample's site uniforms.
+    s : float
+        Its threshold (:attr:`Threshold.s`; NaN: never rigid).
+    p_t, path
+        As :func:`find_threshold`.
+
+    Returns
+    -------
+    rods, one_sided : float
+        The counts in the configuration after every event at or below ``s`` (the threshold
+        event's own site included; events, not a comparison of ``u`` with ``s + p_t``, whose
+        rounding can differ), NaN when ``s`` is: a threshold in bond counts, whose
+        fluctuations are the geometric part of the threshold's (the rest comes from the
+        binomial numbers of sites below each ``p``).
+    """
+    if not np.isfinite(s):
+        return np.nan, np.nan
+    ev = EventPath(u, np.zeros_like(u), path, p_t, 1.0)
+    kinds = ev.kinds(int(np.searchsorted(ev.positions, s, side="right")))
+    rods = int(np.count_nonzero(kinds == Element.ROD))
+    return float(rods), float(np.count_nonzero(kinds == Element.CABLE))
+
+
 def _violated(network: PeriodicNetwork, strain: np.ndarray, cert, res, cable: np.ndarray):
     """Where a floppy certificate would be violated as a rod, resp. as the site's one-sided
     kind, on every site (two (m,) bool arrays), evaluated like the certificate itself."""

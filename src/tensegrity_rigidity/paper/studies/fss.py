@@ -23,6 +23,7 @@ import pandas as pd
 from matplotlib.ticker import NullLocator
 
 from ...analysis import estimators as an
+from ...analysis import limits
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, REPLICATION, Measurement
 from ..comparison import fmt
@@ -53,6 +54,21 @@ T = load(NAME)
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 #: the same by the pebble game (the pc scale): errors 1.1e-4 to 2.2e-4 per size
 PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 200))
+#: the rods-only transition's own correlation-length exponent: the calibration fixes nu here
+#: (p_c is then a linear fit) instead of fitting it, and borrows no other transition's
+NU_PC = REFERENCES["nu_javerzat_notarmuzi"]
+#: the literature's p_c the calibration is set beside: two recent values 3.4 errors apart
+PC_ANCHORS = ("pc_javerzat_notarmuzi", "pc_dynamic_pebble")
+#: exponents of the one correction to scaling, p_c + a n^(-1/nu) (1 + b n^-omega): the
+#: leading correction of 2D rigidity percolation is not known, so a range that spans those of
+#: 2D percolation-type transitions; the spread of p_c over the fits the data allow is its
+#: systematic. The reference fit takes OMEGA_REF over every size
+OMEGAS = (0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0)
+OMEGA_REF = 1.0
+#: the laws every claim's limit is read from besides the nu-fixed extrapolations: a finite
+#: limit with the claim's own correction exponent, and no size dependence (no headline claim
+#: can vanish, so no power law to zero); the spread over the allowed ones is the systematic
+LIMIT_LAWS = ("finite", "constant")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -128,8 +144,9 @@ class FiniteSizeResult(Result):
     (``*_nu_check``). ``nu_z``, ``pc_z``: the free fit against the literature;
     ``pc_at_check_nu``: the rods-only fit with nu fixed there; ``pc_widths``: the widths
     reading (:class:`~tensegrity_rigidity.analysis.scaling.WidthScaling`); ``pc_by_smallest``:
-    :func:`pc_by_smallest_size`; ``fractal``, ``fractal_by_size``, ``picture``: the pebble
-    game's clusters (:func:`fractal_dimensions`, :func:`cluster_picture`).
+    :func:`pc_by_smallest_size`; ``pc_calibration``: :func:`pc_calibration`; ``fractal``,
+    ``fractal_by_size``, ``picture``: the pebble game's clusters (:func:`fractal_dimensions`,
+    :func:`cluster_picture`).
     """
 
     by_size: pd.DataFrame
@@ -148,6 +165,7 @@ class FiniteSizeResult(Result):
     pc_widths_z: float = float("nan")
     pc_widths_nu_z: float = float("nan")
     pc_by_smallest: pd.DataFrame | None = None
+    pc_calibration: limits.CorrectedLimit | None = None
     fractal: pd.DataFrame | None = None
     fractal_by_size: pd.DataFrame | None = None
     picture: ClusterPicture | None = None
@@ -274,6 +292,28 @@ def pc_by_smallest_size(n, y, err, scale: Scale) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def pc_calibration(n, y, err) -> limits.CorrectedLimit | None:
+    """The rods-only p_c as a calibration: nu fixed at :data:`NU_PC` with its error, one
+    correction to scaling for each omega of :data:`OMEGAS`, from every size and without the
+    smallest (:func:`~tensegrity_rigidity.analysis.limits.corrected_limit`); None with fewer
+    than four sizes (three parameters and a degree of freedom)."""
+    n = np.asarray(n, float)
+    if n.size < 4:
+        return None
+    n_mins = tuple(float(m) for m in np.sort(n)[: 1 + (n.size >= 5)])
+    return limits.corrected_limit(n, y, err, NU_PC.value, NU_PC.error or 0.0, OMEGAS,
+                                  OMEGA_REF, n_mins)  # fmt: skip
+
+
+def calibration_table(c: limits.CorrectedLimit) -> pd.DataFrame:
+    """One row per fit of a calibration: ``n_min``, ``omega``, ``p_c``, ``p_c_err``, ``chi2``,
+    ``dof``, ``p_value``, ``allowed``."""
+    return pd.DataFrame([{"n_min": int(f.n_min), "omega": f.omega, "p_c": f.p_c,
+                          "p_c_err": f.p_c_err, "chi2": f.chi2, "dof": f.dof,
+                          "p_value": f.p_value, "allowed": f.acceptable}
+                         for f in c.fits])  # fmt: skip
+
+
 def _own_pc(rows: Rows, scale: Scale, excluded: dict) -> tuple[pd.DataFrame, list, list]:
     """The rods-only point at each size of its own sweeps: rows of ``by_size``, the thresholds
     per size and the rows per size."""
@@ -355,7 +395,7 @@ def extrapolate(by_size: pd.DataFrame, scale: Scale, *, pc_widths=None, excluded
     nu_check, nu_check_err = NU_CHECK.value, NU_CHECK.error or 0.0
     checks = {key: an.fit_finite_size(*series[key], nu=nu_check, nu_err=nu_check_err,
                                       rng=rng("finite_size")) for key in fits}  # fmt: skip
-    ex = _extrapolated(fits, checks)
+    ex = with_laws(_extrapolated(fits, checks), series, scale)
     w = pc_widths
     z = {
         "nu_z": an.agreement_z(pc_fit.nu, pc_fit.nu_err**2, nu_check, nu_check_err),
@@ -385,6 +425,7 @@ def extrapolate(by_size: pd.DataFrame, scale: Scale, *, pc_widths=None, excluded
         excluded=excluded or {},
         pc_widths=w,
         pc_by_smallest=pc_by_smallest_size(*series["rods_only_pc"], scale),
+        pc_calibration=pc_calibration(*series["rods_only_pc"]),
         nu_z=z["nu_z"],
         pc_z=z["pc_z"],
         pc_at_check_nu_z=z["pc_at_check_nu_z"],
@@ -407,6 +448,30 @@ def _extrapolated(fits: dict, checks: dict) -> pd.DataFrame:
     ex["z_paper_nu_check"] = [z for z, _ in fixed]
     ex["verdict_paper_nu_check"] = [v for _, v in fixed]
     return ex
+
+
+def with_laws(ex: pd.DataFrame, series: dict, scale: Scale) -> pd.DataFrame:
+    """``ex`` with each key's limit from :data:`LIMIT_LAWS`
+    (:func:`~tensegrity_rigidity.analysis.limits.limit_laws`), borrowing no exponent:
+    ``limit_law`` (the first law allowed), ``limit`` (NaN where none is), ``limit_stat``,
+    ``limit_syst`` (the fit-form systematic), ``limit_low``, ``limit_high``, the finite law's
+    exponent ``limit_x``, ``limit_x_err``, ``limit_x_at_bound`` (an end of the profiled range:
+    not determined), ``limit_chi2``, ``limit_dof``, and ``limit_laws``, the laws the data
+    allow (comma-separated)."""
+    out = []
+    for key in ex.key:
+        n, y, err = series[key]
+        lim = limits.limit_laws(n, y, err, laws=LIMIT_LAWS, n_boot=scale.bootstrap,
+                                rng=scale.rng("finite_size"))  # fmt: skip
+        f = lim.fits[LIMIT_LAWS[0]]
+        fitting = ",".join(k for k, g in lim.fits.items() if g.acceptable)
+        out.append({"limit_law": lim.law, "limit": lim.value, "limit_stat": lim.stat,
+                    "limit_syst": lim.syst,
+                    "limit_low": lim.low, "limit_high": lim.high, "limit_x": f.x,
+                    "limit_x_err": f.x_err, "limit_x_at_bound": f.x_at_bound,
+                    "limit_chi2": f.chi2, "limit_dof": f.dof,
+                    "limit_laws": fitting})  # fmt: skip
+    return pd.concat([ex.reset_index(drop=True), pd.DataFrame(out)], axis=1)
 
 
 def _samples_text(p: Params, key: str) -> str:
@@ -559,8 +624,44 @@ def numbers(r: FiniteSizeResult) -> dict:
         "changed_claims": "; ".join(CLAIMS[k].text for k in changed) or None,
         **_widths(r),
         **_smallest(r),
+        **_calibration(r),
         **_clusters(r),
+        **_laws(r),
     }
+
+
+def _laws(r: FiniteSizeResult) -> dict:
+    """How many extrapolated claims each law of :data:`LIMIT_LAWS` fits."""
+    ex = r.extrapolated
+    if "limit_laws" not in ex or not len(ex):
+        return {}
+    allowed = [set(filter(None, v.split(","))) for v in ex.limit_laws.fillna("")]
+    return {"laws_total": len(ex), "laws_finite": sum("finite" in a for a in allowed),
+            "laws_constant": sum("constant" in a for a in allowed),
+            "laws_none": sum(not a for a in allowed),
+            "laws_syst": int(np.sum(ex.limit_syst > 0)), "laws_x_lo": limits.X_GRID[0],
+            "laws_x_hi": limits.X_GRID[-1]}  # fmt: skip
+
+
+def _calibration(r: FiniteSizeResult) -> dict:
+    """The calibration's numbers (empty without one): p_c with its statistical and fit-form
+    errors, the fits tried, and z against each anchor with both errors and the anchor's."""
+    c = r.pc_calibration
+    if c is None or not np.isfinite(c.value):
+        return {}
+    a, b = (REFERENCES[k] for k in PC_ANCHORS)
+    out = {"cal_pc": fmt(c.value, c.stat), "cal_syst": c.syst, "cal_nu": NU_PC.value,
+           "cal_nu_err": NU_PC.error, "cal_omega_ref": OMEGA_REF, "cal_omega_lo": min(OMEGAS),
+           "cal_omega_hi": max(OMEGAS), "cal_n_mins": sorted({int(f.n_min) for f in c.fits}),
+           "cal_allowed": c.allowed, "cal_fits": len(c.fits), "cal_lo": c.low, "cal_hi": c.high,
+           "anchors_z": abs(a.value - b.value)
+           / np.hypot(a.error or 0.0, b.error or 0.0)}  # fmt: skip
+    for i, ref in enumerate((a, b)):
+        out |= {f"anchor{i}": ref.value, f"anchor{i}_err": ref.error,
+                f"anchor{i}_who": ref.citation.split(",")[0].split(" (")[0],
+                f"anchor{i}_z": abs(c.value - ref.value)
+                / np.hypot(np.hypot(c.stat, c.syst), ref.error or 0.0)}  # fmt: skip
+    return out
 
 
 def _clusters(r: FiniteSizeResult) -> dict:
@@ -587,6 +688,11 @@ def _by_size_table(r: FiniteSizeResult) -> pd.DataFrame:
     table[f"n -> inf, nu = {NU_CHECK.value}"] = [fmt(x.y_inf_nu_check, x.y_inf_nu_check_err)
                                                  for x in rows]  # fmt: skip
     table[f"z_paper, nu = {NU_CHECK.value}"] = [f"{x.z_paper_nu_check:.2f}" for x in rows]
+    table["n -> inf, laws"] = [fmt(x.limit, x.limit_stat) for x in rows]
+    table["fit form"] = [f"{x.limit_syst:.2g}" for x in rows]
+    table["own x"] = [f"{x.limit_x:.2f}" + (" " + T.label("at_bound")) * bool(x.limit_x_at_bound)
+                      for x in rows]  # fmt: skip
+    table["laws allowed"] = [x.limit_laws or "-" for x in rows]
     return table
 
 
@@ -604,6 +710,19 @@ def _smallest_table(r: FiniteSizeResult) -> pd.DataFrame | None:
         "p_c_fixed": [fmt(x.p_c_fixed, x.p_c_fixed_err) for x in t.itertuples()],
         "chi2_fixed": [f"{x.chi2_fixed:.2f} / {x.dof_fixed}" for x in t.itertuples()],
         "z_fixed": [f"{x.z_fixed:.2f}" for x in t.itertuples()],
+    })  # fmt: skip
+
+
+def _calibration_table(r: FiniteSizeResult) -> pd.DataFrame | None:
+    c = r.pc_calibration
+    if c is None:
+        return None
+    return pd.DataFrame({
+        "sizes": [f"n >= {int(f.n_min)}" for f in c.fits],
+        "omega": [f"{f.omega:g}" for f in c.fits],
+        "p_c_cal": [fmt(f.p_c, f.p_c_err) for f in c.fits],
+        "chi2": [f"{f.chi2:.2f} / {f.dof}" for f in c.fits],
+        "allowed": [T.label("yes" if f.acceptable else "no") for f in c.fits],
     })  # fmt: skip
 
 
@@ -632,20 +751,25 @@ def _cluster_tables(r: FiniteSizeResult) -> dict:
         r.pc_at_check_nu,
     )
     pcs, nus = (
-        ("pc_javerzat_notarmuzi", "pc_jacobs_thorpe"),
-        ("nu_javerzat_notarmuzi", "nu_moukarzel_duxbury", "nu_jacobs_thorpe"),
+        (*PC_ANCHORS, "pc_jacobs_thorpe"),
+        ("nu_javerzat_notarmuzi", "nu_dynamic_pebble", "nu_moukarzel_duxbury", "nu_jacobs_thorpe"),
     )
     rows = _against("p_c", T.label("how.free"), pc.y_inf, pc.y_inf_err, pcs)
     if fixed is not None:
         rows += _against("p_c", T.label("how.fixed", nu=NU_CHECK.value), fixed.y_inf,
                          fixed.y_inf_err, pcs)  # fmt: skip
+    c = r.pc_calibration
+    if c is not None and np.isfinite(c.value):
+        rows += _against("p_c", T.label("how.calibration", nu=NU_PC.value, lo=min(OMEGAS),
+                                        hi=max(OMEGAS)), c.value, float(np.hypot(c.stat, c.syst)),
+                         pcs)  # fmt: skip
     if w is not None and np.isfinite(w.p_c):
         rows += _against("p_c", T.label("how.widths"), w.p_c, w.p_c_err, pcs)
     rows += _against("nu", T.label("how.nu"), pc.nu, pc.nu_err, nus)
     if w is not None and np.isfinite(w.nu):
         rows += _against("nu", T.label("how.nu_widths"), w.nu, w.nu_err, nus)
     f = r.fractal
-    refs = {"rigid": ("df_rigid_javerzat_notarmuzi", "df_rigid_jacobs_thorpe"),
+    refs = {"rigid": ("df_rigid_javerzat_notarmuzi", "df_dynamic_pebble", "df_rigid_jacobs_thorpe"),
             "stressed": ("df_stressed_jacobs_thorpe",)}  # fmt: skip
     for x in f[f.mass == "nodes"].itertuples():  # sites: tables/pc_fractal_dimensions
         how = T.label("how.df", n_min=None if x.n_min == f.n_min.min() else x.n_min,
@@ -659,7 +783,8 @@ def _cluster_tables(r: FiniteSizeResult) -> dict:
 
 
 def report_tables(r: FiniteSizeResult) -> dict:
-    out = {"by_size": _by_size_table(r), "smallest": _smallest_table(r), **_cluster_tables(r)}
+    out = {"by_size": _by_size_table(r), "smallest": _smallest_table(r),
+           "calibration": _calibration_table(r), **_cluster_tables(r)}  # fmt: skip
     return {k: v for k, v in out.items() if v is not None}
 
 
@@ -763,7 +888,9 @@ def figures(r: FiniteSizeResult, figdir) -> dict:
 def tables(r: FiniteSizeResult) -> dict:
     out = {"fss_by_size": r.by_size, "fss_extrapolated": r.extrapolated,
            "fss_pc_by_smallest_size": r.pc_by_smallest, "pc_fractal_dimensions": r.fractal,
-           "pc_cluster_masses": r.fractal_by_size}  # fmt: skip
+           "pc_cluster_masses": r.fractal_by_size,
+           "pc_calibration_fits": None if r.pc_calibration is None
+           else calibration_table(r.pc_calibration)}  # fmt: skip
     return {k: v for k, v in out.items() if v is not None}
 
 

@@ -22,6 +22,7 @@ import numpy as np
 import pandas as pd
 
 from ...analysis import estimators as an
+from ...analysis import limits
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, TWO_D_OURS, Measurement
 from ..comparison import fmt
@@ -64,6 +65,13 @@ PC_3D_CHECK = REFERENCES["pc_fcc_chubynsky_thorpe"]
 PC_3D_MAXWELL = REFERENCES["pc_fcc_maxwell"]
 #: the second extrapolation's exponent: a first-order transition's shift, 1/nu = d = 3
 NU_FIRST_ORDER = 1.0 / 3.0
+#: the exponents x of ``y_inf + a n^-x`` the rods-only p_c is extrapolated over when no
+#: exponent is assumed: 1/nu for nu from 1/3 (1/nu = d, the shift of a first-order
+#: transition) to 2 (well above 3D percolation's 0.88)
+X_3D = np.round(np.arange(0.5, 3.0001, 0.05), 2)
+#: the laws of each quantity's limit with no exponent borrowed (analysis.limits): a finite
+#: limit with its own exponent, and no size dependence
+LIMIT_LAWS = ("finite", "constant")
 #: a size with fewer samples per point than this has error bars that are themselves uncertain
 #: by 1 / sqrt(2 (S - 1)) or more (the scales' floor wherever an error bar is compared)
 ERROR_FLOOR_SAMPLES = 24
@@ -131,7 +139,12 @@ class ThreeDResult(Result):
     ``extrapolated``: per key the fit with nu fitted to the rods-only points (``y_inf``, ``a``,
     ``nu``, ``chi2``, ...) and with 1/nu = 3 (``*_first_order``); ``widths``: the rods-only
     threshold distributions against n; ``strain_free``, ``half_strain_free``: the fractions of
-    samples whose threshold is the same under the strains (rods only; f_c = 0.5)."""
+    samples whose threshold is the same under the strains (rods only; f_c = 0.5);
+    ``pc_envelope``: the rods-only p_c over every exponent of :data:`X_3D` the data allow
+    (:func:`~tensegrity_rigidity.analysis.limits.exponent_envelope`); ``binomial_widths``: the
+    widths of the rods-only thresholds against the binomial bond-count noise alone
+    (:func:`~tensegrity_rigidity.analysis.limits.widths_against_binomial`), ``sites`` the
+    lattice's bonds M at each rods-only size."""
 
     by_size: pd.DataFrame
     extrapolated: pd.DataFrame
@@ -142,6 +155,9 @@ class ThreeDResult(Result):
     widths: Any = None
     strain_free: float = float("nan")
     half_strain_free: float = float("nan")
+    pc_envelope: Any = None
+    binomial_widths: Any = None
+    sites: tuple[int, ...] = ()
 
     def at(self, key: str, n: int) -> tuple[float, float]:
         """(value, error) of one quantity at size n."""
@@ -202,10 +218,11 @@ def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
     p = scale[NAME]
     parts = {name: frame for name, (frame, _) in rows.items()}
     by_size, straddle = _lambdas(parts, p.sizes, scale)
-    pc_sizes, per_size = sorted(set(p.sizes) | {m for m, _ in p.pc}), []
+    pc_sizes, per_size, sites = sorted(set(p.sizes) | {m for m, _ in p.pc}), [], []
     for n in pc_sizes:
         rods = parts[f"fcc_rods_n{n}"]
         per_size.append(rods.threshold_p_r.to_numpy(float))
+        sites.append(int(rods.sites.iloc[0]))
         value, err = an.critical_point(per_size[-1], rng=scale.rng("critical_point"))
         width = (rods.threshold_p_r_high - rods.threshold_p_r_low).to_numpy(float)
         spread = float(np.std(per_size[-1], ddof=1)) if per_size[-1].size > 1 else np.nan
@@ -216,20 +233,39 @@ def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
     widths = (an.width_scaling(np.asarray(pc_sizes, float), per_size, rng=scale.rng("widths"))
               if len(pc_sizes) >= 3 else None)  # fmt: skip
     strain_free, half_free = _same_thresholds(parts, p.sizes)
+    binomial = (limits.widths_against_binomial(per_size, sites, n_boot=scale.bootstrap,
+                                               rng=scale.rng("binomial_widths"))
+                if per_size else None)  # fmt: skip
     return ThreeDResult(
         by_size=by, extrapolated=extrapolate(by, scale.rng), sizes=tuple(p.sizes),
         samples=tuple(p.samples), pc_sizes=tuple(pc_sizes),
         pc_samples=tuple(len(t) for t in per_size),
         excluded={name: count for name, (_, count) in rows.items()}, widths=widths,
-        strain_free=strain_free, half_strain_free=half_free,
+        strain_free=strain_free, half_strain_free=half_free, pc_envelope=pc_envelope(by),
+        binomial_widths=binomial, sites=tuple(sites),
         straddling=interval_straddles(pd.concat(straddle, ignore_index=True), FIT_P_R_3D)
         if straddle else None,
     )  # fmt: skip
 
 
+def pc_envelope(by_size: pd.DataFrame) -> limits.Envelope | None:
+    """The rods-only p_c with no exponent assumed: ``y_inf + a n^-x`` at every x of
+    :data:`X_3D`, from every size and without the smallest (with four sizes or more), the
+    union of the allowed fits' intervals; None with fewer than three sizes."""
+    s = by_size[by_size.key == "rods_only_pc"].sort_values("n")
+    n = s.n.to_numpy(float)
+    if n.size < 3:
+        return None
+    n_mins = tuple(float(m) for m in n[: 1 + (n.size >= 4)])
+    return limits.exponent_envelope(n, s.value.to_numpy(float), s.err.to_numpy(float), X_3D,
+                                    n_mins)  # fmt: skip
+
+
 def extrapolate(by_size: pd.DataFrame, rng) -> pd.DataFrame:
-    """Each quantity of ``by_size`` extrapolated to n -> infinity in the two readings (``rng``:
-    a scale's ``rng``)."""
+    """Each quantity of ``by_size`` extrapolated to n -> infinity in the two readings, and by
+    :data:`LIMIT_LAWS` with the quantity's own exponent (``limit_law``, the first allowed,
+    ``limit``, ``limit_stat``, the fit-form systematic ``limit_syst``, the allowed
+    ``limit_laws``; NaN where none is); ``rng``: a scale's ``rng``."""
 
     def series(key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s = by_size[by_size.key == key].sort_values("n")
@@ -242,11 +278,16 @@ def extrapolate(by_size: pd.DataFrame, rng) -> pd.DataFrame:
         free = pc if key == "rods_only_pc" else an.fit_finite_size(
             n, y, err, nu=pc.nu, nu_err=pc.nu_err, rng=rng("finite_size"))  # fmt: skip
         first = an.fit_finite_size(n, y, err, nu=NU_FIRST_ORDER, rng=rng("finite_size"))
+        lim = limits.limit_laws(n, y, err, laws=LIMIT_LAWS, rng=rng("finite_size"))
+        fitting = ",".join(k for k, f in lim.fits.items() if f.acceptable)
         rows.append({"key": key, "y_inf": free.y_inf, "y_inf_err": free.y_inf_err, "a": free.a,
                      "nu": free.nu, "nu_err": free.nu_err, "chi2": free.chi2, "dof": free.dof,
                      "y_inf_first_order": first.y_inf, "y_inf_first_order_err": first.y_inf_err,
                      "a_first_order": first.a, "chi2_first_order": first.chi2,
-                     "dof_first_order": first.dof})  # fmt: skip
+                     "dof_first_order": first.dof, "limit": lim.value, "limit_stat": lim.stat,
+                     "limit_law": lim.law,
+                     "limit_syst": lim.syst,
+                     "limit_laws": fitting})  # fmt: skip
     return pd.DataFrame(rows)
 
 
@@ -314,12 +355,13 @@ def numbers(r: ThreeDResult) -> dict:
     few = [n for n, s in zip(r.sizes, r.samples, strict=True) if s < ERROR_FLOOR_SAMPLES]
     lam = r.by_size[r.by_size.key != "rods_only_pc"]
     dz = np.abs(lam.value - lam.contour) / np.hypot(lam.err, lam.contour_err)
-    w = r.widths if r.widths is not None and np.isfinite(r.widths.p_c) else None
     half, cables = (_group(r, keys, few) for keys in (tuple(LAMBDA_3D)[:3], tuple(LAMBDA_3D)[3:]))
     z_check = an.agreement_z(
         pc.y_inf_first_order, pc.y_inf_first_order_err**2, PC_3D_CHECK.value, 0.0
     )
     return {
+        **_envelope(r),
+        **_binomial(r),
         "node_disorder": DEFAULT_DELTA,
         "p_t": COLLAPSE_PT,
         "counts": [
@@ -340,9 +382,6 @@ def numbers(r: ThreeDResult) -> dict:
         if np.isfinite(pc.nu) and np.any(np.isclose(1 / pc.nu, an.THETA, rtol=1e-6))
         else None,
         "pc_first": fmt(pc.y_inf_first_order, pc.y_inf_first_order_err),
-        "w_pc": None if w is None else fmt(w.p_c, w.p_c_err),
-        "w_nu": None if w is None else w.nu,
-        "w_nu_err": None if w is None else w.nu_err,
         "misfit": misfit(pc.chi2_first_order, pc.dof_first_order),
         "check": PC_3D_CHECK.value,
         "from_check": PC_3D_CHECK.value - pc.y_inf_first_order,
@@ -362,6 +401,33 @@ def numbers(r: ThreeDResult) -> dict:
     }
 
 
+def _envelope(r: ThreeDResult) -> dict:
+    """The exponent-agnostic p_c's numbers (empty without one)."""
+    e = r.pc_envelope
+    if e is None or not np.isfinite(e.value):
+        return {}
+    return {"env_pc": fmt(e.value, e.err), "env_lo": e.low, "env_hi": e.high,
+            "env_x_lo": float(X_3D[0]), "env_x_hi": float(X_3D[-1]), "env_allowed": e.allowed,
+            "env_fits": len(e.fits), "env_n_mins": sorted({int(f.n_min) for f in e.fits}),
+            "env_x_low": e.x_low, "env_x_high": e.x_high,
+            "env_z": an.agreement_z(e.value, e.err**2, PC_3D_CHECK.value, 0.0)}  # fmt: skip
+
+
+def _binomial(r: ThreeDResult) -> dict:
+    """The widths against the binomial bond-count noise (empty without them)."""
+    b = r.binomial_widths
+    if b is None or b.dof == 0:
+        return {}
+    counting = b.p_value >= limits.ACCEPT_P
+    return {"bw_n": list(r.pc_sizes), "bw_sites": list(r.sites),
+            "bw_total": [f"{t:.4f}" for t in b.total],
+            "bw_binomial": [f"{t:.4f}" for t in b.binomial],
+            "bw_ratio": [fmt(v, e, 2) for v, e in zip(b.ratio, b.ratio_err, strict=True)],
+            "bw_chi2": b.chi2, "bw_dof": b.dof, "bw_p": b.p_value,
+            "bw_counting": "" if counting else None,
+            "bw_geometric": None if counting else ""}  # fmt: skip
+
+
 def report_tables(r: ThreeDResult) -> dict:
     """Each quantity per size (samples in brackets), and each beside its 2D values."""
     wide = pd.DataFrame({"quantity": [T.label(f"quantity.{k}") for k in KEYS_3D]})
@@ -370,6 +436,7 @@ def report_tables(r: ThreeDResult) -> dict:
         wide[f"n = {n}"] = [f"{fmt(s.value[k], s.err[k])} ({int(s.samples[k])})" if k in s.index
                             else "" for k in KEYS_3D]  # fmt: skip
     b = beside_2d(r)
+    ex_rows = [r.extrapolated.set_index("key").loc[k] for k in b.key]
     side = pd.DataFrame({
         "quantity": [T.label(f"quantity.{k}") for k in b.key],
         "largest": [f"{fmt(v, e)} (n = {n})" for v, e, n in zip(b.largest, b.largest_err, b.n_max,
@@ -380,6 +447,9 @@ def report_tables(r: ThreeDResult) -> dict:
         "ours_2d": [fmt(TWO_D_OURS[k].value, TWO_D_OURS[k].error) for k in b.key],
         "paper_2d": list(b.paper_2d), "z_2d": [f"{z:.2f}" for z in b.z_2d],
         "z_2d_inf": [f"{z:.2f}" for z in b.z_2d_inf],
+        "own": [fmt(x.limit, x.limit_stat) for x in ex_rows],
+        "fit_form": [f"{x.limit_syst:.2g}" for x in ex_rows],
+        "laws": [x.limit_laws or "-" for x in ex_rows],
     })  # fmt: skip
     return {"by_size": wide, "beside_2d": side}
 
