@@ -1,9 +1,11 @@
 """Fig. 1C: S_t/S_r versus the cable fraction f_c, per strain and averaged over strains.
 
-A binomial-likelihood fit of P = F(p_r + lam p_t) to per-sample thresholds along p_r at
-p_t = 0 and :data:`~.rows.COLLAPSE_PT` (:func:`~tensegrity_rigidity.analysis.fits.fit_collapse`),
-bootstrap errors over samples. The strain average pools the samples of five strains, a sample
-under every strain being one unit of the bootstrap. The slope of the P = 1/2 contour is the
+A maximum-likelihood fit of P = F(p_r + lam p_t) to the exact per-sample thresholds along p_r
+at p_t = 0 and :data:`~.rows.COLLAPSE_PT`
+(:func:`~tensegrity_rigidity.analysis.fits.fit_collapse_thresholds`: no grid; a threshold left
+as an interval by undecided probes enters as its interval), bootstrap errors over samples. The
+strain average pools the samples of five strains, a sample under every strain being one unit of
+the bootstrap. The slope of the P = 1/2 contour is the
 model-free alternative.
 """
 
@@ -32,12 +34,10 @@ from ..style import (
     unresolved,
 )
 from ..template import load
-from .rows import COLLAPSE_PT, FC5, PHI5, Rows, interval_straddles, strain_name, threshold_matrix
+from .rows import COLLAPSE_PT, FC5, PHI5, Rows, strain_name, threshold_bounds
 
 NAME = "fig1c"
 T = load(NAME)
-#: p_r grid of the outcomes the collapse fits read from the thresholds
-FIT_P_R = np.arange(0.3, 0.9001, 0.01)
 #: f_c of the headline claims (``samples``) and of the rest of the curve (``curve``)
 FIG1C_FC = [0.0, 0.5, 1.0]
 FIG1C_FC_CURVE = [0.25, 0.75]
@@ -108,28 +108,32 @@ def sweeps(scale: Scale) -> dict[str, dict]:
 def _fits(df: pd.DataFrame, f_c: float, scale: Scale) -> tuple[list[dict], list[dict]]:
     """The collapse fits and contour slopes at one f_c: per strain, then the average."""
     p_t, fits, contour = [0.0, COLLAPSE_PT], [], []
-    pooled, pooled_t, units = [], [], []
+    pooled: list[list[np.ndarray]] = [[], [], []]
+    units = []
     for phi in PHI5:
         sub = df[np.isclose(df.f_c, f_c) & np.isclose(df.phi, phi)]
-        y, pr, pt = an.outcomes_from_thresholds(sub, FIT_P_R)
-        t = threshold_matrix(sub, p_t)
-        pooled.append(y)
-        pooled_t.append(t)
-        units.append(an.common_samples(sub))  # the rows of y and of t
+        bounds = threshold_bounds(sub, p_t)
+        for part, m in zip(pooled, bounds, strict=True):
+            part.append(m)
+        units.append(an.common_samples(sub))  # the rows of the matrices
         if phi in (0.0, math.pi / 2, math.pi):
-            fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=scale.rng("collapse"))
+            t, lo, hi = bounds
+            fit = an.fit_collapse_thresholds(t, np.array(p_t), lo, hi, n_boot=scale.bootstrap,
+                                             rng=scale.rng("collapse"))  # fmt: skip
             fits.append({"f_c": f_c, "strain": strain_name(phi), "phi": phi, **fit.__dict__})
-            c = an.contour_slope(t, np.array(p_t), n_boot=scale.bootstrap, rng=scale.rng("contour"))
+            c = an.contour_slope(t, np.array(p_t), n_boot=scale.bootstrap,
+                                 rng=scale.rng("contour"))  # fmt: skip
             contour.append(
                 {"f_c": f_c, "strain": strain_name(phi), "lam": c.value, "lam_err": c.err}
             )
     # the strain average: a sample under every strain is one unit of the bootstrap
     groups = np.concatenate(units)
-    fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap, groups=groups,
-                          rng=scale.rng("collapse"))  # fmt: skip
+    t, lo, hi = (np.vstack(part) for part in pooled)
+    fit = an.fit_collapse_thresholds(t, np.array(p_t), lo, hi, n_boot=scale.bootstrap,
+                                     groups=groups, rng=scale.rng("collapse"))  # fmt: skip
     fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
-    c = an.contour_slope(np.vstack(pooled_t), np.array(p_t), n_boot=scale.bootstrap,
-                         groups=groups, rng=scale.rng("contour"))  # fmt: skip
+    c = an.contour_slope(t, np.array(p_t), n_boot=scale.bootstrap, groups=groups,
+                         rng=scale.rng("contour"))  # fmt: skip
     contour.append({"f_c": f_c, "strain": "average", "lam": c.value, "lam_err": c.err})
     return fits, contour
 
@@ -156,7 +160,6 @@ def analyse(rows: Rows, scale: Scale) -> Fig1cResult:
         rods_only_pc_err=pc_err, rods_only_samples=len(rods_only), n=scale[NAME].n,
         samples=scale[NAME].samples, rows=df,
         excluded={name: count for name, (_, count) in rows.items()},
-        straddling=interval_straddles(pd.concat([rods, mixed], ignore_index=True), FIT_P_R),
         rods_only_units=int(rods_only["sample"].nunique()),
         rods_only_strains=int(rods_only.phi.nunique()),
     )  # fmt: skip
