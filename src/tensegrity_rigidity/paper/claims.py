@@ -58,6 +58,10 @@ class Claim:
     same_as : str
         An earlier claim about a system identical to this one by an exact symmetry ("" for
         none): our measurement of the two is one number, compared with two of the paper's.
+    factors : tuple of str
+        The factors tried for a disagreement of this claim, in the report's order: the data
+        file's ``factors`` unless the entry declares its own (fixed before any number of it was
+        seen).
     """
 
     key: str
@@ -70,6 +74,7 @@ class Claim:
     relation: str = "equal"
     target: str = ""
     same_as: str = ""
+    factors: tuple[str, ...] = ()
 
     @property
     def resolution(self) -> float:
@@ -94,8 +99,14 @@ def _claim(entry: dict, references: dict[str, Reference], earlier: dict) -> Clai
         raise ValueError(f"claim {key}: unknown relation or target")
     if e.get("same_as", "") not in {"", *earlier} or key in earlier:
         raise ValueError(f"claim {key}: repeated, or same_as names no earlier claim")
+    factors = tuple(e.pop("factors", FACTORS))
+    if not set(factors) <= set(KNOWN_FACTORS):
+        raise ValueError(
+            f"claim {key}: unknown factors {sorted(set(factors) - set(KNOWN_FACTORS))}"
+        )
     err = ERROR_KINDS[kind] if kind in ERROR_KINDS else float(error)
-    return Claim(key=key, error=err, error_kind=kind, value=e.pop("value", None), **e)
+    return Claim(key=key, error=err, error_kind=kind, value=e.pop("value", None), factors=factors,
+                 **e)  # fmt: skip
 
 
 def _claims(entries: list[dict], references: dict[str, Reference]) -> dict[str, Claim]:
@@ -110,6 +121,8 @@ _DATA = tomllib.loads(DATA.read_text())
 TARGETS: dict[str, float] = dict(_DATA["targets"])
 #: the factors that can account for a disagreement, in the order the report lists them
 FACTORS: tuple[str, ...] = tuple(_DATA["factors"])
+#: every factor a claim may declare (:attr:`Claim.factors`)
+KNOWN_FACTORS: tuple[str, ...] = tuple(_DATA["known_factors"])
 #: the factor of a measurement that repeats ours at the same size on independent samples
 REPLICATION: str = _DATA["replication"]
 #: literature values, by key

@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 from ..analysis.estimators import agreement_z, sign_z
-from .claims import CLAIMS, FACTORS, REPLICATION, Claim, Measurement
+from .claims import CLAIMS, REPLICATION, Claim, Measurement
 from .template import load
 
 WORDS = load("comparison")
@@ -301,7 +301,7 @@ def _evidence(
     Returns the clauses joined, and the evidence rows behind them.
     """
     clauses, rows = [], []
-    for factor in FACTORS:
+    for factor in claim.factors:
         alts = [_applied(ours, a) if a.shift else a for a in alternatives if a.factor == factor]
         if not alts:
             clauses.append(f"{factor}: {WORDS.label('untested')}")

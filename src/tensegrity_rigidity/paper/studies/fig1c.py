@@ -12,7 +12,7 @@ model-free alternative.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -74,7 +74,8 @@ class Fig1cResult(Result):
     :class:`~tensegrity_rigidity.analysis.fits.CollapseFit` with ``f_c``, ``strain``, ``phi``
     (NaN for the average); ``contour``: per (f_c, strain) ``lam``, ``lam_err`` from the slope
     of the P = 1/2 contour; the rods-only P = 1/2 point (every strain; a sample's strains are
-    one bootstrap unit) with its samples, units and strains."""
+    one bootstrap unit) with its samples, units and strains; ``one_type``: reading ("shear",
+    "average") -> (value, error) of :func:`one_type_contrast`."""
 
     fits: pd.DataFrame
     contour: pd.DataFrame
@@ -86,6 +87,7 @@ class Fig1cResult(Result):
     rows: pd.DataFrame
     rods_only_units: int = 0
     rods_only_strains: int = 0
+    one_type: dict = field(default_factory=dict)
 
     def lam(self, f_c: float, strain: str) -> tuple[float, float]:
         """(S_t/S_r, its error) of one fit."""
@@ -138,6 +140,64 @@ def _fits(df: pd.DataFrame, f_c: float, scale: Scale) -> tuple[list[dict], list[
     return fits, contour
 
 
+#: the claim "one type of one-sided element beats a mixture"
+ONE_TYPE_CLAIM = "st_sr_shear_one_type_beats_mixture"
+#: its contrast: lam at f_c = 0 and 1 against f_c = 1/2
+ONE_TYPE = {0.0: 0.5, 1.0: 0.5, 0.5: -1.0}
+#: the claim's readings: the sentence's (shear) and the one its parenthesis allows (average)
+ONE_TYPE_READINGS = {"shear": [math.pi / 2], "average": PHI5}
+
+
+def one_type_contrast(
+    df: pd.DataFrame, fits: pd.DataFrame, reading: str, scale: Scale
+) -> tuple[float, float]:
+    """(lam(0) + lam(1))/2 - lam(1/2) of one reading, and its error.
+
+    Parameters
+    ----------
+    df : DataFrame
+        The study's threshold rows (rods only and one-sided, every f_c and strain).
+    fits : DataFrame
+        The study's collapse fits (:attr:`Fig1cResult.fits`).
+    reading : str
+        A key of :data:`ONE_TYPE_READINGS`: "shear" or "average" (the five strains pooled).
+    scale : Scale
+        Its bootstrap count and random streams.
+
+    Returns
+    -------
+    value, err : float
+        The contrast of the study's own fits, and the error of one bootstrap that refits the
+        three systems on the same resampled samples (those present in all three, the strains
+        of one sample one unit), so that their correlation through common random numbers is
+        kept (:func:`~tensegrity_rigidity.analysis.fits.collapse_contrast`).
+    """
+    p_t, phis = [0.0, COLLAPSE_PT], ONE_TYPE_READINGS[reading]
+    lam = {f: float(fits[np.isclose(fits.f_c, f) & (fits.strain == reading)].lam.iloc[0])
+           for f in ONE_TYPE}  # fmt: skip
+    value = sum(w * lam[f] for f, w in ONE_TYPE.items())
+    systems: dict[float, list] = {f: [[], [], []] for f in ONE_TYPE}
+    groups = []
+    for phi in phis:
+        subs = {f: df[np.isclose(df.f_c, f) & np.isclose(df.phi, phi)] for f in ONE_TYPE}
+        common = set.intersection(*(set(an.common_samples(s)) for s in subs.values()))
+        for f, sub in subs.items():
+            bounds = threshold_bounds(sub[sub["sample"].isin(common)], p_t)
+            for part, m in zip(systems[f], bounds, strict=True):
+                part.append(m)
+        groups.append(np.array(sorted(common)))
+    parts = [tuple(np.vstack(m) for m in systems[f]) for f in ONE_TYPE]
+    est = an.collapse_contrast(
+        parts,
+        list(ONE_TYPE.values()),
+        np.array(p_t),
+        n_boot=scale.bootstrap,
+        rng=scale.rng("collapse"),
+        groups=np.concatenate(groups) if len(phis) > 1 else None,
+    )
+    return value, est.err
+
+
 def analyse(rows: Rows, scale: Scale) -> Fig1cResult:
     """S_t/S_r versus f_c for each strain and the strain average (collapse fits)."""
     parts = {name: frame for name, (frame, _) in rows.items()}
@@ -150,13 +210,16 @@ def analyse(rows: Rows, scale: Scale) -> Fig1cResult:
     for f_c in FC5:
         a, b = _fits(df, f_c, scale)
         fits, contour = fits + a, contour + b
+    frame = pd.DataFrame(fits)
+    one_type = {reading: one_type_contrast(df, frame, reading, scale)
+                for reading in ONE_TYPE_READINGS}  # fmt: skip
     rods_only = rods.drop_duplicates(["phi", "sample"])
     pc, pc_err = an.critical_point(
         rods_only.threshold_p_r.to_numpy(), groups=rods_only["sample"].to_numpy(),
         rng=scale.rng("critical_point"),
     )  # fmt: skip
     return Fig1cResult(
-        fits=pd.DataFrame(fits), contour=pd.DataFrame(contour), rods_only_pc=pc,
+        fits=frame, contour=pd.DataFrame(contour), rods_only_pc=pc, one_type=one_type,
         rods_only_pc_err=pc_err, rods_only_samples=len(rods_only), n=scale[NAME].n,
         samples=scale[NAME].samples, rows=df,
         excluded={name: count for name, (_, count) in rows.items()},
@@ -183,6 +246,14 @@ def claims(r: Fig1cResult) -> tuple[Measurement, ...]:
         row = r.contour[np.isclose(r.contour.f_c, f_c) & (r.contour.strain == strain)].iloc[0]
         out.append(Measurement.scalar(key, row.lam, row.lam_err, system, factor="estimator",
                                       label=T.label("contour"), size=n))  # fmt: skip
+    # one type beats a mixture: shear as the sentence says, the strain average as the
+    # reading its parenthesis allows (the claim's declared factor "reading")
+    value, err = r.one_type["shear"]
+    out.append(Measurement.scalar(ONE_TYPE_CLAIM, value, err, system, size=n,
+                                  note=T.label("note.one_type")))  # fmt: skip
+    value, err = r.one_type["average"]
+    out.append(Measurement.scalar(ONE_TYPE_CLAIM, value, err, system, factor="reading", size=n,
+                                  label=T.label("one_type.average")))  # fmt: skip
     out.append(Measurement.scalar("rods_only_pc", v["pc"], v["pc_err"], T.label("pc", **v),
                                   note=T.label("note.pc"), size=n))  # fmt: skip
     return tuple(out)
