@@ -186,7 +186,7 @@ def one_type_contrast(
             for part, m in zip(systems[f], bounds, strict=True):
                 part.append(m)
         groups.append(np.array(sorted(common)))
-    parts = [tuple(np.vstack(m) for m in systems[f]) for f in ONE_TYPE]
+    parts = [(np.vstack(t), np.vstack(lo), np.vstack(hi)) for t, lo, hi in systems.values()]
     est = an.collapse_contrast(
         parts,
         list(ONE_TYPE.values()),
