@@ -11,6 +11,7 @@ from __future__ import annotations
 from .agreement import (
     PairedEstimate,
     agreement_z,
+    holm_adjusted,
     paired_bootstrap,
     sign_z,
 )
@@ -72,6 +73,7 @@ __all__ = [
     "THETA",
     "WidthScaling",
     "agreement_z",
+    "holm_adjusted",
     "collapse_contrast",
     "common_samples",
     "contour_slope",
