@@ -72,15 +72,16 @@ def test_a_factor_that_moves_ours_and_closes_the_gap_is_credited():
 def test_a_factor_that_closes_the_gap_without_moving_ours_is_not_credited():
     """0.395 +- 0.012 agrees with the paper (z = 1.30, and 1.65 at our error) but lies 1.15
     of its errors from ours: it does not show that the factor moves our value."""
-    loose = Measurement.scalar(
-        KEY, 0.395, 0.012, "n = 8-64", factor="finite size", label="n -> inf"
-    )
+    loose = Measurement.scalar(KEY, 0.395, 0.012, "n = 8-64", factor="finite size",
+                               label="n -> inf", sizes=(8, 16, 32, 64))  # fmt: skip
     row = _row(OURS, loose)
     e = _by_label(row)["n -> inf"]
     assert e.verdict.startswith("then agrees")
     assert e.moved_z == pytest.approx(0.015 / np.hypot(0.012, 0.005))
     assert not e.credited and "not credited" in e.verdict
     assert "accounted for" not in row.reason
+    # and the sizes it was tested over are named, not a bare "finite size"
+    assert "not by finite size (tested over n = 8, 16, 32, 64)" in row.reason
 
 
 def test_a_control_row_is_never_credited():
@@ -126,3 +127,13 @@ def test_about_claims_carry_half_a_unit_of_their_last_digit():
     assert {c.key for c in about} >= {"taut_cables_transition", "st_sr_cables_dilation"}
     for c in about:
         assert c.error_kind == "about" and c.error == pytest.approx(about_tolerance(c.paper))
+
+
+def test_the_finite_size_extrapolations_carry_the_sizes_they_rest_on():
+    """So that "not by finite size" is said of the sizes tested only (n >= 8 at the fss scale,
+    not the smaller sizes the paper may have used)."""
+    from tensegrity_rigidity.paper.studies import fss
+
+    p = fss.PARAMS["fss"]
+    assert fss._sizes(p, KEY) == tuple(p.sizes) == (8, 16, 32, 64)
+    assert fss._sizes(p, "rods_only_pc") == p.pc_sizes

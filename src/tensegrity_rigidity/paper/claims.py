@@ -208,6 +208,9 @@ class Measurement:
     control : bool
         True for a control row: the factor at our own setting (e.g. our node disorder on other
         samples). It is shown, and never credited with accounting for a disagreement.
+    sizes : tuple of int
+        The lattice sizes behind an extrapolation (empty otherwise): where a factor is judged,
+        the report names the sizes it was tested over.
     """
 
     claim: str
@@ -223,6 +226,7 @@ class Measurement:
     size: int | None = None
     short: str = ""
     control: bool = False
+    sizes: tuple[int, ...] = ()
 
     @classmethod
     def scalar(cls, claim: str, value: float, err: float, system: str, **kw) -> Measurement:

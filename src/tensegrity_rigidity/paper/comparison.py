@@ -78,6 +78,8 @@ class Evidence:
         True when the row accounts for the disagreement (:func:`credit`).
     control : bool
         A control row (the factor at our own setting): shown, never credited.
+    sizes : tuple of int
+        The sizes behind an extrapolation (the measurement's ``sizes``).
     """
 
     factor: str
@@ -92,6 +94,7 @@ class Evidence:
     moved_p: float = float("nan")
     credited: bool = False
     control: bool = False
+    sizes: tuple[int, ...] = ()
 
     def clause(self) -> str:
         """The measurement as the explanation's words put it."""
@@ -295,7 +298,7 @@ def _part(claim: Claim, a: Measurement, z: float, judged: str, factor: str = "",
     the evidence rule's fields)."""
     resolved = _resolved(a.value, a.err)
     return Evidence(factor or a.factor, a.label, _ours(a, claim), a.system, z, judged, resolved,
-                    a.short or a.label, control=a.control, **kw)  # fmt: skip
+                    a.short or a.label, control=a.control, sizes=a.sizes, **kw)  # fmt: skip
 
 
 def moved_z(ours: Measurement, alt: Measurement) -> float:
@@ -527,15 +530,18 @@ KINDS = ("accounted", "not_by", "unresolved", "untested")
 def _reason_disagree(z: float, evidence: list[Evidence]) -> str:
     """One line: the z, and which factors account for the disagreement (a row credited by the
     evidence rule, :func:`credit`), which do not, which are unresolved and which are not yet
-    tested; a factor is listed once, by its most telling measurement. A control row tells
-    nothing about its factor: a factor with only controls is not yet tested."""
+    tested; a factor is listed once, by its most telling measurement, with the sizes an
+    extrapolation was tested over. A control row tells nothing about its factor: a factor
+    with only controls is not yet tested."""
     untested = (WORDS.label("untested"), WORDS.label("reads.none"))
     inconclusive = WORDS.label("reads.inconclusive", times=RESOLVES_WITHIN)
     by: dict[str, list[str]] = {k: [] for k in KINDS}
+    sizes: dict[str, set[int]] = {}
     factors = [e.factor for e in evidence if e.factor != REPLICATION]
     for e in evidence:
         if e.factor == REPLICATION or e.control:
             continue
+        sizes.setdefault(e.factor, set()).update(e.sizes)
         kind = ("accounted" if e.credited
                 else "untested" if e.verdict in untested
                 else "unresolved" if e.verdict.startswith(inconclusive) else "not_by")  # fmt: skip
@@ -550,7 +556,9 @@ def _reason_disagree(z: float, evidence: list[Evidence]) -> str:
         names = [f for f in by[kind] if f not in seen]
         seen |= set(names)
         if names:
-            parts.append(WORDS.label(f"kind.{kind}", factors=names))
+            shown = [WORDS.label("factor.sizes", factor=f, sizes=sorted(sizes[f]))
+                     if sizes.get(f) else f for f in names]  # fmt: skip
+            parts.append(WORDS.label(f"kind.{kind}", factors=shown))
     return "; ".join(parts)
 
 

@@ -409,6 +409,11 @@ def _extrapolated(fits: dict, checks: dict) -> pd.DataFrame:
     return ex
 
 
+def _sizes(p: Params, key: str) -> tuple[int, ...]:
+    """The sizes one claim's extrapolation uses (rods-only p_c: its own sizes, where set)."""
+    return tuple(int(n) for n in (p.pc_sizes if key == "rods_only_pc" else p.sizes))
+
+
 def _samples_text(p: Params, key: str) -> str:
     """The sample counts per size of a claim: one number when equal, else one per size."""
     if key == "rods_only_pc":
@@ -439,7 +444,8 @@ def _measured(ex: pd.DataFrame, pc_fit, scale: Scale) -> tuple[Measurement, ...]
         ):  # fmt: skip
             out.append(Measurement.scalar(row.key, v, e, system, factor="finite size",
                                           label=label + misfit(chi2, dof),
-                                          short=short + misfit(chi2, dof)))  # fmt: skip
+                                          short=short + misfit(chi2, dof),
+                                          sizes=_sizes(p, row.key)))  # fmt: skip
     return tuple(out)
 
 
