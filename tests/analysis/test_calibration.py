@@ -88,7 +88,7 @@ def _collapse_thresholds(rng, S, lam, p_t):
 def test_collapse_fit_and_contour_slope_are_calibrated():
     lam, p_t = 0.4, np.array([0.0, 0.1, 0.2, 0.3])
     grid = np.arange(0.3, 0.9001, 0.01)
-    fit_est, fit_err, con_est, con_err = [], [], [], []
+    fit_est, fit_err, con_est, con_err, ml_est, ml_err = [], [], [], [], [], []
     for rep in range(30):
         rng = np.random.default_rng(rep)
         t = _collapse_thresholds(rng, 80, lam, p_t)
@@ -103,11 +103,15 @@ def test_collapse_fit_and_contour_slope_are_calibrated():
         fit = an.fit_collapse(y, pr, pt, n_boot=40, rng=np.random.default_rng(100 + rep))
         fit_est.append(fit.lam)
         fit_err.append(fit.lam_err)
+        ml = an.fit_collapse_thresholds(t, p_t, n_boot=40, rng=np.random.default_rng(300 + rep))
+        ml_est.append(ml.lam)
+        ml_err.append(ml.lam_err)
         c = an.contour_slope(t, p_t, n_boot=100, rng=np.random.default_rng(200 + rep))
         con_est.append(c.value)
         con_err.append(c.err)
     assert_calibrated(fit_est, fit_err, lam)
     assert_calibrated(con_est, con_err, lam)
+    assert_calibrated(ml_est, ml_err, lam)
 
 
 # --------------------------------------------------------------------------- derivatives

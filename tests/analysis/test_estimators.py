@@ -43,6 +43,72 @@ def test_collapse_fit_recovers_lambda(lam):
     assert fit.x0 == pytest.approx(0.62, abs=0.01)
 
 
+def _logistic_thresholds(rng, S, lam, p_t, x0=0.62, w=0.02):
+    """(S, J) thresholds along p_r with P(p_r, p_t) = F((p_r + lam p_t - x0) / w) exactly, NaN
+    above the path's end 1 - p_t (never rigid there)."""
+    t = x0 + w * rng.logistic(size=(S, 1)) - lam * np.asarray(p_t)[None]
+    return np.where(t > 1 - np.asarray(p_t)[None], np.nan, t)
+
+
+@pytest.mark.parametrize("lam", [0.37, 0.5, 0.67])
+def test_threshold_collapse_fit_recovers_lambda_x0_and_w(lam):
+    rng = np.random.default_rng(int(lam * 100) + 1)
+    p_t = np.array([0.0, 0.3])
+    t = _logistic_thresholds(rng, 300, lam, p_t)
+    fit = an.fit_collapse_thresholds(t, p_t, n_boot=60, rng=np.random.default_rng(1))
+    assert abs(fit.lam - lam) <= 3 * fit.lam_err and fit.lam_err < 0.01
+    assert abs(fit.x0 - 0.62) <= 3 * fit.x0_err and abs(fit.w - 0.02) <= 3 * fit.w_err
+
+
+def test_threshold_collapse_fit_censors_never_rigid_samples():
+    """Samples that never become rigid on the path carry information (their threshold lies
+    beyond its end): dropping them biases x0 low; censoring them does not."""
+    rng = np.random.default_rng(11)
+    p_t = np.array([0.0, 0.1])
+    t = _logistic_thresholds(rng, 400, 1.0, p_t, x0=0.99, w=0.02)  # 2 in 5 never rigid
+    assert 0.25 < np.isnan(t).mean() < 0.6
+    fit = an.fit_collapse_thresholds(t, p_t, n_boot=40, rng=np.random.default_rng(2))
+    assert abs(fit.x0 - 0.99) <= 3 * fit.x0_err and abs(fit.lam - 1.0) <= 3 * fit.lam_err
+    kept = t[np.all(np.isfinite(t), axis=1)]
+    dropped = an.fit_collapse_thresholds(kept, p_t, n_boot=0)
+    assert dropped.x0 < fit.x0 - 0.01
+
+
+def test_threshold_collapse_fit_reads_intervals_as_intervals():
+    """A threshold known only to lie in (lo, hi] (undecided probes) enters as that interval:
+    narrow intervals around the exact thresholds give the exact fit, and the fit follows the
+    intervals, not the estimate written beside them."""
+    rng = np.random.default_rng(12)
+    p_t = np.array([0.0, 0.3])
+    t = _logistic_thresholds(rng, 200, 0.45, p_t)
+    exact = an.fit_collapse_thresholds(t, p_t, n_boot=0)
+    narrow = an.fit_collapse_thresholds(t, p_t, t - 1e-9, t + 1e-9, n_boot=0)
+    assert narrow.lam == pytest.approx(exact.lam, abs=1e-6)
+    # the estimate of an interval is not read (but for the optimiser's start)
+    lo, hi = t - 0.004, t + 0.004
+    a = an.fit_collapse_thresholds(t, p_t, lo, hi, n_boot=0)
+    b = an.fit_collapse_thresholds(t + 0.003, p_t, lo, hi, n_boot=0)
+    assert b.lam == pytest.approx(a.lam, abs=1e-7) and b.x0 == pytest.approx(a.x0, abs=1e-7)
+    assert abs(a.lam - exact.lam) < 0.01 and a.w < exact.w  # the intervals' width is not noise
+
+
+def test_a_contrast_of_collapse_fits_refits_the_same_samples():
+    """Two systems on the same samples share their rods-only thresholds (p_t = 0) and the
+    disorder: the contrast's paired error is well below the two errors added in quadrature."""
+    rng = np.random.default_rng(13)
+    p_t = np.array([0.0, 0.3])
+    base = 0.62 + 0.02 * rng.logistic(size=200)  # the same disorder in both systems
+    rods = base + 0.005 * rng.logistic(size=200)
+    a = np.column_stack([rods, base - 0.4 * 0.3 + 0.005 * rng.logistic(size=200)])
+    b = np.column_stack([rods, base - 0.6 * 0.3 + 0.005 * rng.logistic(size=200)])
+    c = an.collapse_contrast([(a, a, a), (b, b, b)], [1.0, -1.0], p_t, n_boot=60,
+                             rng=np.random.default_rng(3))  # fmt: skip
+    fa, fb = (an.fit_collapse_thresholds(x, p_t, n_boot=60) for x in (a, b))
+    assert c.value == pytest.approx(fa.lam - fb.lam, abs=1e-12)
+    assert abs(c.value + 0.2) <= 3 * c.err
+    assert c.err < 0.8 * np.hypot(fa.lam_err, fb.lam_err)
+
+
 def test_power_law_fit_recovers_exponent():
     rng = np.random.default_rng(3)
     p = np.linspace(0.5, 0.9, 30)

@@ -15,7 +15,7 @@ def _entry(**kw):
 
 def test_errors_are_stated_rounded_exact_or_computed():
     kinds = {c.error_kind for c in CLAIMS.values()}
-    assert kinds == {"stated", "rounding", "exact", "computed"}
+    assert kinds == {"stated", "rounding", "exact", "computed", "about"}
     assert CLAIMS["p_crit_compression_0.1"].error == ROUNDING_2DP
     assert CLAIMS["alpha_compression_0.3"].error == 0.130
     pc = CLAIMS["rods_only_pc"]  # from the literature value it names
@@ -30,6 +30,8 @@ def test_errors_are_stated_rounded_exact_or_computed():
         {"relation": "sideways"},
         {"target": "nothing"},
         {"same_as": "no_such_claim"},
+        {"factors": ["no such factor"]},
+        {"error": "about"},  # "about" needs an "about" value printed
     ],
 )
 def test_a_malformed_claim_is_refused(bad):

@@ -322,9 +322,11 @@ def test_the_evidence_of_a_disagreement_is_a_table_with_numbers_in_columns():
     fss = Measurement.scalar(key, 0.38, 0.01, "n -> inf", factor="finite size", label="fit")
     row = _rows(ours, fss)[key]
     frame = evidence_frame(row)
-    assert list(frame.columns) == ["factor", "changed", "value", "system", "z", "reads"]
+    assert list(frame.columns) == ["factor", "changed", "value", "system", "z", "moves ours (z)",
+                                   "Holm p", "reads"]  # fmt: skip
     fs = frame[frame.factor == "finite size"].iloc[0]
-    assert fs.value == "0.380 ± 0.010" and fs.reads == "then agrees" and float(fs.z) < 2
+    assert fs.value == "0.380 ± 0.010" and fs.reads.startswith("then agrees") and float(fs.z) < 2
+    assert float(fs["moves ours (z)"]) == pytest.approx(0.07 / math.hypot(0.008, 0.01), abs=0.01)
     assert set(frame.factor) >= {"finite size", "method", "estimator"}
     assert row.reason.startswith("z = ") and "accounted for by finite size" in row.reason
 

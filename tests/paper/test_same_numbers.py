@@ -4,7 +4,8 @@
 release at 5454841 computed it (``data/make_release_claims.py`` says how it was generated: that
 release's sources, run once in a subprocess). The same samples and the same estimators must give
 the same values and, the bootstrap streams being the ones those estimators always drew, the same
-error bars.
+error bars, except where an estimator was changed on purpose since (:func:`_changed`): those
+measurements must still be there, and their numbers are pinned by their own tests.
 """
 
 from __future__ import annotations
@@ -37,6 +38,21 @@ def _fitted(m) -> bool:
     return claim.startswith(("collapse", "st_sr")) or "extrapolated to n -> infinity" in label
 
 
+def _changed(m) -> bool:
+    """Whether ``m`` comes from an estimator changed on purpose since the release: the collapse
+    fit of S_t/S_r reads the exact per-sample thresholds by maximum likelihood instead of
+    outcomes binned on the p_r grid (every ``st_sr`` and ``collapse`` value, their
+    extrapolations and their chi-square labels; tests/paper/test_fig1c_collapse.py), and
+    Fig. 4C is measured on each system's transition (tests/paper/test_fig4_point.py), its
+    surface at the paper's point kept as the factor "point" and the paired differences no
+    longer a measurement."""
+    return m["claim"].startswith(("st_sr", "collapse")) or m["claim"] == "fig4c_sum_one"
+
+
+def _kept(ms):
+    return [m for m in ms if not _changed(m)]
+
+
 @pytest.fixture(scope="module")
 def measured(tiny_out):
     stored = dict(workers=STORED, scheduler=None, progress=False)
@@ -64,12 +80,15 @@ def test_the_same_claims_are_measured_in_the_same_order(measured):
     def key(m):
         return (m["study"], m["claim"], m["factor"], m["label"])
 
-    assert [key(m) for m in measured] == [key(m) for m in RELEASE["measurements"]]
+    assert [key(m) for m in _kept(measured)] == [key(m) for m in _kept(RELEASE["measurements"])]
+    # the changed estimators still measure every claim they measured, in every study
+    changed = {(m["study"], m["claim"]) for m in RELEASE["measurements"] if _changed(m)}
+    assert changed <= {(m["study"], m["claim"]) for m in measured if _changed(m)}
 
 
 def test_every_value_and_error_is_the_release_s(measured):
     differ = []
-    for ours, theirs in zip(measured, RELEASE["measurements"], strict=True):
+    for ours, theirs in zip(_kept(measured), _kept(RELEASE["measurements"]), strict=True):
         for field in ("value", "err"):
             a, b = ours[field], np.asarray(theirs[field], float)
             if a.shape != b.shape:

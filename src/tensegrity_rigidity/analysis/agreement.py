@@ -148,3 +148,32 @@ def sign_z(value: float, err: float, sign: int) -> float:
     if gap == 0:
         return 0.0
     return float(gap / err) if err > 0 else float("inf")
+
+
+def holm_adjusted(p_values) -> np.ndarray:
+    """Holm's step-down adjusted p-values of a family of tests.
+
+    Sorted ascending, the i-th smallest of m p-values (i = 1..m) becomes ``(m - i + 1) p_(i)``,
+    made non-decreasing in that order and capped at 1; rejecting where the adjusted value is at
+    most alpha controls the family-wise error rate at alpha whatever the tests' dependence.
+
+    Parameters
+    ----------
+    p_values : (m,) float
+        Raw p-values; NaN entries (tests not made) are left out of the family and stay NaN.
+
+    Returns
+    -------
+    (m,) float
+        The adjusted p-values, in the input's order.
+    """
+    p = np.asarray(p_values, float)
+    out = np.full(p.shape, np.nan)
+    made = np.flatnonzero(np.isfinite(p))
+    m = made.size
+    if m == 0:
+        return out
+    order = made[np.argsort(p[made], kind="stable")]
+    scaled = (m - np.arange(m)) * p[order]
+    out[order] = np.minimum(np.maximum.accumulate(scaled), 1.0)
+    return out

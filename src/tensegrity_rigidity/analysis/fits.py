@@ -1,7 +1,9 @@
 """Fits of the efficacies: the collapse P = F(p_r + lam p_t) and the Fig. 4 surface.
 
-Both are binomial-likelihood fits of outcomes of the same samples at several points (common
-random numbers); their errors come from a bootstrap over samples (:mod:`.bootstrap`).
+The collapse is fitted to exact per-sample thresholds by maximum likelihood
+(:func:`fit_collapse_thresholds`) or, where only grid verdicts exist, to binomial counts
+(:func:`fit_collapse`); the surface to binomial counts. The samples are the same at every point
+(common random numbers); errors come from a bootstrap over samples (:mod:`.bootstrap`).
 """
 
 from __future__ import annotations
@@ -125,6 +127,185 @@ def fit_collapse(
         float(w_samples.std(ddof=1)) if len(boots) > 1 else np.nan,
         n_units(y.shape[0], groups),
     )
+
+
+def _log_cdf(z):
+    """log F(z) of the logistic function, stable for any z (infinite included)."""
+    return -np.logaddexp(0.0, -z)
+
+
+def _threshold_nll(params, exact, q_exact, lo, hi, q_int):
+    """Minus the log-likelihood of the collapse on thresholds (see
+    :func:`fit_collapse_thresholds`): ``exact`` thresholds with their p_t ``q_exact``, and
+    thresholds known to lie in ``(lo, hi]`` (infinite ends allowed) with their p_t ``q_int``."""
+    lam, x0, logw = params
+    w = np.exp(logw)
+    z = (exact + lam * q_exact - x0) / w
+    # the logistic density: log F(z) + log(1 - F(z)) - log w
+    ll = float(np.sum(_log_cdf(z) + _log_cdf(-z))) - exact.size * logw
+    if lo.size:
+        za, zb = (lo + lam * q_int - x0) / w, (hi + lam * q_int - x0) / w
+        # log(F(zb) - F(za)) = log F(zb) + log(1 - F(za)) + log(1 - exp(za - zb)), with
+        # za - zb = (lo - hi) / w taken from the ends (not the difference of two rounded z)
+        with np.errstate(invalid="ignore"):
+            gap = np.where(np.isinf(lo) | np.isinf(hi), 1.0, -np.expm1((lo - hi) / w))
+        ll += float(np.sum(_log_cdf(zb) + _log_cdf(-za) + np.log(gap)))
+    return -ll if np.isfinite(ll) else np.inf
+
+
+def threshold_events(thresholds, p_t, low=None, high=None):
+    """What each per-sample threshold along p_r says, as the likelihood reads it.
+
+    Parameters
+    ----------
+    thresholds : (S, J) float
+        Threshold ``s*`` of sample s at ``p_t[j]`` along p_r in ``[0, 1 - p_t]`` (NaN: never
+        rigid on the path; 0: rigid from its start).
+    p_t : (J,) float
+    low, high : (S, J) float, optional
+        The interval ``(low, high]`` of a threshold that undecided probes left open (equal to
+        the threshold where it is exact; ``high`` may be infinite).
+
+    Returns
+    -------
+    exact : (E,) float and its p_t (E,)
+        Thresholds known exactly.
+    lo, hi : (I,) float and their p_t (I,)
+        Thresholds known to lie in ``(lo, hi]``: an interval; never rigid on the path,
+        ``(1 - p_t, inf)`` (right-censored at the path's end); rigid from the start,
+        ``(-inf, 0]`` (left-censored).
+    """
+    t = np.asarray(thresholds, float)
+    q = np.broadcast_to(np.asarray(p_t, float), t.shape)
+    lo = t.copy() if low is None else np.asarray(low, float).copy()
+    hi = t.copy() if high is None else np.asarray(high, float).copy()
+    never = np.isnan(t) & ~(np.isfinite(lo) & (hi > lo))
+    lo[never], hi[never] = 1.0 - q[never], np.inf
+    start = (t == 0) & (hi <= 0)
+    lo[start] = -np.inf
+    exact = np.isfinite(lo) & (lo == hi)
+    rest = ~exact & ((lo < hi) | np.isinf(lo))
+    return (t[exact], q[exact]), (lo[rest], hi[rest], q[rest])
+
+
+def fit_collapse_thresholds(
+    thresholds: np.ndarray,
+    p_t: np.ndarray,
+    low: np.ndarray | None = None,
+    high: np.ndarray | None = None,
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+    groups=None,
+) -> CollapseFit:
+    """Maximum-likelihood fit of P = F((p_r + lam p_t - x0) / w) to exact per-sample thresholds.
+
+    Parameters
+    ----------
+    thresholds : (S, J) float
+        Per-sample thresholds along p_r of the same S samples at J values of p_t (NaN: never
+        rigid on the path ``p_r <= 1 - p_t``), as :func:`threshold_events` reads them.
+    p_t : (J,) float
+    low, high : (S, J) float, optional
+        Threshold intervals left by undecided probes (:func:`threshold_events`).
+    n_boot : int
+        Bootstrap replicas for the errors.
+    rng : numpy.random.Generator, optional
+        Source of the bootstrap (a fixed seed by default).
+    groups : (S,) array, optional
+        Independent unit of each row (:func:`~.bootstrap.resampler`).
+
+    Returns
+    -------
+    CollapseFit
+        ``lam`` (S_t / S_r), ``x0``, ``w`` and their bootstrap errors.
+
+    Notes
+    -----
+    P(p_r) at fixed p_t is the fraction of samples whose threshold lies below p_r, so under
+    the collapse a threshold ``s*`` at p_t is a draw of ``x0 - lam p_t + w L`` with L standard
+    logistic. The likelihood reads each threshold as it is known: an exact one by its density,
+    an interval by its probability, a never-rigid sample as censored at the path's end. No
+    grid: binned outcomes on a p_r grid coarser than the transition make thresholds that differ
+    by less than a step identical and lock lam where ``lam p_t`` is a whole number of steps.
+    Thresholds of one sample at several p_t are correlated (common random numbers), so the
+    estimate is a pseudo-likelihood one and its errors come from a bootstrap over samples.
+    """
+    rng = rng or np.random.default_rng(0)
+    t = np.asarray(thresholds, float)
+    lo_all = t if low is None else np.asarray(low, float)
+    hi_all = t if high is None else np.asarray(high, float)
+
+    def fit(rows, start):
+        (e, qe), (a, b, qi) = threshold_events(t[rows], p_t, lo_all[rows], hi_all[rows])
+        res = optimize.minimize(
+            _threshold_nll, start, args=(e, qe, a, b, qi), method="Nelder-Mead",
+            options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 20000},
+        )  # fmt: skip
+        return res.x if res.success else np.full(3, np.nan)
+
+    q = np.broadcast_to(np.asarray(p_t, float), t.shape)
+    x = t + 0.5 * q
+    spread = float(np.nanstd(x)) if np.isfinite(x).sum() > 1 else 0.0
+    start = np.array([0.5, float(np.nanmedian(x)) if np.isfinite(x).any() else 0.5,
+                      np.log(max(spread, 1e-3) * np.sqrt(3) / np.pi)])  # fmt: skip
+    best = fit(np.arange(t.shape[0]), start)
+    boots = np.array(replicas(lambda idx: fit(idx, best), t.shape[0], n_boot, rng, groups))
+    boots = boots.reshape(-1, 3)
+    boots = boots[np.all(np.isfinite(boots), axis=1)]
+    sd = boots.std(axis=0, ddof=1) if len(boots) > 1 else np.full(3, np.nan)
+    return CollapseFit(
+        float(best[0]),
+        float(best[1]),
+        float(np.exp(best[2])),
+        float(sd[0]),
+        float(sd[1]),
+        float(np.exp(boots[:, 2]).std(ddof=1)) if len(boots) > 1 else np.nan,
+        n_units(t.shape[0], groups),
+    )
+
+
+def collapse_contrast(
+    systems: list[tuple[np.ndarray, np.ndarray, np.ndarray]],
+    weights,
+    p_t: np.ndarray,
+    n_boot: int = 200,
+    rng: np.random.Generator | None = None,
+    groups=None,
+) -> Estimate:
+    """A weighted sum of the lam of several systems measured on the same samples, with one
+    bootstrap that redraws the same samples for all of them.
+
+    Parameters
+    ----------
+    systems : list of (thresholds, low, high), each (S, J)
+        Row s of every system is the same sample (common random numbers: the same disorder,
+        another cable fraction or strain).
+    weights : (K,) float
+        The contrast: ``sum_k weights[k] lam_k``.
+    p_t : (J,) float
+    n_boot : int
+    rng : numpy.random.Generator, optional
+    groups : (S,) array, optional
+        Independent unit of each row.
+
+    Returns
+    -------
+    Estimate
+        The contrast of the fits on every row and its bootstrap standard error (the systems'
+        lam are refitted on each replica's rows, so their correlation is kept).
+    """
+    rng = rng or np.random.default_rng(0)
+    w = np.asarray(weights, float)
+
+    def contrast(rows):
+        lams = [fit_collapse_thresholds(t[rows], p_t, lo[rows], hi[rows], n_boot=0).lam
+                for t, lo, hi in systems]  # fmt: skip
+        return float(w @ np.asarray(lams))
+
+    S = systems[0][0].shape[0]
+    boots = np.array(replicas(contrast, S, n_boot, rng, groups), float)
+    boots = boots[np.isfinite(boots)]
+    return Estimate(contrast(np.arange(S)), float(boots.std(ddof=1)) if boots.size > 1 else np.nan)
 
 
 def paired_derivative(minus: np.ndarray, plus: np.ndarray, h: float) -> Estimate:

@@ -10,6 +10,7 @@ A study reports what it measured for a claim as a :class:`Measurement`.
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,6 +24,31 @@ DATA = Path(__file__).with_name("data") / "claims.toml"
 ROUNDING_2DP = 0.01 / math.sqrt(12)
 #: how a claim's error is stated in the data file (besides a number: the paper's error bar)
 ERROR_KINDS = {"rounding": ROUNDING_2DP, "exact": 0.0, "computed": 0.0}
+#: an "about" value: the paper's printed number, a percentage or a plain number
+_ABOUT = re.compile(r"about\s+(\d+(?:\.(\d+))?)\s*(%?)")
+
+
+def about_tolerance(printed: str) -> float:
+    """The tolerance an "about" value carries: half a unit of its last stated digit.
+
+    Parameters
+    ----------
+    printed : str
+        The paper's value as printed, e.g. "about 37 %" or "about 0.67".
+
+    Returns
+    -------
+    float
+        In the units the claim is compared in (a percentage as a fraction): 0.005 for both
+        examples.
+    """
+    found = _ABOUT.search(printed)
+    if found is None:
+        raise ValueError(f"no 'about' value in {printed!r}")
+    unit = 10.0 ** -len(found.group(2) or "")
+    return 0.5 * unit * (0.01 if found.group(3) else 1.0)
+
+
 RELATIONS = ("equal", "positive", "negative")
 
 
@@ -48,7 +74,9 @@ class Claim:
         The number compared with (None where the study computes the reference, as the
         single-node formula).
     error : float
-        The paper's standard error (``error_kind``: "stated", "rounding", "exact", "computed").
+        The paper's standard error (``error_kind``: "stated", "rounding", "exact", "computed"),
+        or for a value the paper gives as "about" one (``error_kind`` "about") the tolerance
+        its last digit implies (:func:`about_tolerance`).
     source : str
         Where in the paper the claim is made.
     relation : str
@@ -58,6 +86,10 @@ class Claim:
     same_as : str
         An earlier claim about a system identical to this one by an exact symmetry ("" for
         none): our measurement of the two is one number, compared with two of the paper's.
+    factors : tuple of str
+        The factors tried for a disagreement of this claim, in the report's order: the data
+        file's ``factors`` unless the entry declares its own (fixed before any number of it was
+        seen).
     """
 
     key: str
@@ -70,6 +102,7 @@ class Claim:
     relation: str = "equal"
     target: str = ""
     same_as: str = ""
+    factors: tuple[str, ...] = ()
 
     @property
     def resolution(self) -> float:
@@ -86,16 +119,27 @@ def _claim(entry: dict, references: dict[str, Reference], earlier: dict) -> Clai
     if ref is not None:
         e["value"], error = references[ref].value, references[ref].error
     kind = error if isinstance(error, str) else "stated"
-    if kind not in ERROR_KINDS and kind != "stated" or error is None:
-        raise ValueError(f"claim {key}: error must be a number or one of {list(ERROR_KINDS)}")
+    if kind not in {*ERROR_KINDS, "about", "stated"} or error is None:
+        raise ValueError(
+            f"claim {key}: error must be a number, 'about' or one of {list(ERROR_KINDS)}"
+        )
+    if kind == "about" and not _ABOUT.search(e.get("paper", "")):
+        raise ValueError(f"claim {key}: error 'about' needs a value printed as 'about x'")
     if (e.get("value") is None) != (kind == "computed"):
         raise ValueError(f"claim {key}: a value is needed unless the error is 'computed'")
     if e.get("relation", "equal") not in RELATIONS or e.get("target", "") not in {"", *TARGETS}:
         raise ValueError(f"claim {key}: unknown relation or target")
     if e.get("same_as", "") not in {"", *earlier} or key in earlier:
         raise ValueError(f"claim {key}: repeated, or same_as names no earlier claim")
-    err = ERROR_KINDS[kind] if kind in ERROR_KINDS else float(error)
-    return Claim(key=key, error=err, error_kind=kind, value=e.pop("value", None), **e)
+    factors = tuple(e.pop("factors", FACTORS))
+    if not set(factors) <= set(KNOWN_FACTORS):
+        raise ValueError(
+            f"claim {key}: unknown factors {sorted(set(factors) - set(KNOWN_FACTORS))}"
+        )
+    err = (about_tolerance(e["paper"]) if kind == "about"
+           else ERROR_KINDS[kind] if kind in ERROR_KINDS else float(error))  # fmt: skip
+    return Claim(key=key, error=err, error_kind=kind, value=e.pop("value", None), factors=factors,
+                 **e)  # fmt: skip
 
 
 def _claims(entries: list[dict], references: dict[str, Reference]) -> dict[str, Claim]:
@@ -110,6 +154,8 @@ _DATA = tomllib.loads(DATA.read_text())
 TARGETS: dict[str, float] = dict(_DATA["targets"])
 #: the factors that can account for a disagreement, in the order the report lists them
 FACTORS: tuple[str, ...] = tuple(_DATA["factors"])
+#: every factor a claim may declare (:attr:`Claim.factors`)
+KNOWN_FACTORS: tuple[str, ...] = tuple(_DATA["known_factors"])
 #: the factor of a measurement that repeats ours at the same size on independent samples
 REPLICATION: str = _DATA["replication"]
 #: literature values, by key
@@ -159,6 +205,12 @@ class Measurement:
     short : str
         A shorter ``label`` for the report's tables, where a section says the rest ("" for the
         label itself).
+    control : bool
+        True for a control row: the factor at our own setting (e.g. our node disorder on other
+        samples). It is shown, and never credited with accounting for a disagreement.
+    sizes : tuple of int
+        The lattice sizes behind an extrapolation (empty otherwise): where a factor is judged,
+        the report names the sizes it was tested over.
     """
 
     claim: str
@@ -173,6 +225,8 @@ class Measurement:
     shift: bool = False
     size: int | None = None
     short: str = ""
+    control: bool = False
+    sizes: tuple[int, ...] = ()
 
     @classmethod
     def scalar(cls, claim: str, value: float, err: float, system: str, **kw) -> Measurement:

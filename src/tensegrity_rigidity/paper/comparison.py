@@ -6,9 +6,13 @@
 ``z = |ours - paper| / sqrt(err_ours^2 + err_paper^2)``, agree when z < 2, unless our error
 exceeds :data:`RESOLVES_WITHIN` times the claim's resolution somewhere (then inconclusive); a
 claim about several points uses its largest z at the family-wise level, one about a sign our
-distance to the claimed side. A disagreement's explanation gives, per factor that could account
-for it, the same claim measured with that factor changed, and the replication at the same size
-first. docs/guide/reproduction.md ("How claims are compared") states the rule in full.
+distance to the claimed side. A disagreement's explanation gives, per factor the claim declares
+(:attr:`~tensegrity_rigidity.paper.claims.Claim.factors`), the same claim measured with that
+factor changed, and the replication at the same size first. A factor accounts for the
+disagreement only under the evidence rule (:func:`credit`): the change moves our value
+significantly by its own z, Holm-corrected over the rows tried for that disagreement, the gap
+then closes, and the row is not a control. docs/guide/reproduction.md ("How claims are
+compared") states the rules in full.
 """
 
 from __future__ import annotations
@@ -17,9 +21,10 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
-from ..analysis.estimators import agreement_z, sign_z
-from .claims import CLAIMS, FACTORS, REPLICATION, Claim, Measurement
+from ..analysis.estimators import agreement_z, holm_adjusted, sign_z
+from .claims import CLAIMS, REPLICATION, Claim, Measurement
 from .template import load
 
 WORDS = load("comparison")
@@ -32,6 +37,11 @@ RESOLVES_WITHIN = 3.0
 
 #: the longest a cell of the report's summary table may be (characters)
 CELL_CHARS = 160
+
+#: the family-wise level at which a factor's change of our value counts as a move: the
+#: two-sided tail of the agreement rule's z (2), so that "moves" and "disagrees" need the same
+#: strength of evidence
+MOVES_ALPHA = float(2 * stats.norm.sf(AGREE_BELOW))
 
 
 @dataclass(frozen=True)
@@ -58,6 +68,18 @@ class Evidence:
         :attr:`ComparisonRow.resolved`).
     short : str
         The label as the report's tables show it (the measurement's ``short``, else ``label``).
+    moved_z : float
+        How far the change moves our value, in units of the errors of both (NaN where not
+        comparable point by point, and for a replication or an untested factor).
+    moved_p : float
+        Its two-sided p-value, Holm-adjusted over the rows tried for the disagreement (NaN
+        where not judged).
+    credited : bool
+        True when the row accounts for the disagreement (:func:`credit`).
+    control : bool
+        A control row (the factor at our own setting): shown, never credited.
+    sizes : tuple of int
+        The sizes behind an extrapolation (the measurement's ``sizes``).
     """
 
     factor: str
@@ -68,6 +90,11 @@ class Evidence:
     verdict: str
     resolved: bool = True
     short: str = ""
+    moved_z: float = float("nan")
+    moved_p: float = float("nan")
+    credited: bool = False
+    control: bool = False
+    sizes: tuple[int, ...] = ()
 
     def clause(self) -> str:
         """The measurement as the explanation's words put it."""
@@ -266,11 +293,61 @@ def _resolved(value, err) -> bool:
     return bool(ok.any() and (e[ok] <= v[ok]).any())
 
 
-def _part(claim: Claim, a: Measurement, z: float, judged: str, factor: str = "") -> Evidence:
-    """One alternative in an explanation: its label, value, system, z and verdict."""
+def _part(claim: Claim, a: Measurement, z: float, judged: str, factor: str = "", **kw) -> Evidence:
+    """One alternative in an explanation: its label, value, system, z and verdict (``kw``:
+    the evidence rule's fields)."""
     resolved = _resolved(a.value, a.err)
     return Evidence(factor or a.factor, a.label, _ours(a, claim), a.system, z, judged, resolved,
-                    a.short or a.label)  # fmt: skip
+                    a.short or a.label, control=a.control, sizes=a.sizes, **kw)  # fmt: skip
+
+
+def moved_z(ours: Measurement, alt: Measurement) -> float:
+    """How far a factor's change moves our value: the change in units of its error.
+
+    A shift (``alt.shift``, measured on our samples) is its own change, with its own
+    covariance; another measurement is compared with ours with both errors added, which is
+    conservative where the two share samples (their difference then varies less). A claim
+    about several points takes the largest point, family-wise (:func:`agreement_z`). NaN where
+    the two cover different points.
+    """
+    if alt.shift:
+        return agreement_z(alt.value, alt.cov, np.zeros(alt.value.size))
+    if alt.value.size != ours.value.size:
+        return float("nan")
+    ok = (
+        np.isfinite(alt.value)
+        & np.isfinite(ours.value)
+        & np.isfinite(alt.err)
+        & np.isfinite(ours.err)
+    )
+    if not ok.any():
+        return float("nan")
+    var = alt.err[ok] ** 2 + ours.err[ok] ** 2
+    return agreement_z(alt.value[ok], var, ours.value[ok])
+
+
+def credit(moved_p: float, closes: bool, control: bool, alpha: float = MOVES_ALPHA) -> bool:
+    """The evidence rule: does one row account for a disagreement?
+
+    Parameters
+    ----------
+    moved_p : float
+        The Holm-adjusted p-value of the row's move of our value (NaN: not judged).
+    closes : bool
+        The row's value agrees with the paper (z < 2), and not only through a larger error.
+    control : bool
+        The row is a control (the factor at our own setting).
+    alpha : float
+        The family-wise level of a move (:data:`MOVES_ALPHA`).
+
+    Returns
+    -------
+    bool
+        True only for a row that is not a control, moves our value significantly and closes
+        the gap: a factor that closes the gap without moving our value shows only that its
+        measurement is too loose to disagree, and a control changes nothing.
+    """
+    return bool(not control and closes and np.isfinite(moved_p) and moved_p <= alpha)
 
 
 def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str, list[Evidence]]:
@@ -289,6 +366,15 @@ def _replicated(claim: Claim, replications: list[Measurement]) -> tuple[str, str
     return f"{REPLICATION}: " + " / ".join(p.clause() for p in parts), overall, parts
 
 
+def _rule(credited: bool, moved: float, adjusted: float) -> str:
+    """The template label of how the evidence rule judged one row."""
+    if credited:
+        return "rule.credited"
+    if np.isfinite(adjusted) and adjusted <= MOVES_ALPHA:
+        return "rule.moved"
+    return "rule.not_moved" if np.isfinite(moved) else "rule.incomparable"
+
+
 def _evidence(
     claim: Claim, ours: Measurement, alternatives: list[Measurement], agreeing: bool = False
 ) -> tuple[str, list[Evidence]]:
@@ -298,24 +384,44 @@ def _evidence(
     one that agrees only because its error is larger than ours is named so. For an agreement
     (``agreeing``: one that a replication contradicts) the words are plain, "agrees" or
     "disagrees": our error is not the yardstick there, since it is what is in question.
-    Returns the clauses joined, and the evidence rows behind them.
+    For a disagreement each row is judged by the evidence rule (:func:`credit`): its move of
+    our value (:func:`moved_z`) is tested at :data:`MOVES_ALPHA` with Holm's correction over
+    every non-control row of the claim's factors. Returns the clauses joined, and the
+    evidence rows behind them.
     """
+    tried = [(factor, a) for factor in claim.factors for a in alternatives if a.factor == factor]
+    moves = np.array([moved_z(ours, a) for _, a in tried])
+    judged_rows = [not agreeing and not a.control for _, a in tried]
+    raw_p = np.where(judged_rows, 2 * stats.norm.sf(moves), np.nan)
+    adjusted = holm_adjusted(raw_p)
+    count = int(np.isfinite(raw_p).sum())
     clauses, rows = [], []
-    for factor in FACTORS:
-        alts = [_applied(ours, a) if a.shift else a for a in alternatives if a.factor == factor]
-        if not alts:
+    for factor in claim.factors:
+        mine = [i for i, (f, _) in enumerate(tried) if f == factor]
+        if not mine:
             clauses.append(f"{factor}: {WORDS.label('untested')}")
             rows.append(Evidence(factor, "", "", "", float("nan"), WORDS.label("untested")))
             continue
         parts = []
-        for a in alts:
+        for i in mine:
+            raw = tried[i][1]
+            a = _applied(ours, raw) if raw.shift else raw
             z, v = verdict(claim, a)
             judged = _words(v, plain=agreeing)
-            if v == "agree" and not agreeing:
+            closes = v == "agree"
+            if closes and not agreeing:
                 z_ours = _at_our_error(claim, ours, a)
                 if z_ours >= AGREE_BELOW:
-                    judged = WORDS.label("larger_error", z=z_ours)
-            parts.append(_part(claim, a, z, judged, factor))
+                    judged, closes = WORDS.label("larger_error", z=z_ours), False
+            credited = credit(adjusted[i], closes, raw.control)
+            if raw.control:
+                judged = WORDS.label("judged", reads=judged, rule=WORDS.label("rule.control"))
+            elif not agreeing:
+                words = WORDS.label(_rule(credited, moves[i], adjusted[i]), z=moves[i],
+                                    p=adjusted[i], tried=count)  # fmt: skip
+                judged = WORDS.label("judged", reads=judged, rule=words)
+            parts.append(_part(claim, a, z, judged, factor, moved_z=float(moves[i]),
+                               moved_p=float(adjusted[i]), credited=credited))  # fmt: skip
         rows += parts
         clauses.append(f"{factor}: " + " / ".join(p.clause() for p in parts))
     return "; ".join(clauses), rows
@@ -422,27 +528,37 @@ KINDS = ("accounted", "not_by", "unresolved", "untested")
 
 
 def _reason_disagree(z: float, evidence: list[Evidence]) -> str:
-    """One line: the z, and which factors account for the disagreement (an evidence row that
-    reads "then agrees"), which do not, which are unresolved and which are not yet tested; a
-    factor is listed once, by its most telling measurement."""
-    then_agrees, untested = WORDS.label("reads.agree"), WORDS.label("untested")
+    """One line: the z, and which factors account for the disagreement (a row credited by the
+    evidence rule, :func:`credit`), which do not, which are unresolved and which are not yet
+    tested; a factor is listed once, by its most telling measurement, with the sizes an
+    extrapolation was tested over. A control row tells nothing about its factor: a factor
+    with only controls is not yet tested."""
+    untested = (WORDS.label("untested"), WORDS.label("reads.none"))
     inconclusive = WORDS.label("reads.inconclusive", times=RESOLVES_WITHIN)
     by: dict[str, list[str]] = {k: [] for k in KINDS}
+    sizes: dict[str, set[int]] = {}
+    factors = [e.factor for e in evidence if e.factor != REPLICATION]
     for e in evidence:
-        if e.factor == REPLICATION:
+        if e.factor == REPLICATION or e.control:
             continue
-        kind = ("accounted" if e.verdict == then_agrees
-                else "untested" if e.verdict in (untested, WORDS.label("reads.none"))
-                else "unresolved" if e.verdict == inconclusive else "not_by")  # fmt: skip
+        sizes.setdefault(e.factor, set()).update(e.sizes)
+        kind = ("accounted" if e.credited
+                else "untested" if e.verdict in untested
+                else "unresolved" if e.verdict.startswith(inconclusive) else "not_by")  # fmt: skip
         if e.factor not in by[kind]:
             by[kind].append(e.factor)
+    listed = {f for names in by.values() for f in names}
+    by["untested"] += [f for f in dict.fromkeys(factors) if f not in listed]
+    by["untested"].sort(key=factors.index)
     seen: set[str] = set()
     parts = [WORDS.label("reason", z=z)]
     for kind in KINDS:
-        factors = [f for f in by[kind] if f not in seen]
-        seen |= set(factors)
-        if factors:
-            parts.append(WORDS.label(f"kind.{kind}", factors=factors))
+        names = [f for f in by[kind] if f not in seen]
+        seen |= set(names)
+        if names:
+            shown = [WORDS.label("factor.sizes", factor=f, sizes=sorted(sizes[f]))
+                     if sizes.get(f) else f for f in names]  # fmt: skip
+            parts.append(WORDS.label(f"kind.{kind}", factors=shown))
     return "; ".join(parts)
 
 
@@ -490,6 +606,8 @@ def evidence_frame(row: ComparisonRow) -> pd.DataFrame:
             "value": [e.value if e.resolved else WORDS.label("unresolved") for e in rows],
             "system": [e.system for e in rows],
             "z": [f"{e.z:.2f}" if np.isfinite(e.z) else "" for e in rows],
+            "moves ours (z)": [f"{e.moved_z:.2f}" if np.isfinite(e.moved_z) else "" for e in rows],
+            "Holm p": [f"{e.moved_p:.2g}" if np.isfinite(e.moved_p) else "" for e in rows],
             "reads": [e.verdict for e in rows],
         }
     )

@@ -28,8 +28,8 @@ from .template import Template, load
 BOOTSTRAP_STREAMS = {
     "collapse": 0, "critical_point": 1, "peaks": 2, "contour": 3, "first_positive": 4,
     "efficacies": 5, "energy_exponent": 5, "taut": 6, "crossing": 6, "paired": 7,
-    "finite_size": 8, "widths": 9, "fractal": 10, "disagreement": 1, "jamming_point": 11,
-    "binomial_widths": 12,
+    "finite_size": 8, "widths": 9, "fractal": 10, "disagreement": 1, "transition": 11,
+    "binomial_widths": 12, "jamming_point": 13,
 }  # fmt: skip
 
 

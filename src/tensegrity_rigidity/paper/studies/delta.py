@@ -87,6 +87,7 @@ def analyse(rows: Rows, scale: Scale) -> DeltaResult:
             row.err,
             system,
             factor="delta",
+            control=math.isclose(row.delta, DEFAULT_DELTA),
             label=T.label(
                 "label",
                 delta=row.delta,

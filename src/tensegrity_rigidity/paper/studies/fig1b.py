@@ -1,8 +1,9 @@
 """Fig. 1B: P(p_r, p_t) at f_c = 0.5 under shear, and its collapse onto p_r + p_t / 2.
 
 Per-sample thresholds along p_r at p_t = 0, 0.1, ..., 0.8 give P on any grid; a
-binomial-likelihood fit of P = F(p_r + lam p_t) to all of them gives lam = S_t/S_r
-(:func:`~tensegrity_rigidity.analysis.fits.fit_collapse`), bootstrap errors over samples.
+maximum-likelihood fit of P = F(p_r + lam p_t) to all of them gives lam = S_t/S_r
+(:func:`~tensegrity_rigidity.analysis.fits.fit_collapse_thresholds`), bootstrap errors over
+samples.
 """
 
 from __future__ import annotations
@@ -18,15 +19,14 @@ from ..claims import Measurement
 from ..study import Result, Scale, Study
 from ..style import COLUMN, WORDS, save
 from ..template import load
-from .rows import Rows, interval_straddles
+from .rows import Rows, interval_straddles, threshold_bounds
 
 NAME = "fig1b"
 T = load(NAME)
 #: p_t of the threshold sweeps
 FIG1B_PT = [round(x, 3) for x in np.arange(0.0, 0.81, 0.1)]
-#: p_r grid of P (101 points) and of the collapse fit's outcomes
+#: p_r grid of P (101 points)
 P_R = np.linspace(0, 1, 101)
-FIT_P_R = np.arange(0.0, 1.0001, 0.01)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -73,8 +73,9 @@ def analyse(rows: Rows, scale: Scale) -> Fig1bResult:
         ok = np.isfinite(P[i])
         if ok.sum() > 2 and P[i, ok].max() >= 0.5:
             halves.append(float(np.interp(0.5, P[i, ok], P_R[ok])) + pt / 2)
-    y, pr, pt_ = an.outcomes_from_thresholds(df, FIT_P_R)
-    collapse = an.fit_collapse(y, pr, pt_, n_boot=scale.bootstrap, rng=scale.rng("collapse"))
+    t, lo, hi = threshold_bounds(df, FIG1B_PT)
+    collapse = an.fit_collapse_thresholds(t, np.array(FIG1B_PT), lo, hi, n_boot=scale.bootstrap,
+                                          rng=scale.rng("collapse"))  # fmt: skip
     return Fig1bResult(
         p_r=P_R, p_t=np.array(FIG1B_PT), P=P, half_x=np.array(halves), collapse=collapse,
         n=scale[NAME].n, samples=scale[NAME].samples, rows=df, excluded={NAME: excluded},

@@ -1,16 +1,18 @@
 """Fig. 1C: S_t/S_r versus the cable fraction f_c, per strain and averaged over strains.
 
-A binomial-likelihood fit of P = F(p_r + lam p_t) to per-sample thresholds along p_r at
-p_t = 0 and :data:`~.rows.COLLAPSE_PT` (:func:`~tensegrity_rigidity.analysis.fits.fit_collapse`),
-bootstrap errors over samples. The strain average pools the samples of five strains, a sample
-under every strain being one unit of the bootstrap. The slope of the P = 1/2 contour is the
+A maximum-likelihood fit of P = F(p_r + lam p_t) to the exact per-sample thresholds along p_r
+at p_t = 0 and :data:`~.rows.COLLAPSE_PT`
+(:func:`~tensegrity_rigidity.analysis.fits.fit_collapse_thresholds`: no grid; a threshold left
+as an interval by undecided probes enters as its interval), bootstrap errors over samples. The
+strain average pools the samples of five strains, a sample under every strain being one unit of
+the bootstrap. The slope of the P = 1/2 contour is the
 model-free alternative.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -32,12 +34,10 @@ from ..style import (
     unresolved,
 )
 from ..template import load
-from .rows import COLLAPSE_PT, FC5, PHI5, Rows, interval_straddles, strain_name, threshold_matrix
+from .rows import COLLAPSE_PT, FC5, PHI5, Rows, strain_name, threshold_bounds
 
 NAME = "fig1c"
 T = load(NAME)
-#: p_r grid of the outcomes the collapse fits read from the thresholds
-FIT_P_R = np.arange(0.3, 0.9001, 0.01)
 #: f_c of the headline claims (``samples``) and of the rest of the curve (``curve``)
 FIG1C_FC = [0.0, 0.5, 1.0]
 FIG1C_FC_CURVE = [0.25, 0.75]
@@ -74,7 +74,8 @@ class Fig1cResult(Result):
     :class:`~tensegrity_rigidity.analysis.fits.CollapseFit` with ``f_c``, ``strain``, ``phi``
     (NaN for the average); ``contour``: per (f_c, strain) ``lam``, ``lam_err`` from the slope
     of the P = 1/2 contour; the rods-only P = 1/2 point (every strain; a sample's strains are
-    one bootstrap unit) with its samples, units and strains."""
+    one bootstrap unit) with its samples, units and strains; ``one_type``: reading ("shear",
+    "average") -> (value, error) of :func:`one_type_contrast`."""
 
     fits: pd.DataFrame
     contour: pd.DataFrame
@@ -86,6 +87,7 @@ class Fig1cResult(Result):
     rows: pd.DataFrame
     rods_only_units: int = 0
     rods_only_strains: int = 0
+    one_type: dict = field(default_factory=dict)
 
     def lam(self, f_c: float, strain: str) -> tuple[float, float]:
         """(S_t/S_r, its error) of one fit."""
@@ -108,30 +110,92 @@ def sweeps(scale: Scale) -> dict[str, dict]:
 def _fits(df: pd.DataFrame, f_c: float, scale: Scale) -> tuple[list[dict], list[dict]]:
     """The collapse fits and contour slopes at one f_c: per strain, then the average."""
     p_t, fits, contour = [0.0, COLLAPSE_PT], [], []
-    pooled, pooled_t, units = [], [], []
+    pooled: list[list[np.ndarray]] = [[], [], []]
+    units = []
     for phi in PHI5:
         sub = df[np.isclose(df.f_c, f_c) & np.isclose(df.phi, phi)]
-        y, pr, pt = an.outcomes_from_thresholds(sub, FIT_P_R)
-        t = threshold_matrix(sub, p_t)
-        pooled.append(y)
-        pooled_t.append(t)
-        units.append(an.common_samples(sub))  # the rows of y and of t
+        bounds = threshold_bounds(sub, p_t)
+        for part, m in zip(pooled, bounds, strict=True):
+            part.append(m)
+        units.append(an.common_samples(sub))  # the rows of the matrices
         if phi in (0.0, math.pi / 2, math.pi):
-            fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=scale.rng("collapse"))
+            t, lo, hi = bounds
+            fit = an.fit_collapse_thresholds(t, np.array(p_t), lo, hi, n_boot=scale.bootstrap,
+                                             rng=scale.rng("collapse"))  # fmt: skip
             fits.append({"f_c": f_c, "strain": strain_name(phi), "phi": phi, **fit.__dict__})
-            c = an.contour_slope(t, np.array(p_t), n_boot=scale.bootstrap, rng=scale.rng("contour"))
+            c = an.contour_slope(t, np.array(p_t), n_boot=scale.bootstrap,
+                                 rng=scale.rng("contour"))  # fmt: skip
             contour.append(
                 {"f_c": f_c, "strain": strain_name(phi), "lam": c.value, "lam_err": c.err}
             )
     # the strain average: a sample under every strain is one unit of the bootstrap
     groups = np.concatenate(units)
-    fit = an.fit_collapse(np.vstack(pooled), pr, pt, n_boot=scale.bootstrap, groups=groups,
-                          rng=scale.rng("collapse"))  # fmt: skip
+    t, lo, hi = (np.vstack(part) for part in pooled)
+    fit = an.fit_collapse_thresholds(t, np.array(p_t), lo, hi, n_boot=scale.bootstrap,
+                                     groups=groups, rng=scale.rng("collapse"))  # fmt: skip
     fits.append({"f_c": f_c, "strain": "average", "phi": np.nan, **fit.__dict__})
-    c = an.contour_slope(np.vstack(pooled_t), np.array(p_t), n_boot=scale.bootstrap,
-                         groups=groups, rng=scale.rng("contour"))  # fmt: skip
+    c = an.contour_slope(t, np.array(p_t), n_boot=scale.bootstrap, groups=groups,
+                         rng=scale.rng("contour"))  # fmt: skip
     contour.append({"f_c": f_c, "strain": "average", "lam": c.value, "lam_err": c.err})
     return fits, contour
+
+
+#: the claim "one type of one-sided element beats a mixture"
+ONE_TYPE_CLAIM = "st_sr_shear_one_type_beats_mixture"
+#: its contrast: lam at f_c = 0 and 1 against f_c = 1/2
+ONE_TYPE = {0.0: 0.5, 1.0: 0.5, 0.5: -1.0}
+#: the claim's readings: the sentence's (shear) and the one its parenthesis allows (average)
+ONE_TYPE_READINGS = {"shear": [math.pi / 2], "average": PHI5}
+
+
+def one_type_contrast(
+    df: pd.DataFrame, fits: pd.DataFrame, reading: str, scale: Scale
+) -> tuple[float, float]:
+    """(lam(0) + lam(1))/2 - lam(1/2) of one reading, and its error.
+
+    Parameters
+    ----------
+    df : DataFrame
+        The study's threshold rows (rods only and one-sided, every f_c and strain).
+    fits : DataFrame
+        The study's collapse fits (:attr:`Fig1cResult.fits`).
+    reading : str
+        A key of :data:`ONE_TYPE_READINGS`: "shear" or "average" (the five strains pooled).
+    scale : Scale
+        Its bootstrap count and random streams.
+
+    Returns
+    -------
+    value, err : float
+        The contrast of the study's own fits, and the error of one bootstrap that refits the
+        three systems on the same resampled samples (those present in all three, the strains
+        of one sample one unit), so that their correlation through common random numbers is
+        kept (:func:`~tensegrity_rigidity.analysis.fits.collapse_contrast`).
+    """
+    p_t, phis = [0.0, COLLAPSE_PT], ONE_TYPE_READINGS[reading]
+    lam = {f: float(fits[np.isclose(fits.f_c, f) & (fits.strain == reading)].lam.iloc[0])
+           for f in ONE_TYPE}  # fmt: skip
+    value = sum(w * lam[f] for f, w in ONE_TYPE.items())
+    systems: dict[float, list] = {f: [[], [], []] for f in ONE_TYPE}
+    groups = []
+    for phi in phis:
+        subs = {f: df[np.isclose(df.f_c, f) & np.isclose(df.phi, phi)] for f in ONE_TYPE}
+        common = set.intersection(*(set(an.common_samples(s)) for s in subs.values()))
+        for f, sub in subs.items():
+            bounds = threshold_bounds(sub[sub["sample"].isin(common)], p_t)
+            for part, m in zip(systems[f], bounds, strict=True):
+                part.append(m)
+        groups.append(np.array(sorted(common)))
+    parts = [(np.vstack(t), np.vstack(lo), np.vstack(hi)) for t, lo, hi in systems.values()]
+    est = an.collapse_contrast(
+        parts,
+        list(ONE_TYPE.values()),
+        np.array(p_t),
+        n_boot=scale.bootstrap,
+        rng=scale.rng("collapse"),
+        groups=np.concatenate(groups) if len(phis) > 1 else None,
+    )
+    return value, est.err
 
 
 def analyse(rows: Rows, scale: Scale) -> Fig1cResult:
@@ -146,17 +210,19 @@ def analyse(rows: Rows, scale: Scale) -> Fig1cResult:
     for f_c in FC5:
         a, b = _fits(df, f_c, scale)
         fits, contour = fits + a, contour + b
+    frame = pd.DataFrame(fits)
+    one_type = {reading: one_type_contrast(df, frame, reading, scale)
+                for reading in ONE_TYPE_READINGS}  # fmt: skip
     rods_only = rods.drop_duplicates(["phi", "sample"])
     pc, pc_err = an.critical_point(
         rods_only.threshold_p_r.to_numpy(), groups=rods_only["sample"].to_numpy(),
         rng=scale.rng("critical_point"),
     )  # fmt: skip
     return Fig1cResult(
-        fits=pd.DataFrame(fits), contour=pd.DataFrame(contour), rods_only_pc=pc,
+        fits=frame, contour=pd.DataFrame(contour), rods_only_pc=pc, one_type=one_type,
         rods_only_pc_err=pc_err, rods_only_samples=len(rods_only), n=scale[NAME].n,
         samples=scale[NAME].samples, rows=df,
         excluded={name: count for name, (_, count) in rows.items()},
-        straddling=interval_straddles(pd.concat([rods, mixed], ignore_index=True), FIT_P_R),
         rods_only_units=int(rods_only["sample"].nunique()),
         rods_only_strains=int(rods_only.phi.nunique()),
     )  # fmt: skip
@@ -180,6 +246,14 @@ def claims(r: Fig1cResult) -> tuple[Measurement, ...]:
         row = r.contour[np.isclose(r.contour.f_c, f_c) & (r.contour.strain == strain)].iloc[0]
         out.append(Measurement.scalar(key, row.lam, row.lam_err, system, factor="estimator",
                                       label=T.label("contour"), size=n))  # fmt: skip
+    # one type beats a mixture: shear as the sentence says, the strain average as the
+    # reading its parenthesis allows (the claim's declared factor "reading")
+    value, err = r.one_type["shear"]
+    out.append(Measurement.scalar(ONE_TYPE_CLAIM, value, err, system, size=n,
+                                  note=T.label("note.one_type")))  # fmt: skip
+    value, err = r.one_type["average"]
+    out.append(Measurement.scalar(ONE_TYPE_CLAIM, value, err, system, factor="reading", size=n,
+                                  label=T.label("one_type.average")))  # fmt: skip
     out.append(Measurement.scalar("rods_only_pc", v["pc"], v["pc_err"], T.label("pc", **v),
                                   note=T.label("note.pc"), size=n))  # fmt: skip
     return tuple(out)

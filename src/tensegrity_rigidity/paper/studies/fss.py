@@ -474,6 +474,11 @@ def with_laws(ex: pd.DataFrame, series: dict, scale: Scale) -> pd.DataFrame:
     return pd.concat([ex.reset_index(drop=True), pd.DataFrame(out)], axis=1)
 
 
+def _sizes(p: Params, key: str) -> tuple[int, ...]:
+    """The sizes one claim's extrapolation uses (rods-only p_c: its own sizes, where set)."""
+    return tuple(int(n) for n in (p.pc_sizes if key == "rods_only_pc" else p.sizes))
+
+
 def _samples_text(p: Params, key: str) -> str:
     """The sample counts per size of a claim: one number when equal, else one per size."""
     if key == "rods_only_pc":
@@ -504,7 +509,8 @@ def _measured(ex: pd.DataFrame, pc_fit, scale: Scale) -> tuple[Measurement, ...]
         ):  # fmt: skip
             out.append(Measurement.scalar(row.key, v, e, system, factor="finite size",
                                           label=label + misfit(chi2, dof),
-                                          short=short + misfit(chi2, dof)))  # fmt: skip
+                                          short=short + misfit(chi2, dof),
+                                          sizes=_sizes(p, row.key)))  # fmt: skip
     return tuple(out)
 
 

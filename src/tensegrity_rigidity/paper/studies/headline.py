@@ -26,7 +26,7 @@ from ..study import Scale
 from ..template import load
 from .energy import energy_exponent, taut_with_error
 from .nonaffinity import mask_uncertified_tensions
-from .rows import COLLAPSE_PT, PT4, Rows, p_r_grid, strain_name
+from .rows import COLLAPSE_PT, PT4, Rows, p_r_grid, strain_name, threshold_bounds
 
 STRAINS3 = [0.0, math.pi / 2, math.pi]
 FC3 = [0.0, 0.5, 1.0]
@@ -225,7 +225,6 @@ def headline(rows: Rows, n: int, delta: float, scale: Scale, *, samples: int, en
         rng=scale.rng("critical_point"),
     )
     out.append({"key": "rods_only_pc", "value": pc, "err": pc_err})
-    grid = np.arange(0.3, 0.9001, 0.01)
     for key, f_c, strain in LAMBDA_CLAIMS:
         phi = next(p for p in STRAINS3 if strain_name(p) == strain)
         sub = pd.concat(
@@ -234,8 +233,10 @@ def headline(rows: Rows, n: int, delta: float, scale: Scale, *, samples: int, en
                 mixed[np.isclose(mixed.phi, phi) & np.isclose(mixed.f_c, f_c)],
             ]
         )
-        y, pr, pt = an.outcomes_from_thresholds(sub, grid)
-        fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=scale.rng("collapse"))
+        t, lo, hi = threshold_bounds(sub, [0.0, COLLAPSE_PT])
+        fit = an.fit_collapse_thresholds(t, np.array([0.0, COLLAPSE_PT]), lo, hi,
+                                         n_boot=scale.bootstrap,
+                                         rng=scale.rng("collapse"))  # fmt: skip
         out.append({"key": key, "value": fit.lam, "err": fit.lam_err})
     cables = pd.concat([pcrit, mixed[np.isclose(mixed.f_c, 1.0)]], ignore_index=True)
     crit = {}

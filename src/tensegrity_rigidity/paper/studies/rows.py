@@ -266,3 +266,19 @@ def undecided_by_kind(studies: Path) -> pd.DataFrame:
         if undecided:
             out.append([path.name, counted, undecided, within, not_resolved])
     return pd.DataFrame(out, columns=UNDECIDED_COLUMNS)
+
+
+def threshold_bounds(rows: pd.DataFrame, p_t: list[float]) -> tuple[np.ndarray, ...]:
+    """(S, J) thresholds, their lower and upper ends of the samples present at every p_t.
+
+    As :func:`threshold_matrix`, with the interval (:data:`INTERVAL`) beside each threshold:
+    equal to it where the threshold is exact, the events between a certified floppy and a
+    certified rigid configuration where undecided probes left it open; rows written before
+    the interval was recorded read as exact. The input of
+    :func:`~tensegrity_rigidity.analysis.fits.fit_collapse_thresholds`.
+    """
+    t = threshold_matrix(rows, p_t)
+    if not all(c in rows for c in INTERVAL):
+        return t, t.copy(), t.copy()
+    ends = [threshold_matrix(rows.assign(threshold_p_r=rows[c]), p_t) for c in INTERVAL]
+    return t, ends[0], ends[1]

@@ -40,7 +40,7 @@ from ..style import (
 from ..style import errorbar as bars
 from ..template import load
 from .headline import misfit
-from .rows import COLLAPSE_PT, Rows, interval_straddles, threshold_matrix
+from .rows import COLLAPSE_PT, Rows, threshold_bounds
 
 NAME = "three_d"
 T = load(NAME)
@@ -49,8 +49,6 @@ SEED_3D = 33
 DILATION, SHEAR, COMPRESSION = 0.0, math.pi / 2, math.pi
 #: (f_c, strains) of the one-sided sweeps at p_t = COLLAPSE_PT: name suffix -> (f_c, phi list)
 MIXED_3D = {"half": (0.5, [DILATION, SHEAR, COMPRESSION]), "cables": (1.0, [COMPRESSION, DILATION])}
-#: p_r grid of the collapse fits' outcomes: the 3D thresholds at p_t = 0.3 lie near 0.3
-FIT_P_R_3D = np.arange(0.1, 0.9001, 0.01)
 #: 2D key -> (f_c, strain) of the S_t/S_r quantities measured in 3D
 LAMBDA_3D = {
     "st_sr_half_dilation": (0.5, "dilation"),
@@ -172,9 +170,9 @@ def _rods_rows(parts: dict[str, pd.DataFrame], n: int, phi: float) -> pd.DataFra
     return parts[f"fcc_rods_n{n}"].assign(phi=phi)
 
 
-def _lambdas(parts, sizes, scale: Scale) -> tuple[list[dict], list[pd.DataFrame]]:
+def _lambdas(parts, sizes, scale: Scale) -> list[dict]:
     """S_t/S_r per size and quantity (collapse fit; contour slope beside it)."""
-    out, straddle = [], []
+    out = []
     for n in sizes:
         mixed = pd.concat([parts[f"fcc_{s}_n{n}"] for s in MIXED_3D], ignore_index=True)
         for key, (f_c, strain) in LAMBDA_3D.items():
@@ -183,16 +181,16 @@ def _lambdas(parts, sizes, scale: Scale) -> tuple[list[dict], list[pd.DataFrame]
             rods = _rods_rows(parts, n, phi)  # of the same samples (the one-sided count)
             rods = rods[rods["sample"].isin(one["sample"])]
             sub = pd.concat([rods.assign(f_c=f_c), one], ignore_index=True)
-            straddle.append(sub)
-            y, pr, pt = an.outcomes_from_thresholds(sub, FIT_P_R_3D)
-            fit = an.fit_collapse(y, pr, pt, n_boot=scale.bootstrap, rng=scale.rng("collapse"))
-            c = an.contour_slope(threshold_matrix(sub, [0.0, COLLAPSE_PT]),
-                                 np.array([0.0, COLLAPSE_PT]), n_boot=scale.bootstrap,
+            t, lo, hi = threshold_bounds(sub, [0.0, COLLAPSE_PT])
+            fit = an.fit_collapse_thresholds(t, np.array([0.0, COLLAPSE_PT]), lo, hi,
+                                             n_boot=scale.bootstrap,
+                                             rng=scale.rng("collapse"))  # fmt: skip
+            c = an.contour_slope(t, np.array([0.0, COLLAPSE_PT]), n_boot=scale.bootstrap,
                                  rng=scale.rng("contour"))  # fmt: skip
             out.append({"n": n, "key": key, "value": fit.lam, "err": fit.lam_err,
                         "samples": len(an.common_samples(sub)), "contour": c.value,
                         "contour_err": c.err})  # fmt: skip
-    return out, straddle
+    return out
 
 
 def _same_thresholds(parts, sizes) -> tuple[float, float]:
@@ -217,7 +215,7 @@ def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
     """The 3D quantities per size (collapse fits, medians) and their extrapolations."""
     p = scale[NAME]
     parts = {name: frame for name, (frame, _) in rows.items()}
-    by_size, straddle = _lambdas(parts, p.sizes, scale)
+    by_size = _lambdas(parts, p.sizes, scale)
     pc_sizes, per_size, sites = sorted(set(p.sizes) | {m for m, _ in p.pc}), [], []
     for n in pc_sizes:
         rods = parts[f"fcc_rods_n{n}"]
@@ -243,8 +241,6 @@ def analyse(rows: Rows, scale: Scale) -> ThreeDResult:
         excluded={name: count for name, (_, count) in rows.items()}, widths=widths,
         strain_free=strain_free, half_strain_free=half_free, pc_envelope=pc_envelope(by),
         binomial_widths=binomial, sites=tuple(sites),
-        straddling=interval_straddles(pd.concat(straddle, ignore_index=True), FIT_P_R_3D)
-        if straddle else None,
     )  # fmt: skip
 
 
