@@ -10,6 +10,7 @@ A study reports what it measured for a claim as a :class:`Measurement`.
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -58,6 +59,9 @@ class Claim:
     same_as : str
         An earlier claim about a system identical to this one by an exact symmetry ("" for
         none): our measurement of the two is one number, compared with two of the paper's.
+    reference : str
+        The literature value (a key of :data:`REFERENCES`) the claim's value and error are
+        taken from ("" where the paper states them itself).
     """
 
     key: str
@@ -70,6 +74,13 @@ class Claim:
     relation: str = "equal"
     target: str = ""
     same_as: str = ""
+    reference: str = ""
+
+    @property
+    def figure(self) -> str:
+        """The first figure of the paper the source names ("1C", "2D"; "" for none)."""
+        found = _FIGURE.search(self.source)
+        return found.group(1) if found else ""
 
     @property
     def resolution(self) -> float:
@@ -78,11 +89,15 @@ class Claim:
         return max(self.error, TARGETS.get(self.target, 0.0))
 
 
+#: a figure of the paper as the sources name it: "Fig. 2C"
+_FIGURE = re.compile(r"\bFig\. (\d+[A-Z]?)\b")
+
+
 def _claim(entry: dict, references: dict[str, Reference], earlier: dict) -> Claim:
     """One ``[[claims]]`` entry, checked against the references and the earlier claims."""
     e = dict(entry)
     key = e.pop("key")
-    ref, error = e.pop("reference", None), e.pop("error", None)
+    ref, error = e.get("reference"), e.pop("error", None)
     if ref is not None:
         e["value"], error = references[ref].value, references[ref].error
     kind = error if isinstance(error, str) else "stated"
