@@ -133,3 +133,13 @@ def test_the_paper_size_scale_is_declared_and_priced():
     est = budget.estimate("paper-size", workers=2)
     assert 0 < est.wall_seconds <= 60 * scale.budget_minutes <= 60 * 15
     assert {s.study for s in est.sweeps} == {"fss"}
+
+
+def test_a_long_paragraph_is_never_split_after_fig():
+    from tensegrity_rigidity.paper.render import split_paragraph
+
+    words = " ".join(["word"] * 8)
+    text = f"{words}. {words} Fig. 2B, n = 4; Fig. 2C, n = 12. {words}."
+    parts = split_paragraph(text, max_words=12)
+    assert not any(p.endswith("Fig.") for p in parts)
+    assert any("Fig. 2B, n = 4" in p for p in parts) and len(parts) > 1
