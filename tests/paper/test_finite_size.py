@@ -106,7 +106,7 @@ def test_the_extrapolation_is_refitted_without_the_smallest_sizes(runs):
     assert (t.p_c.iloc[0], t.p_c_err.iloc[0]) == (pc.y_inf, pc.y_inf_err)
     assert t.p_c_fixed.iloc[0] == fss.pc_at_check_nu.y_inf
     assert np.isnan(t.p_c.iloc[-1]) and np.isfinite(t.p_c_fixed).all()
-    assert set(fsm.report_tables(fss)) == {"by_size", "smallest", "calibration"}
+    assert set(fsm.report_tables(fss)) == {"by_size", "effective_size", "smallest", "calibration"}
     assert fsm.numbers(fss)["smallest"] == ""
 
 

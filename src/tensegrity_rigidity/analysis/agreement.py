@@ -125,6 +125,37 @@ def agreement_z(ours, cov, reference, reference_err=0.0) -> float:
     return float(stats.norm.isf(max(family / 2, 1e-300)))
 
 
+def chi2_against(ours, err, reference, reference_err) -> tuple[float, int, float]:
+    """Chi-square of independent values against references, both with errors.
+
+    Parameters
+    ----------
+    ours, err : (k,) float
+        Our values and their standard errors.
+    reference, reference_err : (k,) float
+        The reference values and their standard errors.
+
+    Returns
+    -------
+    chi2 : float
+        ``sum(((ours - ref) / sqrt(err^2 + ref_err^2))^2)`` (inf where a difference has no
+        error on either side; NaN for k = 0).
+    dof : int
+        k: the references are not fitted.
+    p_value : float
+        ``P(chi2_k >= chi2)`` (NaN for k = 0).
+    """
+    y, e, r, re_ = (np.atleast_1d(np.asarray(a, float)) for a in (ours, err, reference,
+                                                                   reference_err))  # fmt: skip
+    if not y.size:
+        return float("nan"), 0, float("nan")
+    delta, sigma = y - r, np.hypot(e, re_)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        terms = np.where(delta == 0, 0.0, (delta / sigma) ** 2)
+    chi2 = float(np.sum(terms))
+    return chi2, int(y.size), float(stats.chi2.sf(chi2, y.size))
+
+
 def sign_z(value: float, err: float, sign: int) -> float:
     """z of a claim that a quantity has a sign: its distance to the claimed half-line.
 

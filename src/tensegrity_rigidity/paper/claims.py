@@ -90,6 +90,9 @@ class Claim:
         The factors tried for a disagreement of this claim, in the report's order: the data
         file's ``factors`` unless the entry declares its own (fixed before any number of it was
         seen).
+    reference : str
+        The literature value (a key of :data:`REFERENCES`) the claim's value and error are
+        taken from ("" where the paper states them itself).
     """
 
     key: str
@@ -103,6 +106,13 @@ class Claim:
     target: str = ""
     same_as: str = ""
     factors: tuple[str, ...] = ()
+    reference: str = ""
+
+    @property
+    def figure(self) -> str:
+        """The first figure of the paper the source names ("1C", "2D"; "" for none)."""
+        found = _FIGURE.search(self.source)
+        return found.group(1) if found else ""
 
     @property
     def resolution(self) -> float:
@@ -111,11 +121,15 @@ class Claim:
         return max(self.error, TARGETS.get(self.target, 0.0))
 
 
+#: a figure of the paper as the sources name it: "Fig. 2C"
+_FIGURE = re.compile(r"\bFig\. (\d+[A-Z]?)\b")
+
+
 def _claim(entry: dict, references: dict[str, Reference], earlier: dict) -> Claim:
     """One ``[[claims]]`` entry, checked against the references and the earlier claims."""
     e = dict(entry)
     key = e.pop("key")
-    ref, error = e.pop("reference", None), e.pop("error", None)
+    ref, error = e.get("reference"), e.pop("error", None)
     if ref is not None:
         e["value"], error = references[ref].value, references[ref].error
     kind = error if isinstance(error, str) else "stated"

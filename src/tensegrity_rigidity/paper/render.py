@@ -17,6 +17,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from .template import ABBREVIATIONS
+
 #: the longest paragraph the report prints (words); a longer one is split at sentence ends
 MAX_WORDS = 120
 
@@ -29,9 +31,15 @@ _SENTENCE_END = re.compile(r"(?<=[.!?;])\s+(?=[A-Z0-9(*`'\"])")
 
 def split_paragraph(text: str, max_words: int = MAX_WORDS) -> list[str]:
     """``text`` as paragraphs of at most ``max_words`` words, broken at sentence ends (a single
-    sentence longer than that stays whole)."""
+    sentence longer than that stays whole; never after an abbreviation such as "Fig.")."""
+    pieces: list[str] = []
+    for piece in _SENTENCE_END.split(text.strip()):
+        if pieces and pieces[-1].rsplit(None, 1)[-1] in ABBREVIATIONS:  # "Fig. 2B" is one
+            pieces[-1] += " " + piece
+        else:
+            pieces.append(piece)
     out, current = [], ""
-    for sentence in _SENTENCE_END.split(text.strip()):
+    for sentence in pieces:
         joined = f"{current} {sentence}".strip()
         if current and len(joined.split()) > max_words:
             out.append(current)

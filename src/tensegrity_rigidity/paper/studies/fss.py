@@ -24,6 +24,7 @@ from matplotlib.ticker import NullLocator
 
 from ...analysis import estimators as an
 from ...analysis import limits
+from ...analysis.agreement import chi2_against
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, REPLICATION, Measurement
 from ..comparison import fmt
@@ -69,6 +70,9 @@ OMEGA_REF = 1.0
 #: limit with the claim's own correction exponent, and no size dependence (no headline claim
 #: can vanish, so no power law to zero); the spread over the allowed ones is the systematic
 LIMIT_LAWS = ("finite", "constant")
+#: the sizes at which the paper's effective size is looked for: the paper states no n, and
+#: our values move towards its as n falls below the finite-size scale's smallest, 8
+PAPER_SIZES = (4, 6, 8, 10, 12)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -113,6 +117,7 @@ PARAMS = {
     "tiny": Params(samples=3, pc=((4, 6), (5, 6), (6, 6), (8, 4), (10, 3))),
     "fss": Params(sizes=(8, 16, 32, 64), samples=(400, 160, 64, 8), energy=24, pc=FSS_PC[:-1]),
     "pc": Params(sizes=(), samples=(), pc=PC_PEBBLE, pc_method="pebble"),
+    "paper-size": Params(sizes=PAPER_SIZES, samples=(400, 400, 320, 240, 160), energy=24),
     "fss-cluster": Params(sizes=(8, 16, 32, 64, 128), samples=(400, 200, 96, 32, 8), energy=24,
                           pc=FSS_PC),
 }  # fmt: skip
@@ -169,6 +174,7 @@ class FiniteSizeResult(Result):
     fractal: pd.DataFrame | None = None
     fractal_by_size: pd.DataFrame | None = None
     picture: ClusterPicture | None = None
+    paper_fit: pd.DataFrame | None = None
 
 
 #: the size and sample drawn at its threshold in the pc report (64: small enough to read)
@@ -431,8 +437,74 @@ def extrapolate(by_size: pd.DataFrame, scale: Scale, *, pc_widths=None, excluded
         pc_at_check_nu_z=z["pc_at_check_nu_z"],
         pc_widths_z=z["pc_widths_z"],
         pc_widths_nu_z=z["pc_widths_nu_z"],
+        paper_fit=paper_fit(by_size),
         **extra,
     )
+
+
+def paper_number(key: str) -> bool:
+    """Whether a claim enters the paper's effective size: a value and error the paper states
+    for its own measurement (not a theory's exact value, not a literature value it cites), of
+    equality, and not a repeat by symmetry of an earlier claim (our one number would count
+    twice)."""
+    c = CLAIMS.get(key)
+    return (c is not None and c.value is not None and c.relation == "equal"
+            and c.error_kind in ("stated", "rounding") and not c.reference
+            and not c.same_as)  # fmt: skip
+
+
+#: the figure column of :func:`paper_fit` for every claim of the paper together
+ALL_FIGURES = "all"
+
+
+def paper_fit(by_size: pd.DataFrame) -> pd.DataFrame:
+    """How well the paper's numbers fit ours at each size: the paper states no system size.
+
+    Parameters
+    ----------
+    by_size : DataFrame
+        Per (n, key): ``value``, ``err``.
+
+    Returns
+    -------
+    DataFrame
+        One row per n and figure (:data:`ALL_FIGURES` first, then each figure the claims name):
+        ``n``, ``figure``, ``chi2`` = sum of ((ours - paper) / sqrt(err_ours^2 +
+        err_paper^2))^2 over the claims of :func:`paper_number` measured at n, ``dof`` (their
+        number), ``p_value`` (:func:`~tensegrity_rigidity.analysis.agreement.chi2_against`),
+        ``fits`` (``p_value >= ACCEPT_P`` of :mod:`~tensegrity_rigidity.analysis.limits`, the
+        rule fixed before any size was compared) and ``missing`` (claims at n without a finite
+        value or error, left out of the sum and counted here).
+    """
+    keys = [k for k in by_size.key.unique() if paper_number(k)] if len(by_size) else []
+    rows = []
+    for n in sorted(by_size.n.unique()) if keys else []:
+        at = by_size[(by_size.n == n) & by_size.key.isin(keys)]
+        ok = at[np.isfinite(at.value.astype(float)) & np.isfinite(at.err.astype(float))]
+        figures = [ALL_FIGURES, *sorted({CLAIMS[k].figure for k in ok.key})]
+        for fig in figures:
+            part = ok if fig == ALL_FIGURES else ok[[CLAIMS[k].figure == fig for k in ok.key]]
+            ref = [CLAIMS[k] for k in part.key]
+            chi2, dof, p = chi2_against(part.value, part.err, [c.value for c in ref],
+                                        [c.error for c in ref])  # fmt: skip
+            rows.append({"n": int(n), "figure": fig, "chi2": chi2, "dof": dof, "p_value": p,
+                         "fits": bool(p >= limits.ACCEPT_P),
+                         "missing": len(at) - len(ok) if fig == ALL_FIGURES else 0})  # fmt: skip
+    return pd.DataFrame(rows, columns=["n", "figure", "chi2", "dof", "p_value", "fits",
+                                       "missing"])  # fmt: skip
+
+
+def effective_size(fit: pd.DataFrame, figure: str = ALL_FIGURES) -> dict | None:
+    """The paper's effective size from :func:`paper_fit`: the n whose chi-square has the largest
+    p-value (the smallest such n on a tie) with its ``chi2``, ``dof``, ``p_value``, and the
+    sizes that fit (``fitting``); None without a size."""
+    rows = fit[(fit.figure == figure) & (fit.dof > 0)].sort_values("n")
+    if not len(rows):
+        return None
+    best = rows.iloc[int(np.argmax(rows.p_value.to_numpy(float)))]
+    return {"n": int(best.n), "chi2": float(best.chi2), "dof": int(best.dof),
+            "p_value": float(best.p_value),
+            "fitting": [int(n) for n in rows.n[rows.fits.astype(bool)]]}  # fmt: skip
 
 
 def _extrapolated(fits: dict, checks: dict) -> pd.DataFrame:
@@ -633,7 +705,26 @@ def numbers(r: FiniteSizeResult) -> dict:
         **_calibration(r),
         **_clusters(r),
         **_laws(r),
+        **_effective(r),
     }
+
+
+def _effective(r: FiniteSizeResult) -> dict:
+    """The paper's effective size (empty without a claim of the paper measured)."""
+    fit = r.paper_fit
+    best = None if fit is None else effective_size(fit)
+    if fit is None or best is None:
+        return {}
+    figures = [f for f in dict.fromkeys(fit.figure) if f != ALL_FIGURES]
+    per_figure = [T.label("eff_figure", figure=f, **{k: v for k, v in b.items() if k != "fitting"})
+                  for f in figures if (b := effective_size(fit, f)) is not None]  # fmt: skip
+    return {"effective": "", "eff_n": best["n"], "eff_chi2": best["chi2"], "eff_dof": best["dof"],
+            "eff_p": best["p_value"], "eff_fitting": best["fitting"] or None,
+            "eff_none": None if best["fitting"] else "", "accept_p": limits.ACCEPT_P,
+            "eff_sizes": sorted(set(fit.n)), "eff_chi2s": [
+                round(x, 1) for x in fit[fit.figure == ALL_FIGURES].sort_values("n").chi2],
+            "eff_figures": "; ".join(per_figure) or None,
+            "eff_missing": int(fit.missing.sum()) or None}  # fmt: skip
 
 
 def _laws(r: FiniteSizeResult) -> dict:
@@ -788,8 +879,31 @@ def _cluster_tables(r: FiniteSizeResult) -> dict:
     return {"clusters": pd.DataFrame(rows), "masses": masses}
 
 
+def _effective_table(r: FiniteSizeResult) -> pd.DataFrame | None:
+    """One row per size: the chi-square of every claim of the paper, its dof, p-value and
+    whether it fits, then one column per figure (chi-square / dof, p)."""
+    fit = r.paper_fit
+    if fit is None or not len(fit):
+        return None
+    every = fit[fit.figure == ALL_FIGURES].sort_values("n")
+    table = pd.DataFrame({"n": every.n.to_numpy(int),
+                          "chi2_all": [f"{x:.1f}" for x in every.chi2],
+                          "dof_all": every.dof.to_numpy(int),
+                          "p_all": [f"{x:.2g}" for x in every.p_value],
+                          "fits": [T.label("yes" if x else "no") for x in every.fits]})  # fmt: skip
+    for f in dict.fromkeys(fit.figure):
+        if f == ALL_FIGURES:
+            continue
+        part = fit[fit.figure == f].set_index("n")
+        table[T.label("col.figure", figure=f)] = [
+            f"{part.chi2[n]:.1f} / {part.dof[n]}, p = {part.p_value[n]:.2g}" if n in part.index
+            else "-" for n in table.n]  # fmt: skip
+    return table
+
+
 def report_tables(r: FiniteSizeResult) -> dict:
-    out = {"by_size": _by_size_table(r), "smallest": _smallest_table(r),
+    out = {"by_size": _by_size_table(r), "effective_size": _effective_table(r),
+           "smallest": _smallest_table(r),
            "calibration": _calibration_table(r), **_cluster_tables(r)}  # fmt: skip
     return {k: v for k, v in out.items() if v is not None}
 
@@ -895,6 +1009,7 @@ def tables(r: FiniteSizeResult) -> dict:
     out = {"fss_by_size": r.by_size, "fss_extrapolated": r.extrapolated,
            "fss_pc_by_smallest_size": r.pc_by_smallest, "pc_fractal_dimensions": r.fractal,
            "pc_cluster_masses": r.fractal_by_size,
+           "fss_paper_fit": None if r.paper_fit is None or not len(r.paper_fit) else r.paper_fit,
            "pc_calibration_fits": None if r.pc_calibration is None
            else calibration_table(r.pc_calibration)}  # fmt: skip
     return {k: v for k, v in out.items() if v is not None}

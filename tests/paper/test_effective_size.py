@@ -1,0 +1,145 @@
+"""The paper's effective size: chi-square of its numbers against ours at each size."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+
+from tensegrity_rigidity.analysis.agreement import chi2_against
+from tensegrity_rigidity.analysis.limits import ACCEPT_P
+from tensegrity_rigidity.paper import budget
+from tensegrity_rigidity.paper.claims import CLAIMS
+from tensegrity_rigidity.paper.registry import SCALES
+from tensegrity_rigidity.paper.report import render
+from tensegrity_rigidity.paper.studies import fss as fsm
+
+#: the claims of one finite-size run at each size (as the headline study measures them)
+KEYS = [
+    "st_sr_cables_compression",
+    "st_sr_struts_dilation",
+    "st_sr_cables_dilation",
+    "st_sr_half_shear",
+    "rods_only_pc",
+    "p_crit_compression_0.1",
+    "p_crit_dilation_0.0",
+    "alpha_dilation_0.2",
+    "taut_cables_transition",
+]
+
+
+def _by_size(shifts: dict[int, float], err: float = 0.01) -> pd.DataFrame:
+    """Every claim of KEYS at each size, at the paper's value plus ``shift`` combined errors."""
+    rows = []
+    for n, shift in shifts.items():
+        for k in KEYS:
+            c = CLAIMS[k]
+            sigma = np.hypot(err, c.error)
+            rows.append({"key": k, "n": n, "value": c.value + shift * sigma, "err": err})
+    return pd.DataFrame(rows)
+
+
+def test_chi2_against_a_known_answer():
+    chi2, dof, p = chi2_against([1.0, 2.0], [0.3, 0.0], [1.5, 0.0], [0.4, 1.0])
+    assert chi2 == pytest.approx(1.0 + 4.0) and dof == 2
+    assert p == pytest.approx(np.exp(-2.5))  # chi2_2 survival
+    assert chi2_against([], [], [], [])[1] == 0
+    assert chi2_against([1.0], [0.0], [2.0], [0.0])[0] == np.inf
+
+
+def test_only_the_papers_own_numbers_enter():
+    """A theory's exact value, a literature value and a repeat by symmetry are left out."""
+    entering = {k for k in KEYS if fsm.paper_number(k)}
+    assert entering == {"st_sr_cables_compression", "st_sr_cables_dilation",
+                        "p_crit_compression_0.1", "alpha_dilation_0.2",
+                        "taut_cables_transition"}  # fmt: skip
+
+
+def test_the_size_where_ours_equal_the_papers_is_the_effective_one():
+    fit = fsm.paper_fit(_by_size({4: 3.0, 6: 0.0, 8: 1.0, 10: 3.0}))
+    every = fit[fit.figure == fsm.ALL_FIGURES].set_index("n")
+    assert list(every.dof) == [5] * 4 and (every.missing == 0).all()
+    assert every.chi2[6] == pytest.approx(0.0) and every.p_value[6] == pytest.approx(1.0)
+    assert every.chi2[8] == pytest.approx(5.0)
+    assert every.chi2[4] == pytest.approx(45.0)
+    assert every.p_value[8] == pytest.approx(stats.chi2.sf(5.0, 5))
+    best = fsm.effective_size(fit)
+    assert best is not None
+    assert best["n"] == 6 and best["dof"] == 5 and best["p_value"] == pytest.approx(1.0)
+    assert best["fitting"] == [6, 8]  # p(5, 5) = 0.42; 45 for 5 claims does not fit
+    # per figure: Fig. 1C holds both S_t/S_r numbers of the paper
+    fig1c = fit[(fit.figure == "1C") & (fit.n == 4)]
+    assert int(fig1c.dof.iloc[0]) == 2 and fig1c.chi2.iloc[0] == pytest.approx(18.0)
+    assert set(fit.figure) == {fsm.ALL_FIGURES, "1C", "2B", "2C", "2D"}
+
+
+def test_no_size_fits_and_a_missing_value_is_counted():
+    by = _by_size({8: 3.0, 16: 4.0})
+    by.loc[(by.n == 8) & (by.key == "taut_cables_transition"), "value"] = np.nan
+    fit = fsm.paper_fit(by)
+    every = fit[fit.figure == fsm.ALL_FIGURES].set_index("n")
+    assert every.missing[8] == 1 and every.dof[8] == 4 and every.missing[16] == 0
+    best = fsm.effective_size(fit)
+    assert best is not None and best["n"] == 8 and best["fitting"] == []
+    assert not fit.fits.any()
+
+
+def test_no_claim_of_the_paper_no_effective_size():
+    by = pd.DataFrame({"key": ["rods_only_pc"] * 2, "n": [32, 64], "value": [0.66, 0.66],
+                       "err": [0.001, 0.001]})  # fmt: skip
+    fit = fsm.paper_fit(by)
+    assert not len(fit) and fsm.effective_size(fit) is None
+    assert fsm._effective(SimpleNamespace(paper_fit=fit)) == {}
+
+
+def _text(shifts, missing=None) -> tuple[str, pd.DataFrame | None]:
+    by = _by_size(shifts)
+    if missing is not None:  # one claim of the paper without a value at that size
+        by.loc[(by.n == missing) & (by.key == "taut_cables_transition"), "value"] = np.nan
+    r = SimpleNamespace(paper_fit=fsm.paper_fit(by))
+    blocks = [b for b in fsm.T.blocks if b.name in ("effective", "effective_size")]
+    table = fsm._effective_table(r)
+    out = render(fsm.T, fsm._effective(r), {}, {"effective_size": table}, [], blocks=blocks)
+    return " ".join(b[1] for b in out if b[0] == "p"), table
+
+
+def test_the_report_names_the_effective_size_and_the_sizes_that_fit():
+    text, table = _text({4: 3.0, 6: 0.0, 8: 1.0})
+    assert "fit best at n = 6 (chi-square 0.0 for 5 claims, p = 1)" in text
+    assert f"n = 6, 8 fit at p >= {ACCEPT_P}" in text and "no size fits" not in text
+    assert "Fig. 1C, n = 6 (chi-square 0.0 for 2 claim(s)" in text and "{" not in text
+    assert "left out of the sums" not in text
+    assert table is not None and list(table.n) == [4, 6, 8]
+    assert list(table.fits) == [fsm.T.label("no"), fsm.T.label("yes"), fsm.T.label("yes")]
+    assert "Fig. 2C" in table.columns
+
+
+def test_the_report_says_when_no_size_fits():
+    text, _ = _text({8: 3.0, 16: 4.0}, missing=8)
+    assert "fit best at n = 8" in text
+    assert f"no size fits at p >= {ACCEPT_P}" in text and "fit at p" not in text
+    assert 'left out of the sums (column "missing" of tables/fss_paper_fit.csv): 1.' in text
+
+
+def test_the_paper_size_scale_is_declared_and_priced():
+    scale = SCALES["paper-size"]
+    assert scale.studies == ("fss",)
+    p = scale["fss"]
+    assert p.sizes == fsm.PAPER_SIZES == (4, 6, 8, 10, 12)
+    assert not p.pc  # the rods-only point from the headline sweeps
+    est = budget.estimate("paper-size", workers=2)
+    assert 0 < est.wall_seconds <= 60 * scale.budget_minutes <= 60 * 15
+    assert {s.study for s in est.sweeps} == {"fss"}
+
+
+def test_a_long_paragraph_is_never_split_after_fig():
+    from tensegrity_rigidity.paper.render import split_paragraph
+
+    words = " ".join(["word"] * 8)
+    text = f"{words}. {words} Fig. 2B, n = 4; Fig. 2C, n = 12. {words}."
+    parts = split_paragraph(text, max_words=12)
+    assert not any(p.endswith("Fig.") for p in parts)
+    assert any("Fig. 2B, n = 4" in p for p in parts) and len(parts) > 1
