@@ -449,7 +449,7 @@ def paper_number(key: str) -> bool:
     twice)."""
     c = CLAIMS.get(key)
     return (c is not None and c.value is not None and c.relation == "equal"
-            and c.error_kind in ("stated", "rounding") and not c.reference
+            and c.error_kind in ("stated", "rounding", "about") and not c.reference
             and not c.same_as)  # fmt: skip
 
 
