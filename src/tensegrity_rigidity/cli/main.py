@@ -140,10 +140,8 @@ def _cmd_solve(args) -> int:
     from ..solver.core import solve
 
     if args.plot is not None:  # refuse a bad figure path before any work
-        from ..model.io import check_output_file
         from ..paper.plotting import check_plot_path
 
-        check_output_file(args.plot, "the figure path", "network.png")
         check_plot_path(args.plot)
     instance = load_instance(args.file)
     result = solve(instance)

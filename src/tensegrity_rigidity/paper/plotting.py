@@ -33,6 +33,7 @@ from matplotlib.lines import Line2D
 
 from ..combinatorics.clusters import RigidClusters, rigid_clusters
 from ..errors import InputError
+from ..model.io import check_output_file
 from ..model.network import Element, Instance, PeriodicNetwork
 from ..solver.core import SolveResult
 from .template import load
@@ -329,16 +330,10 @@ def check_plot_path(path: str | os.PathLike) -> Path:
     Raises
     ------
     InputError
-        If the path is empty or a directory, its directory does not exist, or Matplotlib
-        cannot write its format.
+        As :func:`~tensegrity_rigidity.model.io.check_output_file` (empty, a directory, a
+        link, a device, in a missing directory), or Matplotlib cannot write its format.
     """
-    if not os.fspath(path).strip():
-        raise InputError("the figure path is empty; give a file name such as out.png")
-    p = Path(path)
-    if p.is_dir():
-        raise InputError(f"{p}: is a directory; give a file name such as {p}/network.png")
-    if not p.parent.is_dir():
-        raise InputError(f"{p}: directory {p.parent} does not exist")
+    p = check_output_file(path, "the figure path", "network.png")
     formats = Figure().canvas.get_supported_filetypes()
     fmt = p.suffix.lstrip(".").lower()
     if fmt not in formats:
