@@ -615,7 +615,13 @@ def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run,
     assert (rows.stressed_sites <= rows.cluster_sites).all() and (rows.stressed_sites > 0).all()
     assert set(r.extrapolated.key) == {"rods_only_pc"} and r.pc_widths is not None
     f = r.fractal
-    assert set(f.cluster) == {"rigid", "stressed"} and set(f.mass) == {"nodes", "sites"}
+    assert set(f.cluster) == {"rigid", "stressed", "backbone"} and set(f.mass) == {"nodes", "sites"}
+    # the backbone is a stressed region of the spanning cluster: never heavier than the
+    # stressed part; only it and the spanning cluster have literature values
+    by = r.fractal_by_size
+    assert np.all(by.backbone_sites <= by.stressed_sites + 1e-12) and np.all(by.backbone_nodes > 0)
+    assert f[f.cluster == "stressed"].reference.isna().all()
+    assert (f[f.cluster == "backbone"].reference == 1.78).all()
     assert set(f.n_min) == {5, 6} and np.all(np.isfinite(f.d)) and np.all(f.d_err > 0)
     assert np.all((f.d > 1.0) & (f.d < 2.5))  # a fractal below the dimension of the plane
     assert list(r.fractal_by_size.n) == [5, 6, 8, 10]
@@ -636,6 +642,9 @@ def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run,
     blocks = render(fsm.T, v, {}, fsm.report_tables(r), [])
     text = " ".join(b[1] for b in blocks if b[0] == "p")
     assert "pebble game" in text and f"d_f = {v['d_rigid']}" in text
+    assert f"backbone: d_f = {v['d_backbone']}" in text
+    backbone = table[table.quantity == fsm.T.label("d_f.backbone")]
+    assert len(backbone) == len(set(f.n_min)) and (backbone.source == "Jacobs & Thorpe").all()
 
 
 def test_the_fss_scale_keeps_its_bisection_thresholds():

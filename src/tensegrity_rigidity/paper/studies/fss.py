@@ -202,12 +202,16 @@ def cluster_picture(sizes: tuple[int, ...], delta: float = DEFAULT_DELTA) -> Clu
     return ClusterPicture(at, rigid_clusters(at), spanning, n, PICTURE_SAMPLE, th.s)
 
 
-#: (name, mass column in nodes, in sites, literature value) of the clusters whose fractal
-#: dimension the pc scale measures at the threshold
+#: (name, mass column in nodes, in sites, literature keys) of the clusters whose fractal
+#: dimension the pc scale measures at the threshold: the spanning rigid cluster, all of its
+#: overconstrained rods (no literature value), and its load-carrying backbone (the stressed
+#: region that holds the threshold rod), which is what Jacobs & Thorpe's "stressed backbone" is
 FRACTAL_CLUSTERS = (
-    ("rigid", "cluster_nodes", "cluster_sites", REFERENCES["df_rigid_javerzat_notarmuzi"]),
-    ("stressed", "stressed_nodes", "stressed_sites", REFERENCES["df_stressed_jacobs_thorpe"]),
-)
+    ("rigid", "cluster_nodes", "cluster_sites",
+     ("df_rigid_javerzat_notarmuzi", "df_dynamic_pebble", "df_rigid_jacobs_thorpe")),
+    ("stressed", "stressed_nodes", "stressed_sites", ()),
+    ("backbone", "backbone_nodes", "backbone_sites", ("df_stressed_jacobs_thorpe",)),
+)  # fmt: skip
 
 
 def fractal_dimensions(sizes, rows: list[pd.DataFrame], scale: Scale):
@@ -215,15 +219,20 @@ def fractal_dimensions(sizes, rows: list[pd.DataFrame], scale: Scale):
 
     From the pebble-game rows of each size (samples never rigid left out): ``fits``, one row per
     (cluster, mass in "nodes" or "sites", smallest size fitted): ``d``, ``d_err``, ``chi2``,
-    ``dof``, the literature's ``reference``, ``reference_err`` and ``z``
-    (:func:`~tensegrity_rigidity.analysis.scaling.fractal_dimension`: M ~ n^d, each sample's
-    mass at its own threshold); and ``by_size``, the mean masses with errors per size.
+    ``dof``, the first literature value's ``reference``, ``reference_err`` and ``z`` (NaN
+    where there is none) (:func:`~tensegrity_rigidity.analysis.scaling.fractal_dimension`:
+    M ~ n^d, each sample's mass at its own threshold); and ``by_size``, the mean masses with
+    errors per size. A cluster whose mass columns the rows lack (rows written before they were
+    recorded) is left out.
     """
     n = np.asarray(sizes, float)
     rigid = [r[np.isfinite(r.threshold_p_r)] for r in rows]
     by_size = pd.DataFrame({"n": np.asarray(sizes, int), "samples": [len(r) for r in rigid]})
     fits = []
-    for name, nodes, sites, ref in FRACTAL_CLUSTERS:
+    for name, nodes, sites, keys in FRACTAL_CLUSTERS:
+        if not all(nodes in r and sites in r for r in rigid):
+            continue
+        ref = REFERENCES[keys[0]] if keys else None
         for mass, col in (("nodes", nodes), ("sites", sites)):
             masses = [r[col].to_numpy(float) for r in rigid]
             for k, n_min in enumerate(n[: max(1, n.size - 2)]):
@@ -232,7 +241,7 @@ def fractal_dimensions(sizes, rows: list[pd.DataFrame], scale: Scale):
                 if k == 0:
                     by_size[f"{name}_{mass}"] = fit.mass
                     by_size[f"{name}_{mass}_err"] = fit.mass_err
-                ref_err = ref.error or 0.0
+                ref_value, ref_err = (ref.value, ref.error or 0.0) if ref else (np.nan, np.nan)
                 fits.append(
                     {
                         "cluster": name,
@@ -242,9 +251,9 @@ def fractal_dimensions(sizes, rows: list[pd.DataFrame], scale: Scale):
                         "d_err": fit.d_err,
                         "chi2": fit.chi2,
                         "dof": fit.dof,
-                        "reference": ref.value,
+                        "reference": ref_value,
                         "reference_err": ref_err,
-                        "z": an.agreement_z(fit.d, fit.d_err**2, ref.value, ref_err),
+                        "z": an.agreement_z(fit.d, fit.d_err**2, ref_value, ref_err),
                     }
                 )
     return pd.DataFrame(fits), by_size
@@ -766,8 +775,8 @@ def _clusters(r: FiniteSizeResult) -> dict:
         return {}
     f = r.fractal
     free = f[(f.n_min == f.n_min.min()) & (f.mass == "nodes")].set_index("cluster")
-    return {"clusters": "", "d_rigid": fmt(free.loc["rigid"].d, free.loc["rigid"].d_err),
-            "d_stressed": fmt(free.loc["stressed"].d, free.loc["stressed"].d_err)}  # fmt: skip
+    return {"clusters": "", **{f"d_{c}": fmt(free.loc[c].d, free.loc[c].d_err)
+                               for c in free.index}}  # fmt: skip
 
 
 def _by_size_table(r: FiniteSizeResult) -> pd.DataFrame:
@@ -866,16 +875,18 @@ def _cluster_tables(r: FiniteSizeResult) -> dict:
     if w is not None and np.isfinite(w.nu):
         rows += _against("nu", T.label("how.nu_widths"), w.nu, w.nu_err, nus)
     f = r.fractal
-    refs = {"rigid": ("df_rigid_javerzat_notarmuzi", "df_dynamic_pebble", "df_rigid_jacobs_thorpe"),
-            "stressed": ("df_stressed_jacobs_thorpe",)}  # fmt: skip
+    refs = {name: keys for name, _, _, keys in FRACTAL_CLUSTERS}
     for x in f[f.mass == "nodes"].itertuples():  # sites: tables/pc_fractal_dimensions
         how = T.label("how.df", n_min=None if x.n_min == f.n_min.min() else x.n_min,
                       chi2=x.chi2, dof=x.dof)  # fmt: skip
-        rows += _against(T.label(f"d_f.{x.cluster}"), how, x.d, x.d_err, refs[x.cluster])
+        rows += _against(T.label(f"d_f.{x.cluster}"), how, x.d, x.d_err, refs[x.cluster]) or [
+            {"quantity": T.label(f"d_f.{x.cluster}"), "ours": fmt(x.d, x.d_err), "how": how,
+             "literature": "-", "source": "-", "z": "-"}]  # fmt: skip
     by = r.fractal_by_size
+    measured = [c for c, *_ in FRACTAL_CLUSTERS if f"{c}_nodes" in by]
     masses = pd.DataFrame({"n": by.n, "samples": by.samples, **{
         f"{c}_{m}": [fmt(v, e) for v, e in zip(by[f"{c}_{m}"], by[f"{c}_{m}_err"], strict=True)]
-        for c in ("rigid", "stressed") for m in ("nodes", "sites")}})  # fmt: skip
+        for c in measured for m in ("nodes", "sites")}})  # fmt: skip
     return {"clusters": pd.DataFrame(rows), "masses": masses}
 
 
@@ -981,7 +992,8 @@ def figure_rc(r: FiniteSizeResult, figdir):
                                rods=pic.spanning.sites.size,
                                stressed=int(pic.spanning.stressed.sum())))  # fmt: skip
     n = by.n.to_numpy(float)
-    for cluster, colour in (("rigid", CYCLE[0]), ("stressed", CYCLE[1])):
+    for cluster, colour in zip((c for c, *_ in FRACTAL_CLUSTERS if f"{c}_nodes" in by), CYCLE,
+                               strict=False):  # fmt: skip
         mean, err = by[f"{cluster}_nodes"], by[f"{cluster}_nodes_err"]
         f = fits[(fits.cluster == cluster) & (fits.mass == "nodes") & (fits.n_min == n.min())]
         (row,) = f.itertuples()
