@@ -11,12 +11,37 @@ from __future__ import annotations
 from pathlib import Path
 
 from .run_times import SCALES_FILE, read_scales
-from .studies import delta, fig1b, fig1c, fig2, fig3, fig4, fss, jamming_onset, method, three_d
+from .studies import (
+    delta,
+    efficacy_limit,
+    fig1b,
+    fig1c,
+    fig2,
+    fig3,
+    fig4,
+    fss,
+    jamming_onset,
+    method,
+    three_d,
+)
 from .study import Scale, Study
 
 #: every study, in the order a reproduction runs them and the report shows them
 REGISTRY: tuple[Study, ...] = tuple(
-    m.STUDY for m in (fig1b, fig1c, fig2, fig3, fig4, method, fss, delta, three_d, jamming_onset)
+    m.STUDY
+    for m in (
+        fig1b,
+        fig1c,
+        fig2,
+        fig3,
+        fig4,
+        method,
+        fss,
+        delta,
+        three_d,
+        efficacy_limit,
+        jamming_onset,
+    )
 )
 #: study name -> the study (called as ``study(out, scale, **kw)``)
 STUDIES = {s.name: s for s in REGISTRY}
