@@ -184,8 +184,28 @@ def test_the_papers_pcrit_is_the_first_p_r_with_a_positive_mean_energy():
     assert (got.samples == 4).all()  # the undecided row's sample is not one
     # the error is at least the grid's resolution h / sqrt(12)
     assert (got.err >= 0.025 / np.sqrt(12) - 1e-12).all()
+    assert not got.censored.any()
     none = first_positive_pcrit(_grid({np.pi: 0.9}), SCALES["tiny"])
-    assert np.isnan(none.value.iloc[0])  # no positive mean on the grid
+    assert np.isnan(none.value.iloc[0]) and not none.censored.iloc[0]  # no positive mean
+    edge = first_positive_pcrit(_grid({np.pi: 0.5}), SCALES["tiny"])
+    assert edge.value.iloc[0] == 0.5 and edge.censored.iloc[0]  # positive at the first p_r
+
+
+def test_a_bound_of_the_papers_estimator_is_missing_not_a_value():
+    by = _by_size({6: 0.0, 8: 0.0})
+    theirs = _paper_pcrit({6: 0.0, 8: 5.0}).assign(censored=[False, True])
+    fit = fsm.paper_fit(by, theirs)
+    every = fit[(fit.figure == fsm.ALL_FIGURES) & (fit.estimator == fsm.PAPERS)].set_index("n")
+    assert list(every.missing) == [0, 1] and list(every.dof) == [5, 4]
+    assert every.chi2[8] == pytest.approx(0.0)
+    c = fsm.paper_claims(by, theirs)
+    bound = c[(c.estimator == fsm.PAPERS) & (c.n == 8)].iloc[0]
+    assert bound.censored and np.isnan(bound.z) and not bound.reproduced
+    text, tables = _render(_result(by, theirs))
+    assert "left out of its sums as missing: 1 values of the paper's numbers (1 claims" in text
+    row = tables["reproduced"].iloc[-1]
+    assert row["z, n = 8"] == fsm.T.label("censored", value=theirs.value.iloc[1])
+    assert row["reproduced"] == "n = 6"
 
 
 def _paper_pcrit(shifts: dict[int, float], key: str = "p_crit_compression_0.1", err=0.01):

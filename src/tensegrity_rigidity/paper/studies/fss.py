@@ -475,10 +475,13 @@ OURS, PAPERS = "ours", "paper"
 
 def with_paper_pcrit(by_size: pd.DataFrame, paper_pcrit: pd.DataFrame | None) -> pd.DataFrame:
     """``by_size`` with the value and error of each (n, key) of ``paper_pcrit`` (the p_crit
-    claims by the paper's estimator) in place of ours; the other rows as they are."""
+    claims by the paper's estimator) in place of ours, NaN where that is only a bound (a
+    ``censored`` row: :func:`paper_fit` counts it as missing); the other rows as they are."""
     if paper_pcrit is None or not len(paper_pcrit) or not len(by_size):
         return by_size
-    theirs = paper_pcrit.set_index(["n", "key"])[["value", "err"]]
+    theirs = paper_pcrit.set_index(["n", "key"])[["value", "err"]].astype(float)
+    if "censored" in paper_pcrit:
+        theirs.loc[paper_pcrit.censored.astype(bool).to_numpy(), "value"] = np.nan
     out = by_size.copy()
     at = pd.MultiIndex.from_arrays([out.n, out.key])
     hit = at.isin(theirs.index)
@@ -566,17 +569,20 @@ def paper_claims(by_size: pd.DataFrame, paper_pcrit: pd.DataFrame | None = None)
         One row per claim, estimator (:data:`OURS` for every claim; :data:`PAPERS` for the
         claims ``paper_pcrit`` holds) and n: ``key``, ``estimator``, ``n``, ``value``, ``err``,
         ``z`` = |ours - paper| / sqrt(err_ours^2 + err_paper^2) (the term of the chi-square;
-        NaN without a finite value) and ``reproduced`` (z below the comparison's
-        :data:`~tensegrity_rigidity.paper.comparison.AGREE_BELOW`).
+        NaN without a finite value or where the value is a bound), ``reproduced`` (z below the
+        comparison's :data:`~tensegrity_rigidity.paper.comparison.AGREE_BELOW`) and
+        ``censored`` (the paper's estimator at its grid's first point: a bound).
     """
-    columns = ["key", "estimator", "n", "value", "err", "z", "reproduced"]
-    parts = [by_size.assign(estimator=OURS)] if len(by_size) else []
+    columns = ["key", "estimator", "n", "value", "err", "z", "reproduced", "censored"]
+    parts = [by_size.assign(estimator=OURS, censored=False)] if len(by_size) else []
     if paper_pcrit is not None and len(paper_pcrit):
-        parts.append(paper_pcrit.assign(estimator=PAPERS))
+        theirs = paper_pcrit.assign(estimator=PAPERS)
+        parts.append(theirs if "censored" in theirs else theirs.assign(censored=False))
     if not parts:
         return pd.DataFrame(columns=columns)
-    rows = pd.concat([p[["key", "estimator", "n", "value", "err"]] for p in parts],
+    rows = pd.concat([p[["key", "estimator", "n", "value", "err", "censored"]] for p in parts],
                      ignore_index=True)  # fmt: skip
+    rows["censored"] = rows.censored.astype(bool)
     rows = rows[[paper_number(k) for k in rows.key]].reset_index(drop=True)
     paper = np.array([CLAIMS[k].value for k in rows.key], float)
     paper_err = np.array([CLAIMS[k].error for k in rows.key], float)
@@ -584,7 +590,7 @@ def paper_claims(by_size: pd.DataFrame, paper_pcrit: pd.DataFrame | None = None)
     with np.errstate(divide="ignore", invalid="ignore"):
         z = np.abs(value - paper) / np.hypot(err, paper_err)
     rows["n"] = rows.n.astype(int)
-    rows["z"] = np.where(np.isfinite(value) & np.isfinite(err), z, np.nan)
+    rows["z"] = np.where(np.isfinite(value) & np.isfinite(err) & ~rows.censored, z, np.nan)
     rows["reproduced"] = rows.z < AGREE_BELOW
     return rows[columns]
 
@@ -803,6 +809,13 @@ def _effective(r: FiniteSizeResult) -> dict:
            **_best(fit, OURS, "eff"), **_reproduced(r)}  # fmt: skip
     if (fit.estimator == PAPERS).any():
         counts = tuple(getattr(r, "energy_samples", ())) or None
+        first = getattr(r, "paper_pcrit", None)
+        bound = ([k for k, c in zip(first.key, first.censored, strict=True)
+                  if c and paper_number(k)] if first is not None and "censored" in first
+                 else [])  # fmt: skip
+        out |= {"effp_censored": len(bound) or None, "effp_censored_claims": len(set(bound)),
+                "grid_lo": ENERGY_P_R[0],
+                "effp_missing": int(fit.missing[fit.estimator == PAPERS].sum())}  # fmt: skip
         out |= {"effective_paper": "", "grid_step": round(ENERGY_P_R[1] - ENERGY_P_R[0], 9),
                 "effp_samples": counts[:1] if counts and len(set(counts)) == 1 else counts,
                 **_best(fit, PAPERS, "effp")}  # fmt: skip
@@ -1035,10 +1048,11 @@ def _reproduced_table(r: FiniteSizeResult) -> pd.DataFrame | None:
         return None
     rows = []
     for (est, key), part in c.groupby(["estimator", "key"], sort=False):
-        z = part.set_index("n").z
+        at_n = part.set_index("n")
         row = {"claim": CLAIMS[key].text, "paper": CLAIMS[key].paper,
                "estimator": T.label(f"estimator.{est}")}  # fmt: skip
-        row |= {f"z, n = {n}": f"{z[n]:.2f}" for n in sorted(z.index)}
+        row |= {f"z, n = {n}": T.label("censored", value=at_n.value[n]) if at_n.censored[n]
+                else f"{at_n.z[n]:.2f}" for n in sorted(at_n.index)}  # fmt: skip
         at = sorted(int(n) for n in part.n[part.reproduced.astype(bool)])
         row["reproduced"] = T.label("at_sizes", sizes=at) if at else T.label("at_no_size")
         rows.append(row)

@@ -276,8 +276,10 @@ def first_positive_pcrit(grid: pd.DataFrame, scale: Scale) -> pd.DataFrame:
     -------
     DataFrame
         Columns ``key`` (``p_crit_<strain>_<p_t>``, the claims :func:`headline` measures by the
-        median threshold), ``value`` (NaN when no mean is positive), ``err``, ``samples``; one
-        row per (strain, p_t) of :data:`~.rows.PT4` with rows in ``grid``.
+        median threshold), ``value`` (NaN when no mean is positive), ``err``, ``samples`` and
+        ``censored`` (the mean energy is positive at the grid's first p_r already: the value is
+        a bound, p_crit <= value, not an estimate); one row per (strain, p_t) of
+        :data:`~.rows.PT4` with rows in ``grid``.
     """
     rows = grid[grid.decided.astype(bool)]
     out = []
@@ -290,8 +292,9 @@ def first_positive_pcrit(grid: pd.DataFrame, scale: Scale) -> pd.DataFrame:
             first = an.first_positive(e, x, n_boot=scale.bootstrap,
                                       rng=scale.rng("first_positive"))  # fmt: skip
             out.append({"key": f"p_crit_{strain_name(phi)}_{p_t}", "value": first.value,
-                        "err": first.err, "samples": e.shape[0]})  # fmt: skip
-    return pd.DataFrame(out, columns=["key", "value", "err", "samples"])
+                        "err": first.err, "samples": e.shape[0],
+                        "censored": bool(first.value == x[0])})  # fmt: skip
+    return pd.DataFrame(out, columns=["key", "value", "err", "samples", "censored"])
 
 
 def paper_pcrit(rows: Rows, n: int, delta: float, scale: Scale, *, energy: int) -> pd.DataFrame:
