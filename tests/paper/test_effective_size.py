@@ -95,15 +95,26 @@ def test_no_claim_of_the_paper_no_effective_size():
     assert fsm._effective(SimpleNamespace(paper_fit=fit)) == {}
 
 
+def _result(by: pd.DataFrame, paper_pcrit: pd.DataFrame | None = None) -> SimpleNamespace:
+    return SimpleNamespace(paper_fit=fsm.paper_fit(by, paper_pcrit), paper_pcrit=paper_pcrit,
+                           paper_claims=fsm.paper_claims(by, paper_pcrit),
+                           energy_samples=(24,))  # fmt: skip
+
+
+def _render(r) -> tuple[str, dict]:
+    names = ("effective", "effective_paper", "effective_size", "reproduced")
+    blocks = [b for b in fsm.T.blocks if b.name in names]
+    tables = {"effective_size": fsm._effective_table(r), "reproduced": fsm._reproduced_table(r)}
+    out = render(fsm.T, fsm._effective(r), {}, tables, [], blocks=blocks)
+    return " ".join(b[1] for b in out if b[0] == "p"), tables
+
+
 def _text(shifts, missing=None) -> tuple[str, pd.DataFrame | None]:
     by = _by_size(shifts)
     if missing is not None:  # one claim of the paper without a value at that size
         by.loc[(by.n == missing) & (by.key == "taut_cables_transition"), "value"] = np.nan
-    r = SimpleNamespace(paper_fit=fsm.paper_fit(by))
-    blocks = [b for b in fsm.T.blocks if b.name in ("effective", "effective_size")]
-    table = fsm._effective_table(r)
-    out = render(fsm.T, fsm._effective(r), {}, {"effective_size": table}, [], blocks=blocks)
-    return " ".join(b[1] for b in out if b[0] == "p"), table
+    text, tables = _render(_result(by))
+    return text, tables["effective_size"]
 
 
 def test_the_report_names_the_effective_size_and_the_sizes_that_fit():
@@ -143,3 +154,131 @@ def test_a_long_paragraph_is_never_split_after_fig():
     parts = split_paragraph(text, max_words=12)
     assert not any(p.endswith("Fig.") for p in parts)
     assert any("Fig. 2B, n = 4" in p for p in parts) and len(parts) > 1
+
+
+def _grid(first: dict[float, float], samples: int = 4) -> pd.DataFrame:
+    """Energy grid rows of rods + cables at p_t = 0.1: per phi, every sample's energy is 0 below
+    the p_r ``first[phi]`` and positive from there (sample 0 only, so the mean is positive
+    there but the median threshold of the samples lies higher); one undecided row with a
+    positive energy below it, which must not count."""
+    rows = []
+    for phi, p_r0 in first.items():
+        for p_r in np.round(np.arange(0.5, 0.7001, 0.025), 6):
+            for k in range(samples):
+                on = p_r >= p_r0 and (k == 0 or p_r >= p_r0 + 0.05)
+                rows.append({"phi": phi, "p_t": 0.1, "p_r": p_r, "sample": k,
+                             "energy": 1e-3 * on, "decided": True})  # fmt: skip
+    rows.append({"phi": np.pi, "p_t": 0.1, "p_r": 0.5, "sample": samples, "energy": 1.0,
+                 "decided": False})  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def test_the_papers_pcrit_is_the_first_p_r_with_a_positive_mean_energy():
+    from tensegrity_rigidity.paper.studies.headline import first_positive_pcrit
+
+    got = first_positive_pcrit(_grid({np.pi: 0.575, 0.0: 0.625}), SCALES["tiny"])
+    got = got.set_index("key")
+    assert set(got.index) == {"p_crit_compression_0.1", "p_crit_dilation_0.1"}
+    assert got.value["p_crit_compression_0.1"] == pytest.approx(0.575)
+    assert got.value["p_crit_dilation_0.1"] == pytest.approx(0.625)
+    assert (got.samples == 4).all()  # the undecided row's sample is not one
+    # the error is at least the grid's resolution h / sqrt(12)
+    assert (got.err >= 0.025 / np.sqrt(12) - 1e-12).all()
+    assert not got.censored.any()
+    none = first_positive_pcrit(_grid({np.pi: 0.9}), SCALES["tiny"])
+    assert np.isnan(none.value.iloc[0]) and not none.censored.iloc[0]  # no positive mean
+    edge = first_positive_pcrit(_grid({np.pi: 0.5}), SCALES["tiny"])
+    assert edge.value.iloc[0] == 0.5 and edge.censored.iloc[0]  # positive at the first p_r
+
+
+def test_a_bound_of_the_papers_estimator_is_missing_not_a_value():
+    by = _by_size({6: 0.0, 8: 0.0})
+    theirs = _paper_pcrit({6: 0.0, 8: 5.0}).assign(censored=[False, True])
+    fit = fsm.paper_fit(by, theirs)
+    every = fit[(fit.figure == fsm.ALL_FIGURES) & (fit.estimator == fsm.PAPERS)].set_index("n")
+    assert list(every.missing) == [0, 1] and list(every.dof) == [5, 4]
+    assert every.chi2[8] == pytest.approx(0.0)
+    c = fsm.paper_claims(by, theirs)
+    bound = c[(c.estimator == fsm.PAPERS) & (c.n == 8)].iloc[0]
+    assert bound.censored and np.isnan(bound.z) and not bound.reproduced
+    text, tables = _render(_result(by, theirs))
+    assert "left out of its sums as missing: 1 values of the paper's numbers (1 claims" in text
+    row = tables["reproduced"].iloc[-1]
+    assert row["z, n = 8"] == fsm.T.label("censored", value=theirs.value.iloc[1])
+    assert row["reproduced"] == "n = 6"
+
+
+def _paper_pcrit(shifts: dict[int, float], key: str = "p_crit_compression_0.1", err=0.01):
+    """The paper's estimator of one p_crit claim at each size, ``shift`` combined errors off."""
+    c = CLAIMS[key]
+    sigma = np.hypot(err, c.error)
+    return pd.DataFrame([{"key": key, "n": n, "value": c.value + s * sigma, "err": err}
+                         for n, s in shifts.items()])  # fmt: skip
+
+
+def test_the_papers_estimator_moves_chi2_where_the_estimators_differ():
+    by = _by_size({6: 0.0, 8: 1.0})
+    theirs = pd.concat([_paper_pcrit({6: 4.0, 8: 0.0}),  # not a number of the paper: ignored
+                        _paper_pcrit({6: 9.0, 8: 9.0}, "p_crit_dilation_0.0")])  # fmt: skip
+    fit = fsm.paper_fit(by, theirs)
+    assert set(fit.estimator) == {fsm.OURS, fsm.PAPERS}
+    every = fit[fit.figure == fsm.ALL_FIGURES].set_index(["estimator", "n"]).chi2
+    assert every[fsm.OURS, 6] == pytest.approx(0.0) and every[fsm.OURS, 8] == pytest.approx(5.0)
+    assert every[fsm.PAPERS, 6] == pytest.approx(16.0)
+    assert every[fsm.PAPERS, 8] == pytest.approx(4.0)
+    # only Fig. 2C, which holds the substituted claim, changes
+    fig = fit[fit.figure != fsm.ALL_FIGURES].set_index(["figure", "n", "estimator"]).chi2
+    assert fig["2C", 6, fsm.PAPERS] == pytest.approx(16.0) and fig["2C", 6, fsm.OURS] == 0.0
+    for f in ("1C", "2B", "2D"):
+        assert fig[f, 8, fsm.PAPERS] == pytest.approx(fig[f, 8, fsm.OURS])
+    assert fsm.effective_size(fit)["n"] == 6
+    assert fsm.effective_size(fit, estimator=fsm.PAPERS)["n"] == 8
+    assert fsm.effective_size(fit, "2C", fsm.PAPERS)["n"] == 8
+    # ours are left as they were
+    assert fsm.with_paper_pcrit(by, None) is by and by.value.equals(_by_size({6: 0, 8: 1}).value)
+
+
+def test_each_claim_is_reproduced_where_its_z_is_below_two():
+    by = _by_size({8: 3.0, 10: 1.5})
+    theirs = _paper_pcrit({8: 0.5, 10: 2.5})
+    c = fsm.paper_claims(by, theirs)
+    assert set(c.key) == {k for k in KEYS if fsm.paper_number(k)}
+    ours = c[c.estimator == fsm.OURS].set_index(["key", "n"])
+    assert ours.z["st_sr_cables_compression", 8] == pytest.approx(3.0)
+    assert list(ours.reproduced.xs(10, level="n")) == [True] * 5
+    assert not ours.reproduced.xs(8, level="n").any()
+    paper = c[c.estimator == fsm.PAPERS].set_index("n")
+    assert list(paper.key) == ["p_crit_compression_0.1"] * 2
+    assert paper.z[8] == pytest.approx(0.5) and list(paper.reproduced) == [True, False]
+
+
+def test_the_report_gives_the_effective_size_and_reproductions_under_both_estimators():
+    by = _by_size({8: 3.0, 10: 4.0})
+    text, tables = _render(_result(by, _paper_pcrit({8: 3.0, 10: 0.0})))
+    assert "fit best at n = 8 (chi-square 45.0 for 5 claims" in text
+    assert "energy over the decided samples of 24 per point" in text
+    assert "the chi-square at n = 8, 10 is 45.0, 64.0" in text
+    assert "then fit best at n = 8 (chi-square 45.0 for 5 claims" in text
+    assert "with the paper's estimator: Fig. 1C, n = 8" in text and "Fig. 2C, n = 10 (chi" in text
+    assert "0 of the 5 are reproduced at one size at least with our p_crit" in text
+    assert "of the 1 p_crit claims, 0 with ours and 1 with the paper's" in text
+    never = text.split("Reproduced at no size under either estimator: ")[1]
+    assert CLAIMS["st_sr_cables_compression"].text in never
+    assert CLAIMS["p_crit_compression_0.1"].text not in never.split(".")[0]
+    assert "Every number of the paper is reproduced" not in text and "{" not in text
+    eff = tables["effective_size"]
+    assert list(eff.estimator) == [fsm.T.label("estimator.ours")] * 2 + [
+        fsm.T.label("estimator.paper")] * 2  # fmt: skip
+    assert list(eff.chi2_all) == ["45.0", "80.0", "45.0", "64.0"]
+    rep = tables["reproduced"].set_index(["claim", "estimator"]).reproduced
+    key = (CLAIMS["p_crit_compression_0.1"].text, fsm.T.label("estimator.paper"))
+    assert rep[key] == "n = 10"
+    assert rep[CLAIMS["st_sr_cables_compression"].text, fsm.T.label("estimator.ours")] == (
+        fsm.T.label("at_no_size"))  # fmt: skip
+
+
+def test_every_number_reproduced_is_said_and_no_papers_estimator_no_second_fit():
+    text, tables = _render(_result(_by_size({6: 0.0, 8: 3.0})))
+    assert "5 of the 5 are reproduced" in text and "Every number of the paper" in text
+    assert "no size under either" not in text and "then fit best" not in text
+    assert "estimator" not in tables["effective_size"].columns

@@ -106,8 +106,25 @@ def test_the_extrapolation_is_refitted_without_the_smallest_sizes(runs):
     assert (t.p_c.iloc[0], t.p_c_err.iloc[0]) == (pc.y_inf, pc.y_inf_err)
     assert t.p_c_fixed.iloc[0] == fss.pc_at_check_nu.y_inf
     assert np.isnan(t.p_c.iloc[-1]) and np.isfinite(t.p_c_fixed).all()
-    assert set(fsm.report_tables(fss)) == {"by_size", "effective_size", "smallest", "calibration"}
+    assert set(fsm.report_tables(fss)) == {"by_size", "effective_size", "reproduced", "smallest",
+                                           "calibration"}  # fmt: skip
     assert fsm.numbers(fss)["smallest"] == ""
+
+
+def test_the_papers_pcrit_is_measured_at_every_size_from_the_energy_grids(runs):
+    """Every p_crit claim at every size by the paper's estimator too: a point of the energy
+    grid (or none), entering a second chi-square beside ours."""
+    from tensegrity_rigidity.paper.studies.headline import ENERGY_P_R
+
+    fss, _, _ = runs
+    first = fss.paper_pcrit
+    assert set(first.n) == set(FSS.sizes)
+    ours = fss.by_size[fss.by_size.key.str.startswith("p_crit_")]
+    assert set(zip(first.n, first.key, strict=True)) == set(zip(ours.n, ours.key, strict=True))
+    found = first.value.dropna().to_numpy(float)
+    assert np.isclose(found[:, None], np.asarray(ENERGY_P_R)[None, :]).any(axis=1).all()
+    assert set(fss.paper_fit.estimator) == {fsm.OURS, fsm.PAPERS}
+    assert set(fss.paper_claims.estimator) == {fsm.OURS, fsm.PAPERS}
 
 
 def test_the_calibration_fixes_nu_at_its_own_value_over_the_omega_range(runs):

@@ -27,7 +27,7 @@ from ...analysis import limits
 from ...analysis.agreement import chi2_against
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, REPLICATION, Measurement
-from ..comparison import fmt
+from ..comparison import AGREE_BELOW, fmt
 from ..plotting import CYCLE, draw_clusters
 from ..study import Result, Scale, Study
 from ..style import PAGE, grid, save, size_axis, unresolved, width_panel
@@ -35,6 +35,7 @@ from ..style import errorbar as bars
 from ..template import load
 from .headline import (
     ENERGY_KEYS,
+    ENERGY_P_R,
     ENERGY_SAMPLES,
     NU_CHECK,
     PC_CHECK,
@@ -44,6 +45,7 @@ from .headline import (
     headline_sweeps,
     judged,
     misfit,
+    paper_pcrit,
     rods_pc_sweep,
 )
 from .rows import PT4, Rows
@@ -151,7 +153,9 @@ class FiniteSizeResult(Result):
     reading (:class:`~tensegrity_rigidity.analysis.scaling.WidthScaling`); ``pc_by_smallest``:
     :func:`pc_by_smallest_size`; ``pc_calibration``: :func:`pc_calibration`; ``fractal``,
     ``fractal_by_size``, ``picture``: the pebble game's clusters (:func:`fractal_dimensions`,
-    :func:`cluster_picture`).
+    :func:`cluster_picture`). ``paper_pcrit``: per (n, key) the p_crit claims by the paper's
+    estimator (:func:`~.headline.first_positive_pcrit`); ``paper_fit``: :func:`paper_fit` under
+    both estimators; ``paper_claims``: :func:`paper_claims`.
     """
 
     by_size: pd.DataFrame
@@ -175,6 +179,8 @@ class FiniteSizeResult(Result):
     fractal_by_size: pd.DataFrame | None = None
     picture: ClusterPicture | None = None
     paper_fit: pd.DataFrame | None = None
+    paper_pcrit: pd.DataFrame | None = None
+    paper_claims: pd.DataFrame | None = None
 
 
 #: the size and sample drawn at its threshold in the pc report (64: small enough to read)
@@ -355,10 +361,12 @@ def analyse(rows: Rows, scale: Scale) -> FiniteSizeResult:
     frames = []
     excluded: dict[str, int] = {}
     bracketed: dict[str, int] = {}
+    first = []
     for n in p.sizes:
         f, ex, br = headline(rows, n, DEFAULT_DELTA, scale, samples=p.samples_at(n),
                              energy=p.energy_at(n))  # fmt: skip
         frames.append(f.assign(n=n))
+        first.append(paper_pcrit(rows, n, DEFAULT_DELTA, scale, energy=p.energy_at(n)).assign(n=n))
         excluded |= ex
         bracketed |= br
     by_size = (pd.concat(frames, ignore_index=True) if frames  # the pc scale: rods-only only
@@ -380,6 +388,7 @@ def analyse(rows: Rows, scale: Scale) -> FiniteSizeResult:
         fractal=fractal,
         fractal_by_size=fractal_by_size,
         picture=picture,
+        paper_pcrit=pd.concat(first, ignore_index=True) if first else None,
     )
 
 
@@ -396,10 +405,11 @@ def _series(by_size: pd.DataFrame) -> dict[str, Series]:
 
 
 def extrapolate(by_size: pd.DataFrame, scale: Scale, *, pc_widths=None, excluded=None,
-                **extra) -> FiniteSizeResult:  # fmt: skip
+                paper_pcrit=None, **extra) -> FiniteSizeResult:  # fmt: skip
     """Every claim of ``by_size`` (per (n, key): ``value``, ``err``; a ``rods_only_pc`` row
-    at two sizes at least) extrapolated to n -> infinity, twice (see the module docstring);
-    ``**extra``: further fields of :class:`FiniteSizeResult`."""
+    at two sizes at least) extrapolated to n -> infinity, twice (see the module docstring), and
+    the paper's effective size with ``paper_pcrit`` (per (n, key) the p_crit claims by the
+    paper's estimator) beside ours; ``**extra``: further fields of :class:`FiniteSizeResult`."""
     series, rng = _series(by_size), scale.rng
     pc_fit = an.fit_finite_size(*series["rods_only_pc"], rng=rng("finite_size"))
     fits = {"rods_only_pc": pc_fit}
@@ -446,7 +456,9 @@ def extrapolate(by_size: pd.DataFrame, scale: Scale, *, pc_widths=None, excluded
         pc_at_check_nu_z=z["pc_at_check_nu_z"],
         pc_widths_z=z["pc_widths_z"],
         pc_widths_nu_z=z["pc_widths_nu_z"],
-        paper_fit=paper_fit(by_size),
+        paper_fit=paper_fit(by_size, paper_pcrit),
+        paper_pcrit=paper_pcrit,
+        paper_claims=paper_claims(by_size, paper_pcrit),
         **extra,
     )
 
@@ -464,27 +476,31 @@ def paper_number(key: str) -> bool:
 
 #: the figure column of :func:`paper_fit` for every claim of the paper together
 ALL_FIGURES = "all"
+#: the estimator column of :func:`paper_fit` and :func:`paper_claims`: our p_crit (the median
+#: per-sample threshold, P = 1/2) and the paper's (the first p_r of the energy grid with a
+#: positive mean energy); every other claim is measured one way
+OURS, PAPERS = "ours", "paper"
 
 
-def paper_fit(by_size: pd.DataFrame) -> pd.DataFrame:
-    """How well the paper's numbers fit ours at each size: the paper states no system size.
+def with_paper_pcrit(by_size: pd.DataFrame, paper_pcrit: pd.DataFrame | None) -> pd.DataFrame:
+    """``by_size`` with the value and error of each (n, key) of ``paper_pcrit`` (the p_crit
+    claims by the paper's estimator) in place of ours, NaN where that is only a bound (a
+    ``censored`` row: :func:`paper_fit` counts it as missing); the other rows as they are."""
+    if paper_pcrit is None or not len(paper_pcrit) or not len(by_size):
+        return by_size
+    theirs = paper_pcrit.set_index(["n", "key"])[["value", "err"]].astype(float)
+    if "censored" in paper_pcrit:
+        theirs.loc[paper_pcrit.censored.astype(bool).to_numpy(), "value"] = np.nan
+    out = by_size.copy()
+    at = pd.MultiIndex.from_arrays([out.n, out.key])
+    hit = at.isin(theirs.index)
+    for col in ("value", "err"):
+        out.loc[hit, col] = theirs.loc[at[hit], col].to_numpy(float)
+    return out
 
-    Parameters
-    ----------
-    by_size : DataFrame
-        Per (n, key): ``value``, ``err``.
 
-    Returns
-    -------
-    DataFrame
-        One row per n and figure (:data:`ALL_FIGURES` first, then each figure the claims name):
-        ``n``, ``figure``, ``chi2`` = sum of ((ours - paper) / sqrt(err_ours^2 +
-        err_paper^2))^2 over the claims of :func:`paper_number` measured at n, ``dof`` (their
-        number), ``p_value`` (:func:`~tensegrity_rigidity.analysis.agreement.chi2_against`),
-        ``fits`` (``p_value >= ACCEPT_P`` of :mod:`~tensegrity_rigidity.analysis.limits`, the
-        rule fixed before any size was compared) and ``missing`` (claims at n without a finite
-        value or error, left out of the sum and counted here).
-    """
+def _fit_rows(by_size: pd.DataFrame, estimator: str) -> list[dict]:
+    """The rows of :func:`paper_fit` of one estimator."""
     keys = [k for k in by_size.key.unique() if paper_number(k)] if len(by_size) else []
     rows = []
     for n in sorted(by_size.n.unique()) if keys else []:
@@ -496,24 +512,96 @@ def paper_fit(by_size: pd.DataFrame) -> pd.DataFrame:
             ref = [CLAIMS[k] for k in part.key]
             chi2, dof, p = chi2_against(part.value, part.err, [c.value for c in ref],
                                         [c.error for c in ref])  # fmt: skip
-            rows.append({"n": int(n), "figure": fig, "chi2": chi2, "dof": dof, "p_value": p,
-                         "fits": bool(p >= limits.ACCEPT_P),
+            rows.append({"estimator": estimator, "n": int(n), "figure": fig, "chi2": chi2,
+                         "dof": dof, "p_value": p, "fits": bool(p >= limits.ACCEPT_P),
                          "missing": len(at) - len(ok) if fig == ALL_FIGURES else 0})  # fmt: skip
-    return pd.DataFrame(rows, columns=["n", "figure", "chi2", "dof", "p_value", "fits",
-                                       "missing"])  # fmt: skip
+    return rows
 
 
-def effective_size(fit: pd.DataFrame, figure: str = ALL_FIGURES) -> dict | None:
-    """The paper's effective size from :func:`paper_fit`: the n whose chi-square has the largest
-    p-value (the smallest such n on a tie) with its ``chi2``, ``dof``, ``p_value``, and the
-    sizes that fit (``fitting``); None without a size."""
-    rows = fit[(fit.figure == figure) & (fit.dof > 0)].sort_values("n")
+def paper_fit(by_size: pd.DataFrame, paper_pcrit: pd.DataFrame | None = None) -> pd.DataFrame:
+    """How well the paper's numbers fit ours at each size: the paper states no system size.
+
+    Parameters
+    ----------
+    by_size : DataFrame
+        Per (n, key): ``value``, ``err``.
+    paper_pcrit : DataFrame, optional
+        Per (n, key): ``value``, ``err`` of the p_crit claims by the paper's estimator
+        (:func:`~.headline.first_positive_pcrit`); with it every row is repeated with these in
+        place of ours (:func:`with_paper_pcrit`).
+
+    Returns
+    -------
+    DataFrame
+        One row per estimator (:data:`OURS`, then :data:`PAPERS` with ``paper_pcrit``), n and
+        figure (:data:`ALL_FIGURES` first, then each figure the claims name): ``estimator``,
+        ``n``, ``figure``, ``chi2`` = sum of ((ours - paper) / sqrt(err_ours^2 +
+        err_paper^2))^2 over the claims of :func:`paper_number` measured at n, ``dof`` (their
+        number), ``p_value`` (:func:`~tensegrity_rigidity.analysis.agreement.chi2_against`),
+        ``fits`` (``p_value >= ACCEPT_P`` of :mod:`~tensegrity_rigidity.analysis.limits`, the
+        rule fixed before any size was compared) and ``missing`` (claims at n without a finite
+        value or error, left out of the sum and counted here).
+    """
+    rows = _fit_rows(by_size, OURS)
+    if paper_pcrit is not None and len(paper_pcrit):
+        rows += _fit_rows(with_paper_pcrit(by_size, paper_pcrit), PAPERS)
+    return pd.DataFrame(rows, columns=["estimator", "n", "figure", "chi2", "dof", "p_value",
+                                       "fits", "missing"])  # fmt: skip
+
+
+def effective_size(fit: pd.DataFrame, figure: str = ALL_FIGURES,
+                   estimator: str = OURS) -> dict | None:  # fmt: skip
+    """The paper's effective size from :func:`paper_fit` under one ``estimator``: the n whose
+    chi-square has the largest p-value (the smallest such n on a tie) with its ``chi2``,
+    ``dof``, ``p_value``, and the sizes that fit (``fitting``); None without a size."""
+    rows = fit[(fit.figure == figure) & (fit.dof > 0) & (fit.estimator == estimator)]
+    rows = rows.sort_values("n")
     if not len(rows):
         return None
     best = rows.iloc[int(np.argmax(rows.p_value.to_numpy(float)))]
     return {"n": int(best.n), "chi2": float(best.chi2), "dof": int(best.dof),
             "p_value": float(best.p_value),
             "fitting": [int(n) for n in rows.n[rows.fits.astype(bool)]]}  # fmt: skip
+
+
+def paper_claims(by_size: pd.DataFrame, paper_pcrit: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Each number of the paper (:func:`paper_number`) against ours at each size.
+
+    Parameters
+    ----------
+    by_size, paper_pcrit : DataFrame
+        As :func:`paper_fit`.
+
+    Returns
+    -------
+    DataFrame
+        One row per claim, estimator (:data:`OURS` for every claim; :data:`PAPERS` for the
+        claims ``paper_pcrit`` holds) and n: ``key``, ``estimator``, ``n``, ``value``, ``err``,
+        ``z`` = |ours - paper| / sqrt(err_ours^2 + err_paper^2) (the term of the chi-square;
+        NaN without a finite value or where the value is a bound), ``reproduced`` (z below the
+        comparison's :data:`~tensegrity_rigidity.paper.comparison.AGREE_BELOW`) and
+        ``censored`` (the paper's estimator at its grid's first point: a bound).
+    """
+    columns = ["key", "estimator", "n", "value", "err", "z", "reproduced", "censored"]
+    parts = [by_size.assign(estimator=OURS, censored=False)] if len(by_size) else []
+    if paper_pcrit is not None and len(paper_pcrit):
+        theirs = paper_pcrit.assign(estimator=PAPERS)
+        parts.append(theirs if "censored" in theirs else theirs.assign(censored=False))
+    if not parts:
+        return pd.DataFrame(columns=columns)
+    rows = pd.concat([p[["key", "estimator", "n", "value", "err", "censored"]] for p in parts],
+                     ignore_index=True)  # fmt: skip
+    rows["censored"] = rows.censored.astype(bool)
+    rows = rows[[paper_number(k) for k in rows.key]].reset_index(drop=True)
+    paper = np.array([CLAIMS[k].value for k in rows.key], float)
+    paper_err = np.array([CLAIMS[k].error for k in rows.key], float)
+    value, err = rows.value.to_numpy(float), rows.err.to_numpy(float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.abs(value - paper) / np.hypot(err, paper_err)
+    rows["n"] = rows.n.astype(int)
+    rows["z"] = np.where(np.isfinite(value) & np.isfinite(err) & ~rows.censored, z, np.nan)
+    rows["reproduced"] = rows.z < AGREE_BELOW
+    return rows[columns]
 
 
 def _extrapolated(fits: dict, checks: dict) -> pd.DataFrame:
@@ -719,21 +807,67 @@ def numbers(r: FiniteSizeResult) -> dict:
 
 
 def _effective(r: FiniteSizeResult) -> dict:
-    """The paper's effective size (empty without a claim of the paper measured)."""
+    """The paper's effective size under both estimators of p_crit, and the sizes at which each
+    of its numbers is reproduced (empty without a claim of the paper measured)."""
     fit = r.paper_fit
     best = None if fit is None else effective_size(fit)
     if fit is None or best is None:
         return {}
+    out = {"effective": "", "accept_p": limits.ACCEPT_P, "eff_sizes": sorted(set(fit.n)),
+           "eff_missing": int(fit.missing[fit.estimator == OURS].sum()) or None,
+           **_best(fit, OURS, "eff"), **_reproduced(r)}  # fmt: skip
+    if (fit.estimator == PAPERS).any():
+        counts = tuple(getattr(r, "energy_samples", ())) or None
+        first = getattr(r, "paper_pcrit", None)
+        bound = ([k for k, c in zip(first.key, first.censored, strict=True)
+                  if c and paper_number(k)] if first is not None and "censored" in first
+                 else [])  # fmt: skip
+        out |= {"effp_censored": len(bound) or None, "effp_censored_claims": len(set(bound)),
+                "grid_lo": ENERGY_P_R[0],
+                "effp_missing": int(fit.missing[fit.estimator == PAPERS].sum())}  # fmt: skip
+        out |= {"effective_paper": "", "grid_step": round(ENERGY_P_R[1] - ENERGY_P_R[0], 9),
+                "effp_samples": counts[:1] if counts and len(set(counts)) == 1 else counts,
+                **_best(fit, PAPERS, "effp")}  # fmt: skip
+    return out
+
+
+def _best(fit: pd.DataFrame, estimator: str, prefix: str) -> dict:
+    """The effective size of one estimator: the numbers ``<prefix>_n``, ``_chi2``, ``_dof``,
+    ``_p``, ``_fitting``, ``_none``, ``_chi2s`` (per size) and ``_figures`` (the best per
+    figure, worded)."""
+    best = effective_size(fit, estimator=estimator)
+    if best is None:
+        return {}
     figures = [f for f in dict.fromkeys(fit.figure) if f != ALL_FIGURES]
     per_figure = [T.label("eff_figure", figure=f, **{k: v for k, v in b.items() if k != "fitting"})
-                  for f in figures if (b := effective_size(fit, f)) is not None]  # fmt: skip
-    return {"effective": "", "eff_n": best["n"], "eff_chi2": best["chi2"], "eff_dof": best["dof"],
-            "eff_p": best["p_value"], "eff_fitting": best["fitting"] or None,
-            "eff_none": None if best["fitting"] else "", "accept_p": limits.ACCEPT_P,
-            "eff_sizes": sorted(set(fit.n)), "eff_chi2s": [
-                round(x, 1) for x in fit[fit.figure == ALL_FIGURES].sort_values("n").chi2],
-            "eff_figures": "; ".join(per_figure) or None,
-            "eff_missing": int(fit.missing.sum()) or None}  # fmt: skip
+                  for f in figures
+                  if (b := effective_size(fit, f, estimator)) is not None]  # fmt: skip
+    every = fit[(fit.figure == ALL_FIGURES) & (fit.estimator == estimator)].sort_values("n")
+    return {f"{prefix}_n": best["n"], f"{prefix}_chi2": best["chi2"],
+            f"{prefix}_dof": best["dof"], f"{prefix}_p": best["p_value"],
+            f"{prefix}_fitting": best["fitting"] or None,
+            f"{prefix}_none": None if best["fitting"] else "",
+            f"{prefix}_chi2s": [round(x, 1) for x in every.chi2],
+            f"{prefix}_figures": "; ".join(per_figure) or None}  # fmt: skip
+
+
+def _reproduced(r: FiniteSizeResult) -> dict:
+    """How many of the paper's numbers are reproduced (z < AGREE_BELOW) at some size under our
+    p_crit and, for its p_crit, under the paper's; the claims reproduced at none under
+    either."""
+    c = r.paper_claims
+    if c is None or not len(c):
+        return {}
+    ever = c.groupby(["estimator", "key"]).reproduced.any()
+    ours, theirs = ever[OURS], ever[PAPERS] if PAPERS in ever.index else None
+    never = [k for k in ours.index if not ours[k] and not (theirs is not None and theirs.get(k))]
+    return {"repro_total": len(ours), "repro_ours": int(ours.sum()),
+            "repro_pcrit": None if theirs is None else len(theirs),
+            "repro_paper": None if theirs is None else int(theirs.sum()),
+            "repro_pcrit_ours": None if theirs is None else int(ours[theirs.index].sum()),
+            "agree_below": AGREE_BELOW,
+            "repro_never": "; ".join(CLAIMS[k].text for k in never) or None,
+            "repro_all": None if never else ""}  # fmt: skip
 
 
 def _laws(r: FiniteSizeResult) -> dict:
@@ -891,29 +1025,54 @@ def _cluster_tables(r: FiniteSizeResult) -> dict:
 
 
 def _effective_table(r: FiniteSizeResult) -> pd.DataFrame | None:
-    """One row per size: the chi-square of every claim of the paper, its dof, p-value and
-    whether it fits, then one column per figure (chi-square / dof, p)."""
+    """One row per estimator of p_crit (a column naming it where there are two) and size: the
+    chi-square of every claim of the paper, its dof, p-value and whether it fits, then one
+    column per figure (chi-square / dof, p)."""
     fit = r.paper_fit
     if fit is None or not len(fit):
         return None
-    every = fit[fit.figure == ALL_FIGURES].sort_values("n")
+    every = fit[fit.figure == ALL_FIGURES].sort_values(["estimator", "n"], key=lambda c: (
+        c.map({OURS: 0, PAPERS: 1}) if c.name == "estimator" else c))  # fmt: skip
     table = pd.DataFrame({"n": every.n.to_numpy(int),
                           "chi2_all": [f"{x:.1f}" for x in every.chi2],
                           "dof_all": every.dof.to_numpy(int),
                           "p_all": [f"{x:.2g}" for x in every.p_value],
                           "fits": [T.label("yes" if x else "no") for x in every.fits]})  # fmt: skip
+    if every.estimator.nunique() > 1:
+        table.insert(0, "estimator", [T.label(f"estimator.{e}") for e in every.estimator])
     for f in dict.fromkeys(fit.figure):
         if f == ALL_FIGURES:
             continue
-        part = fit[fit.figure == f].set_index("n")
+        part = fit[fit.figure == f].set_index(["estimator", "n"])
         table[T.label("col.figure", figure=f)] = [
-            f"{part.chi2[n]:.1f} / {part.dof[n]}, p = {part.p_value[n]:.2g}" if n in part.index
-            else "-" for n in table.n]  # fmt: skip
+            f"{part.chi2[e, n]:.1f} / {part.dof[e, n]}, p = {part.p_value[e, n]:.2g}"
+            if (e, n) in part.index else "-"
+            for e, n in zip(every.estimator, every.n, strict=True)]  # fmt: skip
     return table
+
+
+def _reproduced_table(r: FiniteSizeResult) -> pd.DataFrame | None:
+    """One row per number of the paper and estimator of p_crit (the paper's only for the p_crit
+    claims): the paper's value, z at each size and the sizes where z < AGREE_BELOW."""
+    c = r.paper_claims
+    if c is None or not len(c):
+        return None
+    rows = []
+    for (est, key), part in c.groupby(["estimator", "key"], sort=False):
+        at_n = part.set_index("n")
+        row = {"claim": CLAIMS[key].text, "paper": CLAIMS[key].paper,
+               "estimator": T.label(f"estimator.{est}")}  # fmt: skip
+        row |= {f"z, n = {n}": T.label("censored", value=at_n.value[n]) if at_n.censored[n]
+                else f"{at_n.z[n]:.2f}" for n in sorted(at_n.index)}  # fmt: skip
+        at = sorted(int(n) for n in part.n[part.reproduced.astype(bool)])
+        row["reproduced"] = T.label("at_sizes", sizes=at) if at else T.label("at_no_size")
+        rows.append(row)
+    return pd.DataFrame(rows)
 
 
 def report_tables(r: FiniteSizeResult) -> dict:
     out = {"by_size": _by_size_table(r), "effective_size": _effective_table(r),
+           "reproduced": _reproduced_table(r),
            "smallest": _smallest_table(r),
            "calibration": _calibration_table(r), **_cluster_tables(r)}  # fmt: skip
     return {k: v for k, v in out.items() if v is not None}
@@ -1022,6 +1181,10 @@ def tables(r: FiniteSizeResult) -> dict:
            "fss_pc_by_smallest_size": r.pc_by_smallest, "pc_fractal_dimensions": r.fractal,
            "pc_cluster_masses": r.fractal_by_size,
            "fss_paper_fit": None if r.paper_fit is None or not len(r.paper_fit) else r.paper_fit,
+           "fss_paper_claims": None if r.paper_claims is None or not len(r.paper_claims)
+           else r.paper_claims,
+           "fss_pcrit_first_positive": None if r.paper_pcrit is None or not len(r.paper_pcrit)
+           else r.paper_pcrit,
            "pc_calibration_fits": None if r.pc_calibration is None
            else calibration_table(r.pc_calibration)}  # fmt: skip
     return {k: v for k, v in out.items() if v is not None}

@@ -26,7 +26,7 @@ from ..study import Scale
 from ..template import load
 from .energy import energy_exponent, taut_with_error
 from .nonaffinity import mask_uncertified_tensions
-from .rows import COLLAPSE_PT, PT4, Rows, p_r_grid, strain_name, threshold_bounds
+from .rows import COLLAPSE_PT, PT4, Rows, p_r_grid, per_sample, strain_name, threshold_bounds
 
 STRAINS3 = [0.0, math.pi / 2, math.pi]
 FC3 = [0.0, 0.5, 1.0]
@@ -256,6 +256,52 @@ def headline(rows: Rows, n: int, delta: float, scale: Scale, *, samples: int, en
         grids.append(grid)
     out += energy_claims(pd.concat(grids, ignore_index=True), crit, scale)
     return pd.DataFrame(out), excluded, bracketed
+
+
+def first_positive_pcrit(grid: pd.DataFrame, scale: Scale) -> pd.DataFrame:
+    """p_crit of rods + cables per (strain, p_t) by the paper's estimator: the first p_r of the
+    energy grid at which the mean energy is positive
+    (:func:`~tensegrity_rigidity.analysis.scaling.first_positive`), as Fig. 2's study applies it.
+
+    Parameters
+    ----------
+    grid : DataFrame
+        Grid rows of :func:`energy_sweeps` (``phi``, ``p_t``, ``p_r``, ``sample``, ``energy``,
+        ``decided``); only decided rows enter, since a bracketed energy could make a mean
+        positive.
+    scale : Scale
+        Bootstrap replicas and the generator of the errors.
+
+    Returns
+    -------
+    DataFrame
+        Columns ``key`` (``p_crit_<strain>_<p_t>``, the claims :func:`headline` measures by the
+        median threshold), ``value`` (NaN when no mean is positive), ``err``, ``samples`` and
+        ``censored`` (the mean energy is positive at the grid's first p_r already: the value is
+        a bound, p_crit <= value, not an estimate); one row per (strain, p_t) of
+        :data:`~.rows.PT4` with rows in ``grid``.
+    """
+    rows = grid[grid.decided.astype(bool)]
+    out = []
+    for phi in (math.pi, 0.0):
+        for p_t in PT4:
+            sub = rows[np.isclose(rows.phi, phi) & np.isclose(rows.p_t, p_t)]
+            if not len(sub):
+                continue
+            e, x = per_sample(sub, "energy")
+            first = an.first_positive(e, x, n_boot=scale.bootstrap,
+                                      rng=scale.rng("first_positive"))  # fmt: skip
+            out.append({"key": f"p_crit_{strain_name(phi)}_{p_t}", "value": first.value,
+                        "err": first.err, "samples": e.shape[0],
+                        "censored": bool(first.value == x[0])})  # fmt: skip
+    return pd.DataFrame(out, columns=["key", "value", "err", "samples", "censored"])
+
+
+def paper_pcrit(rows: Rows, n: int, delta: float, scale: Scale, *, energy: int) -> pd.DataFrame:
+    """:func:`first_positive_pcrit` on the energy grids of :func:`energy_sweeps` at one
+    (n, delta) with ``energy`` samples per point (rows as :func:`headline` reads them)."""
+    grids = [rows[name][0] for name in energy_sweeps(n, delta, count=energy)]
+    return first_positive_pcrit(pd.concat(grids, ignore_index=True), scale)
 
 
 def energy_names(sweeps: dict[str, dict]) -> tuple[str, ...]:
