@@ -131,3 +131,17 @@ def test_a_tiny_run_pairs_every_sample_and_renders(tiny, tmp_path):
     blocks = render(el.STUDY.template, numbers, figures, el.STUDY.report_tables(tiny), [])
     text = " ".join(str(b[1]) for b in blocks if b[0] == "p")
     assert f"{by.asym.iloc[0]:.3f}" in text and "{" not in text
+
+
+def test_sizes_meet_at_nearly_equal_node_counts_and_the_question_gets_its_answer():
+    by = pd.DataFrame({"dim": [2, 2, 2, 3, 3, 3], "n": [8, 16, 32, 4, 6, 10],
+                       "N": [64, 256, 1024, 64, 216, 1000]})  # fmt: skip
+    pairs = [(int(a.n), int(b.n)) for a, b in el.equal_nodes(by)]
+    assert pairs == [(8, 4), (16, 6), (32, 10)]
+    # 3D n = 5 (125 nodes) is 2.0x from 2D n = 8 and n = 16: no partner
+    by.loc[4, ["n", "N"]] = [5, 125]
+    assert [(int(a.n), int(b.n)) for a, b in el.equal_nodes(by)] == [(8, 4), (32, 10)]
+    assert el._answer({2: "vanishes", 3: "finite"}).startswith("Yes")
+    assert el._answer({2: "finite", 3: "finite"}).startswith("No")
+    assert '"undetermined" in 2D' in el._answer({2: "undetermined", 3: "finite"})
+    assert el._answer({2: "vanishes"}) is None

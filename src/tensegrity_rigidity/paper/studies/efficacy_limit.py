@@ -21,13 +21,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
+from matplotlib.ticker import NullFormatter
 
 from ...analysis import limits
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS
 from ..comparison import fmt
 from ..study import Result, Scale, Study
-from ..style import COLUMN, grid, legend_below, save
+from ..style import COLUMN, grid, legend_below, panel_letters, save
 from ..template import load
 from .headline import chunk_size
 from .rows import COLLAPSE_PT, Rows
@@ -236,12 +237,46 @@ def _laws_text(row: pd.Series | None, laws) -> list[str] | None:
             for law in laws if np.isfinite(row[f"{law}_chi2"])] or None  # fmt: skip
 
 
+#: a 2D and a 3D size are set side by side when their node counts differ by less than this factor
+EQUAL_NODES = 1.3
+
+
+def equal_nodes(by_size: pd.DataFrame) -> list[tuple[pd.Series, pd.Series]]:
+    """(2D row, 3D row) pairs of sizes whose node counts differ by less than
+    :data:`EQUAL_NODES` (the nearest 2D size to each 3D one)."""
+    two, three = by_size[by_size.dim == 2], by_size[by_size.dim == 3]
+    out = []
+    for _, row in three.iterrows():
+        if not len(two):
+            break
+        near = two.iloc[int(np.argmin(np.abs(np.log(two.N.to_numpy(float) / row.N))))]
+        if max(near.N, row.N) / min(near.N, row.N) < EQUAL_NODES:
+            out.append((near, row))
+    return out
+
+
+def _answer(verdicts: dict[int, str]) -> str | None:
+    """The label that answers the study's question from the two verdicts of A."""
+    pair = (verdicts.get(2), verdicts.get(3))
+    if None in pair:
+        return None
+    known = {("vanishes", "finite"), ("finite", "finite"), ("vanishes", "vanishes"),
+             ("finite", "vanishes")}  # fmt: skip
+    key = ".".join(pair) if pair in known else "open"
+    return T.label(f"answer.{key}", two=pair[0], three=pair[1])
+
+
 def numbers(r: EfficacyLimitResult) -> dict:
     by = r.by_size
     out: dict = {"p_t": P_T, "lost": int(by.lost.sum()) or None if len(by) else None,
                  "never": int(by.never.sum()) or None if len(by) else None,
                  "paper_c": PAPER_C, "paper_d": PAPER_D,
                  "paper_asym": PAPER_D - PAPER_C}  # fmt: skip
+    out["equal_nodes"] = [
+        T.label("pair", n2=int(a.n), n3=int(b.n), N2=int(a.N), N3=int(b.N),
+                a2=fmt(a.asym, a.asym_err), a3=fmt(b.asym, b.asym_err))
+        for a, b in equal_nodes(by)] or None if len(by) else None  # fmt: skip
+    verdicts = {}
     for dim in (2, 3):
         s = by[by.dim == dim].sort_values("n") if len(by) else by
         if not len(s):
@@ -259,6 +294,8 @@ def numbers(r: EfficacyLimitResult) -> dict:
             out[f"{series}_laws_{dim}"] = _laws_text(row, LAWS[kind])
             if row is not None and row.verdict:
                 out[f"{series}_verdict_{dim}"] = row.verdict
+                if series == "asym":
+                    verdicts[dim] = row.verdict
         for strain in ("compression", "dilation"):
             w = r.widths.get((dim, strain))
             if w is None:
@@ -271,6 +308,7 @@ def numbers(r: EfficacyLimitResult) -> dict:
             share = w.binomial / w.total
             out[f"binomial_share_{tag}"] = [T.label("share", n=int(n), share=100 * v**2)
                                             for n, v in zip(w.n, share, strict=True)]  # fmt: skip
+    out["answer"] = _answer(verdicts)
     return out
 
 
@@ -295,6 +333,7 @@ def _series_panel(ax, r: EfficacyLimitResult, column: str, ylabel: str) -> None:
                 ax.plot(ns, fit(ns), style, lw=1, color=line[0].get_color(),
                         label=T.label(f"law.{law}", dim=dim))  # fmt: skip
     ax.set_xscale("log")
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set(xlabel=T.label("N"), ylabel=ylabel)
 
 
@@ -329,6 +368,8 @@ def _widths_panel(ax, r: EfficacyLimitResult) -> None:
             color=line[0].get_color(),
         )
     ax.set(xscale="log", yscale="log", xlabel=T.label("N"), ylabel=T.label("width_axis"))
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_minor_formatter(NullFormatter())
 
 
 def figures(r: EfficacyLimitResult, figdir) -> dict:
@@ -342,6 +383,7 @@ def figures(r: EfficacyLimitResult, figdir) -> dict:
     _widths_panel(axes[2], r)
     for ax in axes:
         legend_below(ax, ncol=1)
+    panel_letters(axes)
     return {"limit": save(fig, figdir, "limit")}
 
 
