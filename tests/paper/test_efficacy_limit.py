@@ -145,3 +145,20 @@ def test_sizes_meet_at_nearly_equal_node_counts_and_the_question_gets_its_answer
     assert el._answer({2: "finite", 3: "finite"}).startswith("No")
     assert '"undetermined" in 2D' in el._answer({2: "undetermined", 3: "finite"})
     assert el._answer({2: "vanishes"}) is None
+
+
+def test_thresholds_that_are_intervals_are_counted_and_bracket_the_asymmetry():
+    rows = _rows(lambda N: 0.1, 1.0, (8, 16), 40)
+    cables, _ = rows["limit_2d_cables_n16"]
+    cables = cables.assign(threshold_p_r_low=cables.threshold_p_r,
+                           threshold_p_r_high=cables.threshold_p_r)  # fmt: skip
+    # three samples under compression end as intervals of 0.01 around their centre
+    wide = np.isclose(cables.phi, el.COMPRESSION) & cables["sample"].isin([1, 2, 3])
+    cables.loc[wide, "threshold_p_r_low"] -= 0.005
+    cables.loc[wide, "threshold_p_r_high"] += 0.005
+    rows["limit_2d_cables_n16"] = (cables, 0)
+    by = el.analyse(rows, _scale((8, 16))).by_size.set_index("n")
+    assert (by.intervals[8], by.intervals[16]) == (0, 3)
+    assert by.asym_lo[8] == by.asym[8] == by.asym_hi[8]
+    assert by.asym_lo[16] <= by.asym[16] <= by.asym_hi[16] and by.asym_hi[16] > by.asym_lo[16]
+    assert by.asym_hi[16] - by.asym_lo[16] <= 0.01 / el.P_T + 1e-12

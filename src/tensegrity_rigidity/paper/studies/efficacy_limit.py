@@ -115,21 +115,39 @@ class EfficacyLimitResult(Result):
     widths: dict = field(default_factory=dict)
 
 
-def _thresholds(frame: pd.DataFrame, phi: float | None = None) -> pd.Series:
-    """Per-sample thresholds (NaN: never rigid) of one strain, indexed by sample."""
+def _thresholds(frame: pd.DataFrame, phi: float | None = None,
+                column: str = "threshold_p_r") -> pd.Series:  # fmt: skip
+    """Per-sample thresholds (NaN: never rigid) of one strain, indexed by sample; ``column``
+    may name an end of the interval (rows without intervals give their threshold)."""
     if phi is not None:
         frame = frame[np.isclose(frame.phi, phi)]
-    return frame.set_index("sample").threshold_p_r.astype(float).sort_index()
+    if column not in frame:
+        column = "threshold_p_r"
+    return frame.set_index("sample")[column].astype(float).sort_index()
+
+
+def _median(a: pd.Series) -> float:
+    """The median with never-rigid samples (NaN) above every other."""
+    return float(np.median(np.where(np.isfinite(a), a, np.inf)))
 
 
 def _size_row(dim: int, n: int, rods: pd.DataFrame, cables: pd.DataFrame, rng) -> dict:
-    """The paired efficacies of one size from the samples with all three thresholds."""
+    """The paired efficacies of one size from the samples with all three thresholds, the
+    number of thresholds that are intervals (undecided probes; they enter at their centre) and
+    the range of A over every choice inside the intervals (``asym_lo``, ``asym_hi``)."""
     r, c, d = _thresholds(rods), _thresholds(cables, COMPRESSION), _thresholds(cables, DILATION)
     common = r.index.intersection(c.index).intersection(d.index)
     pe = limits.paired_efficacies(r[common].to_numpy(), c[common].to_numpy(),
                                   d[common].to_numpy(), P_T, rng=rng)  # fmt: skip
+    ends = {(phi, end): _thresholds(cables, phi, f"threshold_p_r_{end}")[common]
+            for phi in (COMPRESSION, DILATION) for end in ("low", "high")}  # fmt: skip
+    lo = (_median(ends[COMPRESSION, "low"]) - _median(ends[DILATION, "high"])) / P_T
+    hi = (_median(ends[COMPRESSION, "high"]) - _median(ends[DILATION, "low"])) / P_T
+    widths = [ends[phi, "high"] - ends[phi, "low"] for phi in (COMPRESSION, DILATION)]
     return {"dim": dim, "n": n, "N": n**dim, "M": BONDS_PER_NODE[dim] * n**dim,
-            "lost": int(max(len(r), len(c), len(d)) - len(common)), **pe.__dict__}  # fmt: skip
+            "lost": int(max(len(r), len(c), len(d)) - len(common)),
+            "intervals": int(sum((w > 0).sum() for w in widths)), "asym_lo": lo, "asym_hi": hi,
+            **pe.__dict__}  # fmt: skip
 
 
 def _widths(dim: int, sizes, parts, by_size: pd.DataFrame, scale: Scale, offset: int) -> dict:
@@ -269,6 +287,10 @@ def _answer(verdicts: dict[int, str]) -> str | None:
 def numbers(r: EfficacyLimitResult) -> dict:
     by = r.by_size
     out: dict = {"p_t": P_T, "lost": int(by.lost.sum()) or None if len(by) else None,
+                 "intervals": int(by.intervals.sum()) or None if len(by) else None,
+                 "brackets": [T.label("bracket", n=int(q.n), dim=int(q.dim), k=int(q.intervals),
+                                      lo=q.asym_lo, hi=q.asym_hi)
+                              for q in by.itertuples() if q.intervals > 0] or None,
                  "never": int(by.never.sum()) or None if len(by) else None,
                  "paper_c": PAPER_C, "paper_d": PAPER_D,
                  "paper_asym": PAPER_D - PAPER_C}  # fmt: skip
