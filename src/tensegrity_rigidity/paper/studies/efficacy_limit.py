@@ -25,7 +25,7 @@ from matplotlib.ticker import NullFormatter
 
 from ...analysis import limits
 from ...model.lattice import DEFAULT_DELTA
-from ..claims import CLAIMS
+from ..claims import CLAIMS, REFERENCES
 from ..comparison import fmt
 from ..study import Result, Scale, Study
 from ..style import COLUMN, grid, legend_below, panel_letters, save
@@ -50,6 +50,10 @@ LAWS = {"asym": ("finite", "zero"), "total": ("finite", "constant")}
 #: the series fitted (columns of by_size): A from the P = 1/2 points, from the means of the
 #: per-sample differences, and the sum
 SERIES = ("asym", "asym_mean", "total")
+#: the rods-only transition's nu (2D), which nu_t is set beside; 2/d, the decay of
+#: uncorrelated sample-to-sample noise, N^(-1/2), is the least value a finite-size nu can take
+#: (Chayes, Chayes, Fisher & Spencer 1986)
+NU_RODS = REFERENCES["nu_javerzat_notarmuzi"]
 #: the paper's efficacies of rods + cables (Fig. 1C), quoted beside ours, never fitted to
 PAPER_C, PAPER_D = (float(CLAIMS[k].value or math.nan)
                     for k in ("st_sr_cables_compression", "st_sr_cables_dilation"))  # fmt: skip
@@ -327,6 +331,13 @@ def numbers(r: EfficacyLimitResult) -> dict:
             out[f"nu_chi2_{tag}"] = w.chi2 if np.isfinite(w.nu) else None
             out[f"nu_dof_{tag}"] = w.dof
             out[f"nu_sub_{tag}"] = fmt(w.nu_sub, w.nu_sub_err) if np.isfinite(w.nu_sub) else None
+            if np.isfinite(w.nu):
+                out[f"nu_z_{tag}"] = [
+                    T.label("nu_z", what=T.label(f"against.{what}", dim=dim), value=ref,
+                            z=abs(w.nu - ref) / np.hypot(w.nu_err, err))
+                    for what, ref, err in (("rods", NU_RODS.value, NU_RODS.error or 0.0),
+                                           ("noise", 2 / dim, 0.0))
+                    if what == "noise" or dim == 2]  # fmt: skip
             share = w.binomial / w.total
             out[f"binomial_share_{tag}"] = [T.label("share", n=int(n), share=100 * v**2)
                                             for n, v in zip(w.n, share, strict=True)]  # fmt: skip
