@@ -167,11 +167,12 @@ def test_stated_run_times_are_the_estimates():
     """EXPECTED states the budget's estimate of each priced scale (beside the measurement where
     a run has been timed), so that a change of the scales cannot leave a stale number."""
     assert set(EXPECTED) == set(SCALES)
-    for name in ("paper", "fss", "paper-size"):
+    for name in ("paper", "fss", "paper-size", "limit"):
         minutes = round(budget.estimate(name, workers=2).wall_seconds / 60)
         assert re.search(rf"estimated {minutes} minutes", EXPECTED[name]), name
-    cpu_hours = round(budget.estimate("fss-cluster").cpu_seconds / 3600)
-    assert f"estimated {cpu_hours} CPU hours" in EXPECTED["fss-cluster"]
+    for name in ("fss-cluster", "pc-cluster"):
+        cpu_hours = round(budget.estimate(name).cpu_seconds / 3600)
+        assert f"estimated {cpu_hours} CPU hours" in EXPECTED[name], name
 
 
 def test_cli_estimate_prints_every_study_and_runs_nothing(tmp_path, capsys):

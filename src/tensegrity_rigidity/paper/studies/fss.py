@@ -57,6 +57,10 @@ T = load(NAME)
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
 #: the same by the pebble game (the pc scale): errors 1.1e-4 to 2.2e-4 per size
 PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 200))
+#: the same with ten times the samples at n = 256 and 512 and n = 1024 added, for p_c to about
+#: 1e-4 and d_f to about 0.005 (expected from the pc run's errors, not run yet): a Dask
+#: cluster's work (about 21 CPU hours, three quarters of it at n = 1024)
+PC_PEBBLE_CLUSTER = (*PC_PEBBLE[:3], (256, 2000), (512, 2000), (1024, 1000))
 #: the rods-only transition's own correlation-length exponent: the calibration fixes nu here
 #: (p_c is then a linear fit) instead of fitting it, and borrows no other transition's
 NU_PC = REFERENCES["nu_javerzat_notarmuzi"]
@@ -119,6 +123,7 @@ PARAMS = {
     "tiny": Params(samples=3, pc=((4, 6), (5, 6), (6, 6), (8, 4), (10, 3))),
     "fss": Params(sizes=(8, 16, 32, 64), samples=(400, 160, 64, 8), energy=24, pc=FSS_PC[:-1]),
     "pc": Params(sizes=(), samples=(), pc=PC_PEBBLE, pc_method="pebble"),
+    "pc-cluster": Params(sizes=(), samples=(), pc=PC_PEBBLE_CLUSTER, pc_method="pebble"),
     "paper-size": Params(sizes=PAPER_SIZES, samples=(400, 400, 320, 240, 160), energy=24),
     "fss-cluster": Params(sizes=(8, 16, 32, 64, 128), samples=(400, 200, 96, 32, 8), energy=24,
                           pc=FSS_PC),
