@@ -170,7 +170,7 @@ def test_stated_run_times_are_the_estimates():
     for name in ("paper", "fss", "paper-size", "limit"):
         minutes = round(budget.estimate(name, workers=2).wall_seconds / 60)
         assert re.search(rf"estimated {minutes} minutes", EXPECTED[name]), name
-    for name in ("fss-cluster", "pc-cluster"):
+    for name in ("fss-cluster", "pc-cluster", "limit-cluster"):
         cpu_hours = round(budget.estimate(name).cpu_seconds / 3600)
         assert f"estimated {cpu_hours} CPU hours" in EXPECTED[name], name
 
