@@ -63,7 +63,8 @@ def test_the_3d_budget_prices_thresholds_only_and_the_scale_fits():
     assert t8 == budget.COSTS.table("threshold_3d")[8] and not ext
     r8, _ = budget.row_seconds_3d("threshold", 8, 0.0)
     assert r8 == budget.COSTS.table("rods_threshold_3d")[8] < t8
-    assert budget.row_seconds_3d("threshold", 10, 0.3)[1]  # extrapolated
+    beyond = max(budget.COSTS.table("threshold_3d")) + 2
+    assert budget.row_seconds_3d("threshold", beyond, 0.3)[1]  # extrapolated
     with pytest.raises(InputError):
         budget.row_seconds_3d("grid", 8, 0.3)
     est = budget.estimate("3d", workers=2)
