@@ -78,7 +78,7 @@ class Params:
 
 PARAMS = {
     "limit": Params(sizes_2d=(8, 12, 16, 24, 32, 64), samples_2d=(800, 480, 400, 240, 160, 16),
-                    sizes_3d=(4, 5, 6, 8, 10, 12, 14), samples_3d=(320, 200, 128, 48, 16, 16, 8),
+                    sizes_3d=(4, 5, 6, 8, 10, 12), samples_3d=(320, 200, 128, 48, 16, 16),
                     widths_n_min=12),
     "limit-cluster": Params(sizes_2d=(8, 12, 16, 24, 32, 48, 64, 128),
                             samples_2d=(800, 480, 400, 240, 160, 96, 64, 16),
