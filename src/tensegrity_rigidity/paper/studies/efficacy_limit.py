@@ -365,7 +365,7 @@ def _series_panel(ax, r: EfficacyLimitResult, column: str, ylabel: str) -> None:
             ok = row.get(f"{law}_ok")
             if not (isinstance(ok, bool | np.bool_) and ok):
                 continue
-            fit = _curve(s, column, law)
+            fit = _curve(s, column, law, row)
             if fit is not None:
                 ax.plot(ns, fit(ns), style, lw=1, color=line[0].get_color(),
                         label=T.label(f"law.{law}", dim=dim))  # fmt: skip
@@ -374,17 +374,18 @@ def _series_panel(ax, r: EfficacyLimitResult, column: str, ylabel: str) -> None:
     ax.set(xlabel=T.label("N"), ylabel=ylabel)
 
 
-def _curve(s: pd.DataFrame, column: str, law: str):
-    """The best curve of ``law`` through one series (for drawing; the fits are the table's)."""
-    n, y, e = s.N.to_numpy(float), s[column].to_numpy(float), s[f"{column}_err"].to_numpy(float)
-    ok = np.isfinite(y) & np.isfinite(e) & (e > 0)
-    if ok.sum() < limits.LAWS[law]:
-        return None
-    w = 1 / e[ok] ** 2
-    chi2, y_inf, x = limits._profile(law, n[ok], y[ok], w)
+def _curve(s: pd.DataFrame, column: str, law: str, row: pd.Series):
+    """The curve of ``law`` through one series with the limit and exponent of its fit in
+    ``row`` (the limits table); the amplitude, linear given those, by weighted least squares."""
+    y_inf = float(row[f"{law}_y_inf"])
     if law == "constant":
         return lambda ns: np.full_like(ns, y_inf)
-    f = n[ok] ** -x
+    x = float(row[f"{law}_x"])
+    n, y, e = s.N.to_numpy(float), s[column].to_numpy(float), s[f"{column}_err"].to_numpy(float)
+    ok = np.isfinite(y) & np.isfinite(e) & (e > 0)
+    if not (np.isfinite(x) and ok.any()):
+        return None
+    w, f = 1 / e[ok] ** 2, n[ok] ** -x
     b = np.sum(w * f * (y[ok] - y_inf)) / np.sum(w * f * f)
     return lambda ns: y_inf + b * ns**-x
 
