@@ -27,8 +27,6 @@ import tokenize
 from pathlib import Path
 
 ROOT = Path(__file__).parents[1] / "src" / "tensegrity_rigidity" / "paper"
-#: the studies of the paper layer (what its registry lists)
-STUDIES = ("fig1b", "fig1c", "fig2", "fig3", "fig4", "method", "fss", "delta", "three_d")
 PHRASE = re.compile(r"[A-Za-z]{2,}[ ]+[A-Za-z]{2,}")
 
 
@@ -132,6 +130,17 @@ def study_names(path: Path, source: str, studies: tuple[str, ...], root: Path) -
     return found
 
 
+def registered(root: Path) -> tuple[str, ...]:
+    """The study modules ``root/registry.py`` imports (each study is named as its module)."""
+    tree = ast.parse((root / "registry.py").read_text())
+    return tuple(
+        a.name
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module == "studies"
+        for a in node.names
+    )
+
+
 def measure(root: Path, studies: tuple[str, ...], limit: int) -> dict:
     files = sorted(root.rglob("*.py"))
     per_file, long, english, names = {}, [], {}, []
@@ -162,11 +171,12 @@ def measure(root: Path, studies: tuple[str, ...], limit: int) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--root", type=Path, default=ROOT)
-    ap.add_argument("--studies", default=",".join(STUDIES))
+    ap.add_argument("--studies", help="comma-separated (default: what the registry imports)")
     ap.add_argument("--max-function", type=int, default=60)
     ap.add_argument("--json", action="store_true", help="print every count as JSON")
     args = ap.parse_args()
-    m = measure(args.root, tuple(args.studies.split(",")), args.max_function)
+    studies = tuple(args.studies.split(",")) if args.studies else registered(args.root)
+    m = measure(args.root, studies, args.max_function)
     if args.json:
         print(json.dumps(m, indent=1))
         return

@@ -104,6 +104,8 @@ def _study_imports(path: Path, stems: set[str]) -> set[str]:
             parts = (node.module or "").split(".")
             if parts[-1] in stems and "studies" in parts[:-1]:
                 found.add(parts[-1])
+            if node.level == 1 and path.parent.name == "studies" and parts[0] in stems:
+                found.add(parts[0])
             if parts[-1] == "studies" or (not node.module and path.parent.name == "studies"):
                 found |= {a.name for a in node.names} & stems
         elif isinstance(node, ast.Import):
@@ -132,6 +134,10 @@ def test_studies_are_plug_ins_that_only_the_registry_imports():
 
 
 def test_the_study_checker_sees_an_import_of_a_study(tmp_path):
+    sibling = tmp_path / "studies" / "probe.py"
+    sibling.parent.mkdir()
+    sibling.write_text("from .three_d import SEED_3D\nfrom .rows import Rows\n")
+    assert _study_imports(sibling, {"three_d", "fss"}) == {"three_d"}
     probe = tmp_path / "probe.py"
     probe.write_text(
         "from ..paper.studies import jamming_onset\n"

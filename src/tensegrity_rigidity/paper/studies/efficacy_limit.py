@@ -24,15 +24,13 @@ import pandas as pd
 from matplotlib.ticker import NullFormatter
 
 from ...analysis import limits
-from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES
 from ..comparison import fmt
 from ..study import Result, Scale, Study
 from ..style import COLUMN, grid, legend_below, panel_letters, save
 from ..template import load
-from .headline import chunk_size
+from .headline import SEED_3D, chunk_size, chunk_size_3d
 from .rows import COLLAPSE_PT, Rows
-from .three_d import SEED_3D, chunk_size_3d
 
 NAME = "efficacy_limit"
 T = load(NAME)
@@ -93,7 +91,7 @@ def _spec(dim: int, n: int, samples: int) -> dict:
     spec = {"n": n, "samples": samples, "seed": SEEDS[dim], "f_c": 1.0,
             "threshold": {"path": "p_r"}}  # fmt: skip
     if dim == 2:
-        return spec | {"delta": DEFAULT_DELTA, "output": {"chunk_size": chunk_size(n)}}
+        return spec | {"output": {"chunk_size": chunk_size(n)}}
     return spec | {"lattice": {"kind": "fcc"}, "output": {"chunk_size": chunk_size_3d(n)}}
 
 

@@ -39,13 +39,11 @@ from ..style import (
 )
 from ..style import errorbar as bars
 from ..template import load
-from .headline import misfit
+from .headline import SEED_3D, chunk_size_3d, misfit
 from .rows import COLLAPSE_PT, Rows, threshold_bounds
 
 NAME = "three_d"
 T = load(NAME)
-#: seed of the 3D sweeps (sample k's disorder derives from (seed, n, delta, k))
-SEED_3D = 33
 DILATION, SHEAR, COMPRESSION = 0.0, math.pi / 2, math.pi
 #: (f_c, strains) of the one-sided sweeps at p_t = COLLAPSE_PT: name suffix -> (f_c, phi list)
 MIXED_3D = {"half": (0.5, [DILATION, SHEAR, COMPRESSION]), "cables": (1.0, [COMPRESSION, DILATION])}
@@ -98,12 +96,6 @@ PARAMS = {
 def key_3d(key: str) -> str:
     """The measurement key of a 3D quantity."""
     return f"fcc_{key}"
-
-
-def chunk_size_3d(n: int) -> int:
-    """Samples per chunk at size ``n``: a search at p_t = 0.3 takes about 0.35 s at n = 4, 9 s
-    at 8, 30 s at 10; chunks of a minute or less keep an interruption's loss small."""
-    return {4: 32, 5: 16, 6: 8, 8: 4}.get(n, 2 if n >= 10 else 32)
 
 
 def _base(n: int, samples: int) -> dict:
