@@ -114,15 +114,13 @@ def test_the_extrapolation_is_refitted_without_the_smallest_sizes(runs):
 def test_the_papers_pcrit_is_measured_at_every_size_from_the_energy_grids(runs):
     """Every p_crit claim at every size by the paper's estimator too: a point of the energy
     grid (or none), entering a second chi-square beside ours."""
-    from tensegrity_rigidity.paper.studies.headline import ENERGY_P_R
-
     fss, _, _ = runs
     first = fss.paper_pcrit
     assert set(first.n) == set(FSS.sizes)
     ours = fss.by_size[fss.by_size.key.str.startswith("p_crit_")]
     assert set(zip(first.n, first.key, strict=True)) == set(zip(ours.n, ours.key, strict=True))
-    found = first.value.dropna().to_numpy(float)
-    assert np.isclose(found[:, None], np.asarray(ENERGY_P_R)[None, :]).any(axis=1).all()
+    for n, values in first.dropna(subset="value").groupby("n").value:
+        assert np.isin(values.round(6), hl.energy_p_r(n)).all(), n
     assert set(fss.paper_fit.estimator) == {fsm.OURS, fsm.PAPERS}
     assert set(fss.paper_claims.estimator) == {fsm.OURS, fsm.PAPERS}
 
@@ -281,6 +279,20 @@ def test_the_rods_only_extrapolation_alone(runs, tmp_path):
     v = fsm.numbers(r)
     assert v["sizes"] is None and v["pc_only"] == "" and v["others"] is None
     assert "pc" in SCALES and SCALES["pc"]["fss"].sizes == ()
+
+
+def test_energy_grids_start_where_every_small_sample_is_floppy():
+    """Below n = 16 the energy grids start at the first step, so the paper's estimator (first
+    positive mean energy) is not stuck at 0.45 where a few extra bonds make a sample rigid; at
+    n >= 16 the grid is the one the committed runs stored (their sweeps resume unchanged)."""
+    for n in (4, 8, 12):
+        specs = hl.energy_sweeps(n, DEFAULT_DELTA, count=4)
+        assert {s["p_r"][0] for s in specs.values()} == {hl.ENERGY_STEP}, n
+        assert set(hl.ENERGY_P_R) <= set(specs[f"energy_n{n}_delta0.2_pt0.0"]["p_r"])
+    for n in (16, 32, 64):
+        for spec in hl.energy_sweeps(n, DEFAULT_DELTA, count=4).values():
+            assert spec["p_r"] == [p for p in hl.ENERGY_P_R if p + spec["p_t"] <= 1 + 1e-12]
+    assert hl.ENERGY_P_R[0] == 0.45 and len(hl.ENERGY_P_R) == 21
 
 
 def test_energy_claims_fit_the_mean_energy_and_read_certified_tensions():

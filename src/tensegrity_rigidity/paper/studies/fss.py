@@ -35,8 +35,8 @@ from ..style import errorbar as bars
 from ..template import load
 from .headline import (
     ENERGY_KEYS,
-    ENERGY_P_R,
     ENERGY_SAMPLES,
+    ENERGY_STEP,
     NU_CHECK,
     PC_CHECK,
     energy_names,
@@ -824,13 +824,14 @@ def _effective(r: FiniteSizeResult) -> dict:
     if (fit.estimator == PAPERS).any():
         counts = tuple(getattr(r, "energy_samples", ())) or None
         first = getattr(r, "paper_pcrit", None)
-        bound = ([k for k, c in zip(first.key, first.censored, strict=True)
-                  if c and paper_number(k)] if first is not None and "censored" in first
-                 else [])  # fmt: skip
+        held = (first[first.censored.astype(bool)] if first is not None and "censored" in first
+                else pd.DataFrame(columns=["key", "value"]))  # fmt: skip
+        bound = [k for k in held.key if paper_number(k)]
+        lo = sorted(set(held.value[held.key.map(paper_number).astype(bool)]))
         out |= {"effp_censored": len(bound) or None, "effp_censored_claims": len(set(bound)),
-                "grid_lo": ENERGY_P_R[0],
+                "grid_lo": lo[0] if len(lo) == 1 else lo,
                 "effp_missing": int(fit.missing[fit.estimator == PAPERS].sum())}  # fmt: skip
-        out |= {"effective_paper": "", "grid_step": round(ENERGY_P_R[1] - ENERGY_P_R[0], 9),
+        out |= {"effective_paper": "", "grid_step": ENERGY_STEP,
                 "effp_samples": counts[:1] if counts and len(set(counts)) == 1 else counts,
                 **_best(fit, PAPERS, "effp")}  # fmt: skip
     return out

@@ -114,16 +114,31 @@ def rods_pc_sweep(n: int, delta: float, samples: int, method: str = "lp") -> dic
     return {f"rods_pc_n{n}_delta{delta:g}": spec | {"output": {"chunk_size": chunk_size(n)}}}
 
 
+#: spacing of the energy sweeps' p_r grids
+ENERGY_STEP = 0.025
 #: p_r grid of the energy sweeps: every p_crit of rods + cables lies above 0.45 and the power
 #: law is fitted within 0.25 above it (``fit_energy_power_law``)
-ENERGY_P_R = p_r_grid(0.025, 0.45, 0.95)
+ENERGY_P_R = p_r_grid(ENERGY_STEP, 0.45, 0.95)
+#: below this n the energy grids start at the first step: a few of N = n^2 nodes' 3N bonds
+#: more than their mean make a sample rigid at p_r + p_t well under 0.45 (at n = 4 the
+#: bond count's spread is 0.07 in p), and the paper's p_crit estimator, the first p_r with a
+#: positive mean energy, needs a first point at which every sample is floppy
+FULL_ENERGY_GRID_BELOW = 16
+
+
+def energy_p_r(n: int) -> list[float]:
+    """The energy sweeps' p_r grid at size ``n``: :data:`ENERGY_P_R`, extended down to
+    ``ENERGY_STEP`` below :data:`FULL_ENERGY_GRID_BELOW`."""
+    if n >= FULL_ENERGY_GRID_BELOW:
+        return ENERGY_P_R
+    return p_r_grid(ENERGY_STEP, ENERGY_STEP, ENERGY_P_R[-1])
 
 
 def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     """Sweep name -> spec of the energies of rods + cables at one (n, delta); seed 61, grid mode.
 
     Per p_t of :data:`~.rows.PT4`, f_c = 1 under dilation and
-    compression on :data:`ENERGY_P_R` (``p_r + p_t <= 1``): the energy exponents alpha and the
+    compression on :func:`energy_p_r` (``p_r + p_t <= 1``): the energy exponents alpha and the
     fraction of taut cables at the transition at this size, as Fig. 2 measures them at n = 32.
     The same seed as :func:`headline_sweeps`, so sample k is the disorder of threshold sample k
     (common random numbers; where ``count`` exceeds the thresholds' samples, as at n = 64, the
@@ -136,7 +151,7 @@ def energy_sweeps(n: int, delta: float, *, count: int) -> dict[str, dict]:
     base |= {"output": {"chunk_size": 32 if n < 64 else 8}}
     return {
         f"energy_n{n}_delta{delta:g}_pt{p_t:.1f}": base
-        | {"p_t": p_t, "p_r": [p for p in ENERGY_P_R if p + p_t <= 1 + 1e-12]}
+        | {"p_t": p_t, "p_r": [p for p in energy_p_r(n) if p + p_t <= 1 + 1e-12]}
         for p_t in PT4
     }
 
