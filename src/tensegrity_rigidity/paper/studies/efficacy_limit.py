@@ -390,6 +390,7 @@ def _curve(s: pd.DataFrame, column: str, law: str, row: pd.Series):
 
 def _widths_panel(ax, r: EfficacyLimitResult) -> None:
     """The count widths at p_t = P_T against N, with the binomial parts (open)."""
+    labelled: set[int] = set()
     for (dim, strain), w in r.widths.items():
         nodes = w.n**dim
         line = ax.errorbar(nodes, w.counts, yerr=w.counts_err, marker="o" if dim == 2 else "s",
@@ -402,7 +403,9 @@ def _widths_panel(ax, r: EfficacyLimitResult) -> None:
             mfc="none",
             ls=":",
             color=line[0].get_color(),
+            label=None if dim in labelled else T.label("binomial", dim=dim),
         )
+        labelled.add(dim)
     ax.set(xscale="log", yscale="log", xlabel=T.label("N"), ylabel=T.label("width_axis"))
     for axis in (ax.xaxis, ax.yaxis):
         axis.set_minor_formatter(NullFormatter())
