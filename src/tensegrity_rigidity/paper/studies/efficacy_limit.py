@@ -389,11 +389,11 @@ def _curve(s: pd.DataFrame, column: str, law: str, row: pd.Series):
 
 
 def _widths_panel(ax, r: EfficacyLimitResult) -> None:
-    """The count widths at p_t = P_T against N, with the binomial parts (open)."""
+    """The count widths at p_t = P_T against N, with the binomial parts (grey, open)."""
     labelled: set[int] = set()
     for (dim, strain), w in r.widths.items():
         nodes = w.n**dim
-        line = ax.errorbar(nodes, w.counts, yerr=w.counts_err, marker="o" if dim == 2 else "s",
+        ax.errorbar(nodes, w.counts, yerr=w.counts_err, marker="o" if dim == 2 else "s",
                            capsize=2, ls="none",
                            label=T.label("width", dim=dim, strain=strain))  # fmt: skip
         ax.plot(
@@ -402,7 +402,7 @@ def _widths_panel(ax, r: EfficacyLimitResult) -> None:
             marker="o" if dim == 2 else "s",
             mfc="none",
             ls=":",
-            color=line[0].get_color(),
+            color="0.45",
             label=None if dim in labelled else T.label("binomial", dim=dim),
         )
         labelled.add(dim)
