@@ -305,6 +305,30 @@ def test_paired_efficacies_count_samples_never_rigid():
         limits.paired_efficacies(rods, comp[:3], comp, 0.2)
 
 
+def test_interval_thresholds_widen_every_error_by_half_their_range():
+    """A threshold known only as an interval (an undecided probe) enters at its centre; each
+    statistic's error adds half its range over the intervals' ends in quadrature, so an
+    interval wider than the statistical error cannot leave a verdict resting on its centre."""
+    rng = np.random.default_rng(3)
+    samples, p_t, half = 200, 0.3, 0.01
+    rods = rng.normal(0.66, 0.02, samples)
+    shared = rng.normal(0.0, 0.02, samples)
+    comp = rods - 0.45 * p_t + shared
+    dil = rods - 0.55 * p_t + shared
+    exact = limits.paired_efficacies(rods, comp, dil, p_t, n_boot=50, rng=np.random.default_rng(1))
+    same = limits.paired_efficacies(rods, comp, dil, p_t, n_boot=50, rng=np.random.default_rng(1),
+                                    ends=((rods, rods), (comp, comp), (dil, dil)))  # fmt: skip
+    assert same == exact
+    widened = limits.paired_efficacies(
+        rods, comp, dil, p_t, n_boot=50, rng=np.random.default_rng(1),
+        ends=((rods, rods), (comp - half, comp + half), (dil - half, dil + half)))  # fmt: skip
+    # A = (median comp - median dil) / p_t spans 2 * half / p_t each way: half-range 2 half / p_t
+    assert widened.asym == exact.asym
+    assert widened.asym_err == pytest.approx(np.hypot(exact.asym_err, 2 * half / p_t))
+    assert widened.asym_mean_err == pytest.approx(np.hypot(exact.asym_mean_err, 2 * half / p_t))
+    assert widened.c_err == pytest.approx(np.hypot(exact.c_err, half / p_t))
+
+
 # --------------------------------------------------------------------------- unknown exponent
 
 XS = np.round(np.arange(0.5, 3.0001, 0.05), 2)

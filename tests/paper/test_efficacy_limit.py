@@ -141,8 +141,9 @@ def test_sizes_meet_at_nearly_equal_node_counts_and_the_question_gets_its_answer
     # 3D n = 5 (125 nodes) is 2.0x from 2D n = 8 and n = 16: no partner
     by.loc[4, ["n", "N"]] = [5, 125]
     assert [(int(a.n), int(b.n)) for a, b in el.equal_nodes(by)] == [(8, 4), (32, 10)]
-    assert el._answer({2: "vanishes", 3: "finite"}).startswith("Yes")
-    assert el._answer({2: "finite", 3: "finite"}).startswith("No")
+    words = {"two": "vanishes", "three": "finite"}
+    assert el._answer({2: "vanishes", 3: "finite"}) == el.T.label("answer.vanishes.finite", **words)
+    assert el._answer({2: "finite", 3: "finite"}) == el.T.label("answer.finite.finite")
     assert '"undetermined" in 2D' in el._answer({2: "undetermined", 3: "finite"})
     assert el._answer({2: "vanishes"}) is None
 

@@ -20,6 +20,7 @@
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -97,7 +98,8 @@ def allowed(chi2: float, dof: int) -> tuple[float, bool]:
 @dataclass(frozen=True)
 class PairedEfficacies:
     """S_t/S_r of one system under compression and dilation from thresholds of the same
-    samples; every error a paired bootstrap's (:func:`robust_spread`).
+    samples; every error a paired bootstrap's (:func:`robust_spread`), with half the range
+    over the ends of interval thresholds added in quadrature where those are given.
 
     Attributes
     ----------
@@ -150,6 +152,7 @@ def paired_efficacies(
     p_t: float,
     n_boot: int = 200,
     rng: np.random.Generator | None = None,
+    ends: tuple | None = None,
 ) -> PairedEfficacies:
     """Efficacies under compression and dilation from paired thresholds.
 
@@ -164,6 +167,12 @@ def paired_efficacies(
         Paired bootstrap replicas (one draw of samples for all three).
     rng : numpy.random.Generator, optional
         Source of the draws.
+    ends : ((S,), (S,)) x 3, optional
+        The lower and upper ends of each threshold (rods, compression, dilation), where some
+        are intervals (a probe inside the search stayed undecided; the thresholds given are
+        their centres). Each statistic's error then adds half its range over the corners of
+        the ends in quadrature: each statistic is monotone in every threshold, so its extremes
+        over any choice inside the intervals lie at corners.
 
     Returns
     -------
@@ -187,6 +196,11 @@ def paired_efficacies(
     draws = np.array(replicas(lambda i: _efficacy_stats(r[i], c[i], d[i], p_t), r.size,
                               n_boot, rng), float).reshape(-1, value.size)  # fmt: skip
     err = robust_spread(draws)
+    if ends is not None:
+        ends_ = [[np.asarray(e, float) for e in pair] for pair in ends]
+        corners = np.array([_efficacy_stats(ends_[0][i], ends_[1][j], ends_[2][k], p_t)
+                            for i, j, k in itertools.product((0, 1), repeat=3)])  # fmt: skip
+        err = np.hypot(err, (corners.max(axis=0) - corners.min(axis=0)) / 2)
     never = int(np.sum(~(np.isfinite(r) & np.isfinite(c) & np.isfinite(d))))
     pairs = [x for v, e in zip(value, err, strict=True) for x in (float(v), float(e))]
     return PairedEfficacies(int(r.size), never, *pairs)

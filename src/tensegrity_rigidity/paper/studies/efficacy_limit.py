@@ -139,14 +139,17 @@ def _median(a: pd.Series) -> float:
 
 def _size_row(dim: int, n: int, rods: pd.DataFrame, cables: pd.DataFrame, rng) -> dict:
     """The paired efficacies of one size from the samples with all three thresholds, the
-    number of thresholds that are intervals (undecided probes; they enter at their centre) and
-    the range of A over every choice inside the intervals (``asym_lo``, ``asym_hi``)."""
+    number of thresholds that are intervals (undecided probes; they enter at their centre, and
+    half each statistic's range over their ends joins its error) and the range of A over every
+    choice inside the intervals (``asym_lo``, ``asym_hi``)."""
     r, c, d = _thresholds(rods), _thresholds(cables, COMPRESSION), _thresholds(cables, DILATION)
     common = r.index.intersection(c.index).intersection(d.index)
-    pe = limits.paired_efficacies(r[common].to_numpy(), c[common].to_numpy(),
-                                  d[common].to_numpy(), P_T, rng=rng)  # fmt: skip
     ends = {(phi, end): _thresholds(cables, phi, f"threshold_p_r_{end}")[common]
             for phi in (COMPRESSION, DILATION) for end in ("low", "high")}  # fmt: skip
+    per = [[_thresholds(rods, None, f"threshold_p_r_{e}")[common] for e in ("low", "high")]]
+    per += [[ends[phi, e] for e in ("low", "high")] for phi in (COMPRESSION, DILATION)]
+    pe = limits.paired_efficacies(r[common].to_numpy(), c[common].to_numpy(),
+                                  d[common].to_numpy(), P_T, rng=rng, ends=tuple(per))  # fmt: skip
     lo = (_median(ends[COMPRESSION, "low"]) - _median(ends[DILATION, "high"])) / P_T
     hi = (_median(ends[COMPRESSION, "high"]) - _median(ends[DILATION, "low"])) / P_T
     widths = [ends[phi, "high"] - ends[phi, "low"] for phi in (COMPRESSION, DILATION)]
@@ -253,6 +256,14 @@ def _limit_text(row: pd.Series | None) -> str | None:
                    low=row.low, high=row.high)  # fmt: skip
 
 
+def _verdict_text(row: pd.Series) -> str:
+    """The verdict in words; a vanishing one with the limit's upper bound at two errors (the
+    rule asks only that zero be allowed, so the bound says how far the data are from it)."""
+    err = np.hypot(row.stat, row.syst)
+    return T.label(f"verdict.{row.verdict.replace(' ', '_')}", upper=row.value + 2 * err,
+                   limit=fmt(row.value, err))  # fmt: skip
+
+
 def _laws_text(row: pd.Series | None, laws) -> list[str] | None:
     if row is None:
         return None
@@ -279,15 +290,17 @@ def equal_nodes(by_size: pd.DataFrame) -> list[tuple[pd.Series, pd.Series]]:
     return out
 
 
-def _answer(verdicts: dict[int, str]) -> str | None:
-    """The label that answers the study's question from the two verdicts of A."""
+def _answer(verdicts: dict[int, str], rows: dict | None = None) -> str | None:
+    """The label that answers the study's question from the two verdicts of A (``rows``: each
+    dimension's limit row, whose words the answer quotes)."""
     pair = (verdicts.get(2), verdicts.get(3))
     if None in pair:
         return None
     known = {("vanishes", "finite"), ("finite", "finite"), ("vanishes", "vanishes"),
              ("finite", "vanishes")}  # fmt: skip
     key = ".".join(pair) if pair in known else "open"
-    return T.label(f"answer.{key}", two=pair[0], three=pair[1])
+    words = {d: _verdict_text(row) for d, row in (rows or {}).items()}
+    return T.label(f"answer.{key}", two=words.get(2, pair[0]), three=words.get(3, pair[1]))
 
 
 def numbers(r: EfficacyLimitResult) -> dict:
@@ -304,7 +317,8 @@ def numbers(r: EfficacyLimitResult) -> dict:
         T.label("pair", n2=int(a.n), n3=int(b.n), N2=int(a.N), N3=int(b.N),
                 a2=fmt(a.asym, a.asym_err), a3=fmt(b.asym, b.asym_err))
         for a, b in equal_nodes(by)] or None if len(by) else None  # fmt: skip
-    verdicts = {}
+    verdicts: dict[int, str] = {}
+    rows: dict[int, pd.Series] = {}
     for dim in (2, 3):
         s = by[by.dim == dim].sort_values("n") if len(by) else by
         if not len(s):
@@ -321,9 +335,9 @@ def numbers(r: EfficacyLimitResult) -> dict:
             kind = "asym" if series.startswith("asym") else "total"
             out[f"{series}_laws_{dim}"] = _laws_text(row, LAWS[kind])
             if row is not None and row.verdict:
-                out[f"{series}_verdict_{dim}"] = row.verdict
+                out[f"{series}_verdict_{dim}"] = _verdict_text(row)
                 if series == "asym":
-                    verdicts[dim] = row.verdict
+                    verdicts[dim], rows[dim] = row.verdict, row
         for strain in ("compression", "dilation"):
             w = r.widths.get((dim, strain))
             if w is None:
@@ -340,10 +354,12 @@ def numbers(r: EfficacyLimitResult) -> dict:
                     for what, ref, err in (("rods", NU_RODS.value, NU_RODS.error or 0.0),
                                            ("noise", 2 / dim, 0.0))
                     if what == "noise" or dim == 2]  # fmt: skip
-            share = w.binomial / w.total
-            out[f"binomial_share_{tag}"] = [T.label("share", n=int(n), share=100 * v**2)
-                                            for n, v in zip(w.n, share, strict=True)]  # fmt: skip
-    out["answer"] = _answer(verdicts)
+            share = (w.binomial / w.total) ** 2
+            err = 2 * share * w.total_err / w.total
+            out[f"binomial_share_{tag}"] = [
+                T.label("share", n=int(n), share=100 * v, err=100 * e)
+                for n, v, e in zip(w.n, share, err, strict=True)]  # fmt: skip
+    out["answer"] = _answer(verdicts, rows)
     return out
 
 
@@ -453,7 +469,7 @@ def _limits_table(r: EfficacyLimitResult) -> pd.DataFrame:
         "other": [f"{a:.1f} / {int(b)}" for a, b in zip(
             li.zero_chi2.fillna(li.constant_chi2), li.zero_dof.fillna(li.constant_dof),
             strict=True)],
-        "verdict": [v or "-" for v in li.verdict],
+        "verdict": [_verdict_text(row) if row.verdict else "-" for _, row in li.iterrows()],
     })  # fmt: skip
 
 
