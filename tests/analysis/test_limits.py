@@ -305,6 +305,28 @@ def test_paired_efficacies_count_samples_never_rigid():
         limits.paired_efficacies(rods, comp[:3], comp, 0.2)
 
 
+def test_a_limit_the_sizes_do_not_fix_is_not_quoted():
+    """A series that falls more slowly than any exponent in range (here log n) pins the finite
+    law at the slow end, where its limit runs off: no limit is read from it. A flat series
+    pins it there too, and its limit is the constant's."""
+    n = np.array([8.0, 12, 16, 24, 32, 64])
+    err = np.full(n.size, 0.01)
+    slow = limits.limit_laws(n, 1.0 - 0.2 * np.log(n), err, laws=("finite", "constant"),
+                             n_boot=20)  # fmt: skip
+    assert slow.fits["finite"].acceptable and limits.runaway(slow.fits["finite"])
+    assert slow.law == "" and np.isnan(slow.value)
+    # A on FCC at n = 4 to 12 against the node count N = n^3 (reports/limit)
+    a3 = [0.1199, 0.1254, 0.1213, 0.1175, 0.1210, 0.1174]
+    a3_err = [0.0080, 0.0081, 0.0061, 0.0051, 0.0032, 0.0054]
+    flat = limits.limit_laws(np.array([4.0, 5, 6, 8, 10, 12]) ** 3, a3, a3_err,
+                             laws=("finite", "zero", "constant"), n_boot=20)  # fmt: skip
+    assert limits.runaway(flat.fits["finite"])
+    assert flat.law == "constant" and flat.value == pytest.approx(0.1201, abs=1e-4)
+    assert limits.vanishing_verdict(flat) == "finite"
+    fast = limits.limit_laws(n, 0.5 + n**-1.0, err, laws=("finite", "constant"), n_boot=20)
+    assert fast.law == "finite" and not limits.runaway(fast.fits["finite"])
+
+
 def test_interval_thresholds_widen_every_error_by_half_their_range():
     """A threshold known only as an interval (an undecided probe) enters at its centre; each
     statistic's error adds half its range over the intervals' ends in quadrature, so an

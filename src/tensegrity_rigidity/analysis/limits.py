@@ -325,6 +325,13 @@ def fit_law(
     return LawFit(law, y_inf, float(spread[0]), x, float(spread[1]), at_bound, chi2, dof, p, ok_)
 
 
+def runaway(fit: LawFit) -> bool:
+    """Whether a law's limit is not determined: its exponent ends at the slow end of
+    :data:`X_GRID`, so the data ask for a slower approach than any allowed, and ``a + b n^-x``
+    tends to a constant whose split between ``a`` (the limit) and ``b`` the sizes do not fix."""
+    return bool(fit.x_at_bound and np.isclose(fit.x, X_GRID[0], atol=1e-4))
+
+
 @dataclass(frozen=True)
 class Limit:
     """A size series' limit over several laws.
@@ -344,6 +351,9 @@ class Limit:
         limit; 0 when no other law is allowed.
     low, high : float
         The range of the limits of the allowed laws (NaN when none is).
+
+    A law whose limit :func:`runaway` says is not determined counts as not allowed here (its
+    fit stays in ``fits``).
     """
 
     fits: dict
@@ -384,7 +394,8 @@ def limit_laws(
     """
     rng = rng or np.random.default_rng(11)
     fits = {law: fit_law(law, n, y, err, n_boot, rng) for law in laws}
-    good = [f for f in fits.values() if f.acceptable and np.isfinite(f.y_inf)]
+    good = [f for f in fits.values()
+            if f.acceptable and np.isfinite(f.y_inf) and not runaway(f)]  # fmt: skip
     if not good:
         return Limit(fits, "", np.nan, np.nan, np.nan, np.nan, np.nan)
     ref, ok = good[0], [f.y_inf for f in good]
@@ -411,16 +422,24 @@ def vanishing_verdict(limit: Limit) -> str:
 
     Notes
     -----
-    "finite": the power law to zero is rejected (p < :data:`ACCEPT_P`) and the finite law's
-    limit lies :data:`Z_NONZERO` statistical errors or more from zero; "vanishes": the power
-    law to zero fits and the finite law's limit lies within that distance of zero;
+    "finite": the power law to zero is rejected (p < :data:`ACCEPT_P`) and the limit (of the
+    first law asked for that the data allow and whose limit is determined, :func:`runaway`)
+    lies :data:`Z_NONZERO` statistical errors or more from zero; "vanishes": the power law to
+    zero fits and that limit lies within that distance of zero (0 itself when the power law is
+    the first such law);
     "undetermined": the other cases in which some law fits (the sizes do not decide);
     "no law fits": neither does.
     """
     finite, zero = limit.fits["finite"], limit.fits["zero"]
     if not (finite.acceptable or zero.acceptable):
         return "no law fits"
-    z = abs(finite.y_inf) / finite.y_inf_err if finite.y_inf_err > 0 else np.inf
+    value, stat = abs(limit.value), limit.stat
+    if not np.isfinite(value):
+        z = np.nan
+    elif stat > 0:
+        z = value / stat
+    else:
+        z = np.inf if value > 0 else 0.0
     if not zero.acceptable and z >= Z_NONZERO:
         return "finite"
     if zero.acceptable and z < Z_NONZERO:

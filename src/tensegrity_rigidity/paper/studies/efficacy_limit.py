@@ -43,8 +43,10 @@ SEEDS = {2: 61, 3: SEED_3D}
 #: bonds per node of the full lattices (triangular, FCC): M = BONDS_PER_NODE * N
 BONDS_PER_NODE = {2: 3, 3: 6}
 #: the laws of each series' limit (analysis.limits): A may vanish at a continuous transition,
-#: so a power law to zero stands beside a finite limit; the sum has no reason to vanish
-LAWS = {"asym": ("finite", "zero"), "total": ("finite", "constant")}
+#: so a power law to zero stands beside a finite limit, and a constant reads a series that
+#: does not depend on size (where the finite law's limit is not determined); the sum has no
+#: reason to vanish
+LAWS = {"asym": ("finite", "zero", "constant"), "total": ("finite", "constant")}
 #: the series fitted (columns of by_size): A from the P = 1/2 points, from the means of the
 #: per-sample differences, and the sum
 SERIES = ("asym", "asym_mean", "total")
