@@ -133,7 +133,7 @@ def test_beside_2d_and_the_report_section(tiny_3d, tmp_path):
     v = three_d.numbers(tiny_3d)
     literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
     assert v["check"] == literature and v["n_top"] == 4 and v["few"] == [2, 3, 4]
-    assert v["from_check"] == literature - tiny_3d.extrapolated.y_inf_first_order.iloc[0]
+    assert v["from_check"] == tiny_3d.extrapolated.y_inf_first_order.iloc[0] - literature
     tables = three_d.report_tables(tiny_3d)
     wide, side = tables["by_size"], tables["beside_2d"]
     assert list(wide.columns) == ["quantity", "n = 2", "n = 3", "n = 4"]
@@ -207,3 +207,15 @@ def test_every_3d_limit_is_also_read_with_its_own_exponent(tiny_3d):
                                 (lim.value, lim.syst, lim.law), err_msg=key)  # fmt: skip
     side = three_d.report_tables(tiny_3d)["beside_2d"]
     assert {"own", "fit_form", "laws"} <= set(side.columns)
+
+
+def test_the_distance_from_the_literature_is_ours_minus_theirs(tiny_3d):
+    """The 1/nu = 3 reading's distance from 0.495 is ours minus the literature's, and the text
+    says so (it was the literature's minus ours: +0.0016 for our 0.49342 below 0.495)."""
+    v = three_d.numbers(tiny_3d)
+    ours = tiny_3d.extrapolated.set_index("key").loc["rods_only_pc"].y_inf_first_order
+    literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
+    assert v["from_check"] == pytest.approx(ours - literature)
+    assert np.sign(v["from_check"]) == np.sign(ours - literature)
+    text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
+    assert f"lies {ours - literature:+.4f} from it (ours minus {literature:g})" in text
