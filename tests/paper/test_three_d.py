@@ -163,7 +163,7 @@ def test_the_widths_are_compared_with_the_binomial_noise_and_p_c_assumes_no_expo
     v = three_d.numbers(tiny_3d)
     assert "w_nu" not in v and v["bw_dof"] == len(sizes)
     text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
-    assert "binomial noise of the bond count" in text and "With none assumed" in text
+    assert "binomial noise of the bond count" in text and "With no exponent assumed" in text
 
 
 def test_the_committed_3d_widths_are_the_binomial_bond_count_noise():
@@ -219,3 +219,15 @@ def test_the_distance_from_the_literature_is_ours_minus_theirs(tiny_3d):
     assert np.sign(v["from_check"]) == np.sign(ours - literature)
     text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
     assert f"lies {ours - literature:+.4f} from it (ours minus {literature:g})" in text
+
+
+def test_few_sample_sizes_are_named_with_their_counts(tiny_3d):
+    """Every size below the floor, per point and of the rods-only thresholds, with its count."""
+    v = three_d.numbers(tiny_3d)
+    for n, s in zip(tiny_3d.pc_sizes, tiny_3d.pc_samples, strict=True):
+        if s < three_d.ERROR_FLOOR_SAMPLES:
+            assert f"n = {n} ({s} rods-only thresholds" in v["few_sizes"]
+    for n in v["few"]:
+        assert f"n = {n} (" in v["few_sizes"]
+    text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
+    assert "Caution: fewer than 24 samples at n = 2 (" in text
