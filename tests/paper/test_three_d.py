@@ -231,3 +231,24 @@ def test_few_sample_sizes_are_named_with_their_counts(tiny_3d):
         assert f"n = {n} (" in v["few_sizes"]
     text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
     assert "Caution: fewer than 24 samples at n = 2 (" in text
+
+
+def test_the_committed_3d_report_signs_its_distance_from_the_literature():
+    """reports/3d: the signed distance quoted is the table's 1/nu = 3 reading minus 0.495."""
+    ex = pd.read_csv(REPORTS / "3d" / "tables" / "three_d_extrapolated.csv").set_index("key")
+    ours = ex.loc["rods_only_pc"].y_inf_first_order
+    literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
+    text = (REPORTS / "3d" / "report.md").read_text()
+    assert f"lies {ours - literature:+.4f} from it (ours minus {literature:g})" in text
+
+
+def test_the_committed_3d_report_leads_with_the_exponent_free_threshold():
+    """reports/3d: the rods-only p_c with no exponent assumed comes before the fixed-exponent
+    readings, 1/nu = 3 is not attributed to the literature, and the sizes with few samples are
+    named with their counts, the rods-only n = 12 among them."""
+    text = " ".join((REPORTS / "3d" / "report.md").read_text().split())
+    assert "what the literature reports" not in text
+    rods = text[text.index("Rods-only threshold:") :]
+    assert rods.index("With no exponent assumed") < rods.index("with nu fitted")
+    assert "only under that one assumed exponent" in text or "consistent with it" in text
+    assert "n = 10 (6 per point)" in text and "n = 12 (16 rods-only thresholds" in text
