@@ -133,7 +133,7 @@ def test_beside_2d_and_the_report_section(tiny_3d, tmp_path):
     v = three_d.numbers(tiny_3d)
     literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
     assert v["check"] == literature and v["n_top"] == 4 and v["few"] == [2, 3, 4]
-    assert v["from_check"] == literature - tiny_3d.extrapolated.y_inf_first_order.iloc[0]
+    assert v["from_check"] == tiny_3d.extrapolated.y_inf_first_order.iloc[0] - literature
     tables = three_d.report_tables(tiny_3d)
     wide, side = tables["by_size"], tables["beside_2d"]
     assert list(wide.columns) == ["quantity", "n = 2", "n = 3", "n = 4"]
@@ -163,7 +163,7 @@ def test_the_widths_are_compared_with_the_binomial_noise_and_p_c_assumes_no_expo
     v = three_d.numbers(tiny_3d)
     assert "w_nu" not in v and v["bw_dof"] == len(sizes)
     text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
-    assert "binomial noise of the bond count" in text and "With none assumed" in text
+    assert "binomial noise of the bond count" in text and "With no exponent assumed" in text
 
 
 def test_the_committed_3d_widths_are_the_binomial_bond_count_noise():
@@ -207,3 +207,48 @@ def test_every_3d_limit_is_also_read_with_its_own_exponent(tiny_3d):
                                 (lim.value, lim.syst, lim.law), err_msg=key)  # fmt: skip
     side = three_d.report_tables(tiny_3d)["beside_2d"]
     assert {"own", "fit_form", "laws"} <= set(side.columns)
+
+
+def test_the_distance_from_the_literature_is_ours_minus_theirs(tiny_3d):
+    """The 1/nu = 3 reading's distance from 0.495 is ours minus the literature's, and the text
+    says so (it was the literature's minus ours: +0.0016 for our 0.49342 below 0.495)."""
+    v = three_d.numbers(tiny_3d)
+    ours = tiny_3d.extrapolated.set_index("key").loc["rods_only_pc"].y_inf_first_order
+    literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
+    assert v["from_check"] == pytest.approx(ours - literature)
+    assert np.sign(v["from_check"]) == np.sign(ours - literature)
+    text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
+    assert f"lies {ours - literature:+.4f} from it (ours minus {literature:g})" in text
+
+
+def test_few_sample_sizes_are_named_with_their_counts(tiny_3d):
+    """Every size below the floor, per point and of the rods-only thresholds, with its count."""
+    v = three_d.numbers(tiny_3d)
+    for n, s in zip(tiny_3d.pc_sizes, tiny_3d.pc_samples, strict=True):
+        if s < three_d.ERROR_FLOOR_SAMPLES:
+            assert f"n = {n} ({s} rods-only thresholds" in v["few_sizes"]
+    for n in v["few"]:
+        assert f"n = {n} (" in v["few_sizes"]
+    text = " ".join(b[1] for b in render(three_d.T, v, {}, {}, []) if b[0] == "p")
+    assert "Caution: fewer than 24 samples at n = 2 (" in text
+
+
+def test_the_committed_3d_report_signs_its_distance_from_the_literature():
+    """reports/3d: the signed distance quoted is the table's 1/nu = 3 reading minus 0.495."""
+    ex = pd.read_csv(REPORTS / "3d" / "tables" / "three_d_extrapolated.csv").set_index("key")
+    ours = ex.loc["rods_only_pc"].y_inf_first_order
+    literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
+    text = (REPORTS / "3d" / "report.md").read_text()
+    assert f"lies {ours - literature:+.4f} from it (ours minus {literature:g})" in text
+
+
+def test_the_committed_3d_report_leads_with_the_exponent_free_threshold():
+    """reports/3d: the rods-only p_c with no exponent assumed comes before the fixed-exponent
+    readings, 1/nu = 3 is not attributed to the literature, and the sizes with few samples are
+    named with their counts, the rods-only n = 12 among them."""
+    text = " ".join((REPORTS / "3d" / "report.md").read_text().split())
+    assert "what the literature reports" not in text
+    rods = text[text.index("Rods-only threshold:") :]
+    assert rods.index("With no exponent assumed") < rods.index("with nu fitted")
+    assert "only under that one assumed exponent" in text or "consistent with it" in text
+    assert "n = 10 (6 per point)" in text and "n = 12 (16 rods-only thresholds" in text
