@@ -150,7 +150,7 @@ def test_a_long_paragraph_is_never_split_after_fig():
     from tensegrity_rigidity.paper.render import split_paragraph
 
     words = " ".join(["word"] * 8)
-    text = f"{words}. {words} Fig. 2B, n = 4; Fig. 2C, n = 12. {words}."
+    text = f"{words}. Then {words} Fig. 2B, n = 4; Fig. 2C, n = 12. Then {words}."
     parts = split_paragraph(text, max_words=12)
     assert not any(p.endswith("Fig.") for p in parts)
     assert any("Fig. 2B, n = 4" in p for p in parts) and len(parts) > 1
