@@ -121,7 +121,8 @@ def test_the_report_names_the_effective_size_and_the_sizes_that_fit():
     text, table = _text({4: 3.0, 6: 0.0, 8: 1.0})
     assert "fit best at n = 6 (chi-square 0.0 for 5 claims, p = 1)" in text
     assert f"n = 6, 8 fit at p >= {ACCEPT_P}" in text and "no size fits" not in text
-    assert "Fig. 1C, n = 6 (chi-square 0.0 for 2 claim(s)" in text and "{" not in text
+    assert "Fig. 1C, n = 6 (chi-square 0.0 for 2 claims," in text and "{" not in text
+    assert "claim(s)" not in text
     assert "left out of the sums" not in text
     assert table is not None and list(table.n) == [4, 6, 8]
     assert list(table.fits) == [fsm.T.label("no"), fsm.T.label("yes"), fsm.T.label("yes")]
@@ -150,7 +151,7 @@ def test_a_long_paragraph_is_never_split_after_fig():
     from tensegrity_rigidity.paper.render import split_paragraph
 
     words = " ".join(["word"] * 8)
-    text = f"{words}. {words} Fig. 2B, n = 4; Fig. 2C, n = 12. {words}."
+    text = f"{words}. Then {words} Fig. 2B, n = 4; Fig. 2C, n = 12. Then {words}."
     parts = split_paragraph(text, max_words=12)
     assert not any(p.endswith("Fig.") for p in parts)
     assert any("Fig. 2B, n = 4" in p for p in parts) and len(parts) > 1
@@ -282,3 +283,10 @@ def test_every_number_reproduced_is_said_and_no_papers_estimator_no_second_fit()
     assert "5 of the 5 are reproduced" in text and "Every number of the paper" in text
     assert "no size under either" not in text and "then fit best" not in text
     assert "estimator" not in tables["effective_size"].columns
+
+
+def test_one_claim_is_singular():
+    # reports/paper-size: "chi-square 0.0 for 1 claim(s)"
+    b = {"n": 4, "chi2": 0.0, "dof": 1, "p_value": 0.95}
+    assert "for 1 claim," in fsm.T.label("eff_figure.one", figure="2B", **b)
+    assert "for 2 claims," in fsm.T.label("eff_figure", figure="2C", **{**b, "dof": 2})

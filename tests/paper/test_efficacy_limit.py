@@ -163,3 +163,13 @@ def test_thresholds_that_are_intervals_are_counted_and_bracket_the_asymmetry():
     assert by.asym_lo[8] == by.asym[8] == by.asym_hi[8]
     assert by.asym_lo[16] <= by.asym[16] <= by.asym_hi[16] and by.asym_hi[16] > by.asym_lo[16]
     assert by.asym_hi[16] - by.asym_lo[16] <= 0.01 / el.P_T + 1e-12
+
+
+def test_a_bracket_names_one_value_when_its_ends_agree_and_counts_intervals_in_words():
+    # reports/limit: "0.170 to 0.170 at n = 8 in 2D (1 intervals)"
+    from types import SimpleNamespace
+
+    one = SimpleNamespace(n=8, dim=2, intervals=1, asym_lo=0.17, asym_hi=0.1700001)
+    many = SimpleNamespace(n=64, dim=2, intervals=19, asym_lo=0.045, asym_hi=0.061)
+    assert el._bracket(one) == "0.170 at n = 8 in 2D (1 interval)"
+    assert el._bracket(many) == "0.045 to 0.061 at n = 64 in 2D (19 intervals)"

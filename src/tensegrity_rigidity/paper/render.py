@@ -26,7 +26,14 @@ MAX_WORDS = 120
 STYLE = (Path(__file__).with_name("templates") / "report.css").read_text()
 
 
-_SENTENCE_END = re.compile(r"(?<=[.!?;])\s+(?=[A-Z0-9(*`'\"])")
+#: a sentence ends at ".", "!" or "?" only: a semicolon joins clauses of one sentence, so a
+#: paragraph is never broken after one (a template's "2D ...; 3D ..." stays whole)
+_SENTENCE_END = re.compile(r"(?<=[.!?])\s+(?=[A-Z0-9(*`'\"])")
+
+#: a missing number inside a cell's text ("nan / 0"), printed as :data:`MISSING`
+_NAN = re.compile(r"(?<![\w/])nan(?![\w/])", re.I)
+#: how a table prints a missing number
+MISSING = "-"
 
 
 def split_paragraph(text: str, max_words: int = MAX_WORDS) -> list[str]:
@@ -62,12 +69,21 @@ def anchor(title: str) -> str:
     return re.sub(r"[^a-z0-9]+", "-", title.lower()).strip("-")
 
 
+def cell(value) -> str:
+    """A table cell as text: a missing number (None, NaN, NA, or "nan" within a formatted cell
+    such as "nan / 0") printed as :data:`MISSING`."""
+    if value is None or (pd.api.types.is_scalar(value) and pd.isna(value)):
+        return MISSING
+    return _NAN.sub(MISSING, str(value))
+
+
 def md_table(df: pd.DataFrame) -> str:
-    """A frame as a Markdown table (``|`` in cells written as ``/``)."""
+    """A frame as a Markdown table (``|`` in cells written as ``/``, a missing number as
+    :data:`MISSING`)."""
     cols = list(df.columns)
     lines = ["| " + " | ".join(map(str, cols)) + " |", "|" + "---|" * len(cols)]
     for _, row in df.iterrows():
-        lines.append("| " + " | ".join(str(row[c]).replace("|", "/") for c in cols) + " |")
+        lines.append("| " + " | ".join(cell(row[c]).replace("|", "/") for c in cols) + " |")
     return "\n".join(lines)
 
 
@@ -78,7 +94,8 @@ def html_table(df: pd.DataFrame) -> str:
     for _, row in df.iterrows():
         cls = f' class="{html.escape(str(row["verdict"]))}"' if "verdict" in df else ""
         cells = "".join(
-            f'<td class="{html.escape(str(c))}">{inline_html(row[c])}</td>' for c in df.columns
+            f'<td class="{html.escape(str(c))}">{inline_html(cell(row[c]))}</td>'
+            for c in df.columns
         )
         body.append(f"<tr{cls}>{cells}</tr>")
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"

@@ -63,6 +63,22 @@ def _names(rows, ours: str, theirs: str) -> dict:
     return {"count": len(named) or None, "names": "; ".join(named) or None}
 
 
+def openings(results: dict) -> list[str]:
+    """What each study that ran measures, in its own template's words (its ``opening`` block,
+    filled with its numbers; a block named after a number only where that number is present),
+    in the order of the results. The report's opening names them where it compares no claim."""
+    out = []
+    for name, r in results.items():
+        study = STUDIES[name]
+        blocks = [b for b in study.template.blocks if b.kind == "opening"]
+        if not blocks:
+            continue
+        values = study.numbers(r)
+        out += [" ".join(fill(b.text, values)) for b in blocks
+                if not b.name or values.get(b.name) is not None]  # fmt: skip
+    return [o for o in out if o]
+
+
 def numbers(results: dict, rows: list, scale: str, timings: dict, extra: dict, itself) -> dict:
     """The report's own placeholders: the headline counts, the rule, the exclusions."""
     counts = verdict_counts(rows)
@@ -74,6 +90,7 @@ def numbers(results: dict, rows: list, scale: str, timings: dict, extra: dict, i
     excluded, bracketed = excluded_samples(results), bracketed_rows(results)
     return {
         "scale": scale, **(counts if rows else {}), "no_claims": None if rows else "",
+        "openings": "; ".join(openings(results)) or None,
         "contradicted": contradicted["names"], "contradicted_count": contradicted["count"],
         "unrepeated": unrepeated["names"], "unrepeated_count": unrepeated["count"],
         "pairs": "; ".join(pairs) or None, "evidence": "" if rows else None,

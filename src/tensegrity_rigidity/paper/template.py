@@ -4,9 +4,11 @@ A template (``templates/<name>.md``) is Markdown cut into blocks by comment line
 ``<!-- kind [name] [: title] -->``. The kinds a report renders, in the template's order:
 ``section`` and ``subsection`` (a heading), ``text`` (paragraphs), ``figure ID`` (a figure's
 caption, placed where the block stands), ``table NAME`` (a table the study provides, after the
-block's paragraphs) and ``claims`` (the comparison's rows of the study's claims). A ``labels``
-block holds short texts, one ``- key: text`` line each (axis labels, legends, column headers,
-the labels of measurements), which the code asks for by key.
+block's paragraphs) and ``claims`` (the comparison's rows of the study's claims). A study's
+``opening [name]`` block says in a clause what it measures: the report's opening quotes it
+where the report compares none of the paper's claims (only where the study's number ``name``
+is present). A ``labels`` block holds short texts, one ``- key: text`` line each (axis labels,
+legends, column headers, the labels of measurements), which the code asks for by key.
 
 Placeholders are named, ``{name}`` or ``{name:.3f}``: the code passes numbers (a sequence is
 written as its items joined by commas) and the template words them. A sentence with a

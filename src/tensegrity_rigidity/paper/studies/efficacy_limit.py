@@ -255,7 +255,21 @@ def _limit_text(row: pd.Series | None) -> str | None:
     if row is None or not row.law:
         return None
     return T.label("limit", value=fmt(row.value, row.stat), syst=row.syst, law=row.law,
-                   low=row.low, high=row.high)  # fmt: skip
+                   span=_span(row.low, row.high))  # fmt: skip
+
+
+def _span(lo: float, hi: float) -> str:
+    """The range lo to hi in the template's words: one value when both ends print alike."""
+    one = T.label("span.one", lo=lo)
+    return one if one == T.label("span.one", lo=hi) else T.label("span", lo=lo, hi=hi)
+
+
+def _bracket(q) -> str:
+    """A size's range of A over the choices inside its intervals, and how many intervals."""
+    k = int(q.intervals)
+    count = T.label("intervals.one" if k == 1 else "intervals.many", k=k)
+    return T.label("bracket", n=int(q.n), dim=int(q.dim), count=count,
+                   span=_span(q.asym_lo, q.asym_hi))  # fmt: skip
 
 
 def _verdict_text(row: pd.Series) -> str:
@@ -309,9 +323,7 @@ def numbers(r: EfficacyLimitResult) -> dict:
     by = r.by_size
     out: dict = {"p_t": P_T, "lost": int(by.lost.sum()) or None if len(by) else None,
                  "intervals": int(by.intervals.sum()) or None if len(by) else None,
-                 "brackets": [T.label("bracket", n=int(q.n), dim=int(q.dim), k=int(q.intervals),
-                                      lo=q.asym_lo, hi=q.asym_hi)
-                              for q in by.itertuples() if q.intervals > 0] or None,
+                 "brackets": [_bracket(q) for q in by.itertuples() if q.intervals > 0] or None,
                  "never": int(by.never.sum()) or None if len(by) else None,
                  "paper_c": PAPER_C, "paper_d": PAPER_D,
                  "paper_asym": PAPER_D - PAPER_C}  # fmt: skip

@@ -845,7 +845,8 @@ def _best(fit: pd.DataFrame, estimator: str, prefix: str) -> dict:
     if best is None:
         return {}
     figures = [f for f in dict.fromkeys(fit.figure) if f != ALL_FIGURES]
-    per_figure = [T.label("eff_figure", figure=f, **{k: v for k, v in b.items() if k != "fitting"})
+    per_figure = [T.label("eff_figure.one" if b["dof"] == 1 else "eff_figure", figure=f,
+                          **{k: v for k, v in b.items() if k != "fitting"})
                   for f in figures
                   if (b := effective_size(fit, f, estimator)) is not None]  # fmt: skip
     every = fit[(fit.figure == ALL_FIGURES) & (fit.estimator == estimator)].sort_values("n")
