@@ -546,6 +546,14 @@ def test_every_claim_is_extrapolated_with_the_literature_nu_too():
         assert row.z_paper_nu_check == hl.z_paper(key, check.y_inf, check.y_inf_err)
         assert abs(row.y_inf - check.y_inf) > 5 * max(row.y_inf_err, check.y_inf_err)
         ms = [m for m in r.measured if m.claim == key and m.factor != REPLICATION]
+        if key != "rods_only_pc":
+            # the evidence borrows no exponent: the claim's own limit by the laws
+            (own,) = ms
+            assert own.factor == "finite size" and "nu" not in own.label
+            assert "own exponent" in own.short and row.limit_laws in own.label
+            assert own.value[0] == row.limit or np.isnan(own.value[0]) and np.isnan(row.limit)
+            assert own.err[0] == pytest.approx(np.hypot(row.limit_stat, row.limit_syst))
+            continue
         assert [m.factor for m in ms] == ["finite size", "finite size"]
         free, fixed = ms
         assert f"(y + a n^(-1/nu), nu = {nu_free:.2f} ± " in free.label
@@ -571,17 +579,13 @@ def test_the_report_counts_the_claims_whose_verdict_depends_on_nu():
     assert (v["changed"], v["compared"]) == (2, 2)
     assert CLAIMS["p_crit_compression_0.1"].text in v["changed_claims"]
     assert "n -> inf, nu = 1.16" in fsm.report_tables(r)["by_size"].columns
-    # the comparison shows both readings of the finite-size factor
+    # the comparison's evidence borrows neither nu: one row, the claim's own limit
     key = "p_crit_compression_0.1"
     ours = Measurement.scalar(key, 0.58, 0.001, "n = 32")
     clause, rows = _evidence(CLAIMS[key], ours, [m for m in r.measured if m.claim == key])
-    assert "still disagrees" in clause and "the literature value)" in clause
-    assert "then agrees" in clause
-    # the same evidence as rows of the report's table for the claim
     fs_rows = [e for e in rows if e.factor == "finite size"]
-    assert {e.verdict.split(",")[0] for e in fs_rows} == {"still disagrees", "then agrees"}
-    # the row that closes the gap moves ours significantly: the evidence rule credits it
-    assert [e.credited for e in fs_rows if e.verdict.startswith("then agrees")] == [True]
+    assert len(fs_rows) == 1 and "own exponent" in fs_rows[0].short
+    assert "nu" not in clause
 
 
 def test_free_fits_at_the_bound_of_nu_are_flagged():

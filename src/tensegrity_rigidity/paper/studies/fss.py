@@ -666,7 +666,9 @@ def _samples_text(p: Params, key: str) -> str:
 
 
 def _measured(ex: pd.DataFrame, pc_fit, scale: Scale) -> tuple[Measurement, ...]:
-    """Per claim the two extrapolations, labelled, as evidence for the factor "finite size"."""
+    """Per claim its limit as evidence for the factor "finite size": from the laws, with the
+    claim's own exponent and the fit-form systematic in its error (:func:`with_laws`); the
+    rods-only p_c, whose exponent is its own transition's, by its two nu extrapolations."""
     p = scale[NAME]
     sizes = {"sizes": p.sizes or None, "pc_sizes": p.pc_sizes, "own": "" if p.pc else None}
     where = T.label("where" if p.sizes else "where_pc", **sizes)
@@ -676,6 +678,13 @@ def _measured(ex: pd.DataFrame, pc_fit, scale: Scale) -> tuple[Measurement, ...]
     out = []
     for row in ex[ex.key.isin(list(CLAIMS))].itertuples():
         system = T.label("samples", samples=_samples_text(p, row.key))
+        if row.key != "rods_only_pc":
+            laws = {"where": where, "laws": row.limit_laws or T.label("no_law")}
+            out.append(Measurement.scalar(
+                row.key, row.limit, float(np.hypot(row.limit_stat, row.limit_syst)), system,
+                factor="finite size", label=T.label("laws", **laws),
+                short=T.label("laws.short", **laws), sizes=_sizes(p, row.key)))  # fmt: skip
+            continue
         for v, e, chi2, dof, (label, short) in (
             (row.y_inf, row.y_inf_err, row.chi2, row.dof, labels["free"]),
             (row.y_inf_nu_check, row.y_inf_nu_check_err, row.chi2_nu_check, row.dof_nu_check,
@@ -868,7 +877,10 @@ def _reproduced(r: FiniteSizeResult) -> dict:
     ever = c.groupby(["estimator", "key"]).reproduced.any()
     ours, theirs = ever[OURS], ever[PAPERS] if PAPERS in ever.index else None
     never = [k for k in ours.index if not ours[k] and not (theirs is not None and theirs.get(k))]
+    per_size = c[c.estimator == OURS].groupby("n").reproduced.sum().astype(int)
     return {"repro_total": len(ours), "repro_ours": int(ours.sum()),
+            "repro_sizes": len(per_size), "repro_best": int(per_size.max()),
+            "repro_best_n": [int(n) for n in per_size.index[per_size == per_size.max()]],
             "repro_pcrit": None if theirs is None else len(theirs),
             "repro_paper": None if theirs is None else int(theirs.sum()),
             "repro_pcrit_ours": None if theirs is None else int(ours[theirs.index].sum()),
@@ -902,7 +914,8 @@ def _calibration(r: FiniteSizeResult) -> dict:
            "cal_omega_hi": max(OMEGAS), "cal_n_mins": sorted({int(f.n_min) for f in c.fits}),
            "cal_allowed": c.allowed, "cal_fits": len(c.fits), "cal_lo": c.low, "cal_hi": c.high,
            "anchors_z": abs(a.value - b.value)
-           / np.hypot(a.error or 0.0, b.error or 0.0)}  # fmt: skip
+           / np.hypot(a.error or 0.0, b.error or 0.0),
+           "cal_undetermined": "" if c.syst > c.stat else None}  # fmt: skip
     for i, ref in enumerate((a, b)):
         out |= {f"anchor{i}": ref.value, f"anchor{i}_err": ref.error,
                 f"anchor{i}_who": ref.citation.split(",")[0].split(" (")[0],
@@ -912,12 +925,23 @@ def _calibration(r: FiniteSizeResult) -> dict:
 
 
 def _clusters(r: FiniteSizeResult) -> dict:
+    """Each cluster's d_f from the most sizes the data allow (the smallest ``n_min`` whose fit
+    has p >= ACCEPT_P), the move to the next ``n_min`` as its systematic: corrections to scaling
+    reject the fits over every size."""
     if r.fractal is None:
         return {}
-    f = r.fractal
-    free = f[(f.n_min == f.n_min.min()) & (f.mass == "nodes")].set_index("cluster")
-    return {"clusters": "", **{f"d_{c}": fmt(free.loc[c].d, free.loc[c].d_err)
-                               for c in free.index}}  # fmt: skip
+    out: dict = {"clusters": ""}
+    for cluster, f in r.fractal[r.fractal.mass == "nodes"].groupby("cluster", sort=False):
+        f = f.sort_values("n_min").reset_index(drop=True)
+        ok = [limits.allowed(c, int(d))[1] for c, d in zip(f.chi2, f.dof, strict=True)]
+        if not any(ok):
+            continue
+        i = ok.index(True)
+        row = f.iloc[i]
+        syst = abs(f.d[i + 1] - row.d) if i + 1 < len(f) else np.nan
+        out[f"d_{cluster}"] = T.label("d_f", d=fmt(row.d, row.d_err), n_min=int(row.n_min),
+                                      syst=syst, chi2=row.chi2, dof=int(row.dof))  # fmt: skip
+    return out
 
 
 def _by_size_table(r: FiniteSizeResult) -> pd.DataFrame:
