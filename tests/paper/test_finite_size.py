@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from tensegrity_rigidity.analysis import limits
 from tensegrity_rigidity.ensemble.sweep import load_results
 from tensegrity_rigidity.model.lattice import DEFAULT_DELTA
 from tensegrity_rigidity.paper.claims import CLAIMS, REPLICATION, Measurement
@@ -675,7 +676,14 @@ def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run,
     blocks = render(fsm.T, v, {}, fsm.report_tables(r), [])
     text = " ".join(b[1] for b in blocks if b[0] == "p")
     assert "pebble game" in text and f"d_f = {v['d_rigid']}" in text
-    assert f"backbone: d_f = {v['d_backbone']}" in text
+    assert f"backbone d_f = {v['d_backbone']}" in text
+    # quoted from the most sizes whose fit the data allow, the next size's move as systematic
+    nodes = f[(f.mass == "nodes") & (f.cluster == "backbone")].sort_values("n_min")
+    first = next(x for x in nodes.itertuples() if limits.allowed(x.chi2, int(x.dof))[1])
+    assert (
+        v["d_backbone"].startswith(f"{first.d:.3f}"[:4])
+        and f"n >= {first.n_min}," in (v["d_backbone"])
+    )
     backbone = table[table.quantity == fsm.T.label("d_f.backbone")]
     assert len(backbone) == len(set(f.n_min)) and (backbone.source == "Jacobs & Thorpe").all()
 

@@ -802,6 +802,8 @@ def numbers(r: FiniteSizeResult) -> dict:
         "pc_who": PC_CHECK.citation.split(",")[0],
         "pc_z": r.pc_z,
         "at_bound": "" if r.nu_at_bound else None,
+        # below 2/d (Chayes, Chayes, Fisher & Spencer) or with an error above half its value
+        "nu_loose": "" if np.isfinite(pc.nu) and (pc.nu < 1.0 or pc.nu_err > pc.nu / 2) else None,
         "fixed_pc": None if fixed is None else fmt(fixed.y_inf, fixed.y_inf_err),
         "fixed_chi2": getattr(fixed, "chi2", None),
         "fixed_dof": getattr(fixed, "dof", None),
@@ -899,6 +901,7 @@ def _laws(r: FiniteSizeResult) -> dict:
             "laws_constant": sum("constant" in a for a in allowed),
             "laws_none": sum(not a for a in allowed),
             "laws_syst": int(np.sum(ex.limit_syst > 0)), "laws_x_lo": limits.X_GRID[0],
+            "laws_undetermined": int(np.sum(~np.isfinite(ex.limit.to_numpy(float)))),
             "laws_x_hi": limits.X_GRID[-1]}  # fmt: skip
 
 
