@@ -242,10 +242,16 @@ def _why_inconclusive(claim: Claim, m: Measurement) -> str:
     )  # fmt: skip
 
 
+#: a measurement of more points than this is shown by its count and worst deviation (each
+#: point's value is in its study's tables): a table cell of nine "f_c = 0.375: -31.33 ± 5998.41"
+#: runs to 250 characters
+MAX_LISTED_POINTS = 4
+
+
 def _ours(m: Measurement, claim: Claim, digits: int = 3) -> str:
     if m.value.size == 1:
         return fmt(float(m.value[0]), float(m.err[0]), digits)
-    if m.value.size > 9:
+    if m.value.size > MAX_LISTED_POINTS:
         ref = m.reference if m.reference is not None else np.full(m.value.size, claim.value)
         with np.errstate(divide="ignore", invalid="ignore"):
             dev = np.abs(m.value - ref) / m.err
