@@ -115,11 +115,10 @@ def test_paper_and_fss_budgets_leave_a_margin():
 
 
 def test_headline_targets_are_met_where_the_scales_say():
-    """paper: every S_t/S_r, p_crit, p_c, taut-cable and method-shift claim within its target
-    (Fig. 4C cannot be at n = 32, see SCALES); fss: every size within the targets."""
+    """paper: every claim within its target (Fig. 4C too, since it is measured on each
+    system's transition: 0.072 at n = 32 with 8 samples); fss: every size within the targets."""
     paper = budget.expected_errors("paper")
-    missed = set(paper[~paper.meets].claim)
-    assert missed == {"fig4c_sum_one"}
+    assert paper.meets.all(), list(paper[~paper.meets].claim)
     stated = paper[paper.estimator == "st_sr"]
     assert (stated.expected <= 0.013).all()  # the paper's +-0.013
     fss = budget.expected_errors("fss")

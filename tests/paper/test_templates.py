@@ -11,7 +11,7 @@ from tensegrity_rigidity.paper.registry import STUDIES
 from tensegrity_rigidity.paper.report import render
 from tensegrity_rigidity.paper.template import TEMPLATES, fill, load, parse, sentences
 
-KINDS = {"section", "subsection", "text", "figure", "table", "claims", "studies"}
+KINDS = {"section", "subsection", "text", "figure", "table", "claims", "studies", "opening"}
 
 
 def test_a_sentence_whose_number_is_missing_is_dropped():

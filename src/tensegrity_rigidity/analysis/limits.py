@@ -326,9 +326,20 @@ def fit_law(
 
 
 def runaway(fit: LawFit) -> bool:
-    """Whether a law's limit is not determined: its exponent ends at the slow end of
-    :data:`X_GRID`, so the data ask for a slower approach than any allowed, and ``a + b n^-x``
-    tends to a constant whose split between ``a`` (the limit) and ``b`` the sizes do not fix."""
+    """Whether a law's limit is not determined by the sizes.
+
+    Parameters
+    ----------
+    fit : LawFit
+        From :func:`fit_law`.
+
+    Returns
+    -------
+    bool
+        True when its exponent ends at the slow end of :data:`X_GRID`: the data ask for a
+        slower approach than any allowed, and ``a + b n^-x`` tends to a constant whose split
+        between ``a`` (the limit) and ``b`` the sizes do not fix.
+    """
     return bool(fit.x_at_bound and np.isclose(fit.x, X_GRID[0], atol=1e-4))
 
 

@@ -69,9 +69,9 @@ def openings(results: dict) -> list[str]:
     in the order of the results. The report's opening names them where it compares no claim."""
     out = []
     for name, r in results.items():
-        study = STUDIES[name]
-        blocks = [b for b in study.template.blocks if b.kind == "opening"]
-        if not blocks:
+        study = STUDIES.get(name)
+        blocks = [b for b in study.template.blocks if b.kind == "opening"] if study else []
+        if study is None or not blocks:
             continue
         values = study.numbers(r)
         out += [" ".join(fill(b.text, values)) for b in blocks
