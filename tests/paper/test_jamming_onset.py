@@ -108,6 +108,19 @@ def test_the_analysis_recovers_known_jamming_points_and_counts_every_sample():
     assert v["sizes"] == list(truth) and v["drawn_n"] is None
 
 
+def test_a_width_below_the_grid_step_is_called_unresolved():
+    """A transition narrower than the packing-fraction grid's step (N = 1024 on the jamming
+    scale: 0.0014 against 0.0025) rests on one point inside it: the width is flagged."""
+    truth = {64: 0.835, 1024: 0.84}
+    scale = _scale(sizes=tuple(truth), samples=(120, 120), fractions=FRACTIONS)
+    r = jo.analyse(_synthetic(truth, 0.0002, FRACTIONS, 120), scale)
+    v = jo.numbers(r)
+    step = FRACTIONS[1] - FRACTIONS[0]
+    assert v["step"] == pytest.approx(step)
+    coarse = [w for w in v["widths"] if "not resolved by the grid" in w]
+    assert coarse and len(coarse) == len(v["widths"])
+
+
 def test_a_size_without_a_crossing_is_reported_and_no_shift_from_one_size():
     fractions = FRACTIONS[:6]  # all below the centre: P never reaches 1/2 at N = 256
     scale = _scale(sizes=(64, 256), samples=(40, 40), fractions=fractions)

@@ -222,6 +222,8 @@ def numbers(r: JammingOnsetResult) -> dict:
     pts, by = points_frame(r), r.by_size
     sizes = [int(n) for n in by.n]
     phis = np.unique(r.table.phi.to_numpy(float)) if len(r.table) else np.array([math.nan])
+    # a width below the packing-fraction grid's step rests on one point inside the transition
+    step = float(np.diff(phis).min()) if phis.size > 1 else math.nan
     resolved = pts[np.isfinite(pts.phi_j) & np.isfinite(pts.phi_j_err)]
     fits, accepted = (r.shift.fits, r.shift.accepted) if r.shift is not None else ((), ())
     # phi_inf and its spread over the accepted forms (None when no form is accepted)
@@ -236,6 +238,7 @@ def numbers(r: JammingOnsetResult) -> dict:
         "counts": [T.label("count", samples=int(s), n=int(n))
                    for n, s in zip(by.n, by.samples + by.undecided, strict=True)],
         "fractions": len(phis),
+        "step": step,
         "phi_lo": float(phis.min()),
         "phi_hi": float(phis.max()),
         "excluded": int(by.undecided.sum()),
@@ -243,8 +246,9 @@ def numbers(r: JammingOnsetResult) -> dict:
         "points": [T.label("point", n=int(q.n), value=fmt(q.phi_j, q.phi_j_err))
                    for q in resolved.itertuples()] or None,
         "unresolved": [int(n) for n in pts.n[~pts.index.isin(resolved.index)]] or None,
-        "widths": [T.label("point", n=int(q.n), value=fmt(q.width, q.width_err))
-                   for q in resolved.itertuples()] or None,
+        "widths": [T.label("point" if q.width >= step else "point.coarse", n=int(q.n),
+                           value=fmt(q.width, q.width_err), step=step)
+                   for q in resolved.itertuples()] or None,  # fmt: skip
         "phi_inf": fmt(*inf) if inf is not None else None,
         "forms": [T.label("form", b=f.exponent, free=T.label("free") if f.free else "",
                           value=fmt(f.phi_inf.value, f.phi_inf.err), chi2=f.chi2_dof)
