@@ -33,8 +33,8 @@ LITERATURE = {
         "rigidity threshold p_c of the generic bond-diluted triangular lattice",
         0.6602741,
         0.0000004,
-        "Javerzat & Notarmuzi (2025), arXiv:2507.00741, as quoted in the project's brief "
-        "(not verified here)",
+        "Javerzat & Notarmuzi (2025), arXiv:2507.00741 (abstract of its current version read; "
+        "version 1's abstract states no value)",
         "pebble game in Newman-Ziff order with wrapping detection, up to 5e8 nodes",
     ),
     "pc_dynamic_pebble": LiteratureValue(
@@ -65,14 +65,14 @@ LITERATURE = {
         "correlation-length exponent nu of generic rigidity percolation in 2D",
         1.1694,
         0.0008,
-        "Javerzat & Notarmuzi (2025), as quoted in the project's brief (not verified here)",
+        "Javerzat & Notarmuzi (2025), arXiv:2507.00741 (abstract of its current version read)",
         "finite-size scaling of the same runs",
     ),
     "df_rigid_javerzat_notarmuzi": LiteratureValue(
         "fractal dimension of the rigid cluster at p_c",
         1.8423,
         0.0007,
-        "Javerzat & Notarmuzi (2025), as quoted in the project's brief (not verified here)",
+        "Javerzat & Notarmuzi (2025), arXiv:2507.00741 (abstract of its current version read)",
         "mass of the rigid cluster against size at the threshold",
     ),
     "df_rigid_jacobs_thorpe": LiteratureValue(

@@ -54,12 +54,18 @@ RELATIONS = ("equal", "positive", "negative")
 
 @dataclass(frozen=True)
 class Reference:
-    """A value from the literature: ``value``, ``error`` (None when none is quoted) and
-    ``citation`` (who, where, how it was obtained)."""
+    """A value from the literature: ``value``, ``error`` (None when none is quoted),
+    ``citation`` (who, where, how it was obtained) and ``who``, the short name tables and
+    sentences quote (the citation's first clause unless the data file names one)."""
 
     value: float
     error: float | None
     citation: str
+    who: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.who:
+            object.__setattr__(self, "who", self.citation.split(",")[0].split(" (")[0])
 
 
 @dataclass(frozen=True)
@@ -174,7 +180,7 @@ KNOWN_FACTORS: tuple[str, ...] = tuple(_DATA["known_factors"])
 REPLICATION: str = _DATA["replication"]
 #: literature values, by key
 REFERENCES = {
-    key: Reference(v["value"], v.get("error"), v["citation"])
+    key: Reference(v["value"], v.get("error"), v["citation"], v.get("who", ""))
     for key, v in _DATA["references"].items()
 }
 #: every claim, in the order of the comparison table

@@ -797,9 +797,9 @@ def numbers(r: FiniteSizeResult) -> dict:
         "nu_z": r.nu_z,
         "nu_check": NU_CHECK.value,
         "nu_check_err": NU_CHECK.error,
-        "nu_who": NU_CHECK.citation.split(",")[0],
+        "nu_who": NU_CHECK.who,
         "pc_check": PC_CHECK.value,
-        "pc_who": PC_CHECK.citation.split(",")[0],
+        "pc_who": PC_CHECK.who,
         "pc_z": r.pc_z,
         "at_bound": "" if r.nu_at_bound else None,
         # below 2/d (Chayes, Chayes, Fisher & Spencer) or with an error above half its value
@@ -921,7 +921,7 @@ def _calibration(r: FiniteSizeResult) -> dict:
            "cal_undetermined": "" if c.syst > c.stat else None}  # fmt: skip
     for i, ref in enumerate((a, b)):
         out |= {f"anchor{i}": ref.value, f"anchor{i}_err": ref.error,
-                f"anchor{i}_who": ref.citation.split(",")[0].split(" (")[0],
+                f"anchor{i}_who": ref.who,
                 f"anchor{i}_z": abs(c.value - ref.value)
                 / np.hypot(np.hypot(c.stat, c.syst), ref.error or 0.0)}  # fmt: skip
     return out
@@ -1011,7 +1011,7 @@ def _against(quantity: str, how: str, value: float, err: float, keys) -> list[di
             f"{ref.value} ± {ref.error:g}" if ref.error else T.label("no_error", value=ref.value)
         )
         out.append({"quantity": quantity, "ours": fmt(value, err), "how": how,
-                    "literature": theirs, "source": ref.citation.split(",")[0].split(" (")[0],
+                    "literature": theirs, "source": ref.who,
                     "z": f"{z:.2f}"})  # fmt: skip
     return out
 
