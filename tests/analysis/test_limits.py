@@ -327,6 +327,22 @@ def test_a_limit_the_sizes_do_not_fix_is_not_quoted():
     assert fast.law == "finite" and not limits.runaway(fast.fits["finite"])
 
 
+def test_a_drift_whose_rate_the_sizes_do_not_fix_quotes_no_constant():
+    """lambda_C at n = 4 to 12 (reports/paper-size) rises by 0.025 while the constant is still
+    allowed (p = 0.06); the finite law runs off to the slow end and fits better by
+    chi-square 6.9 on one degree of freedom: the series drifts, and n = 32 and 64 (0.455,
+    0.470) lie far above the constant 0.434. No limit is quoted."""
+    n = np.array([4.0, 6, 8, 10, 12])
+    y = [0.418, 0.4266, 0.4275, 0.4419, 0.4426]
+    err = [0.010, 0.0065, 0.0057, 0.0055, 0.0060]
+    li = limits.limit_laws(n, y, err, laws=("finite", "constant"), n_boot=20)
+    assert li.fits["constant"].acceptable and limits.runaway(li.fits["finite"])
+    assert limits.drifts(li.fits["finite"], li.fits["constant"])
+    assert li.law == "" and np.isnan(li.value)
+    # without the constant among the laws asked for, the drift is tested against it all the same
+    assert limits.limit_laws(n, y, err, laws=("finite",), n_boot=20).law == ""
+
+
 def test_interval_thresholds_widen_every_error_by_half_their_range():
     """A threshold known only as an interval (an undecided probe) enters at its centre; each
     statistic's error adds half its range over the intervals' ends in quadrature, so an

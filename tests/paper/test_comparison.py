@@ -350,3 +350,15 @@ def test_the_paper_against_itself_shows_both_of_its_readings_beside_ours():
     assert "headline" not in row["agrees"]
     # without the dilation claims there is no dilation row; without any, no table
     assert paper_against_itself({}).empty
+
+
+def test_the_single_node_text_and_its_claim_quote_one_largest_deviation():
+    """Fig. 3's text and the claim's row once printed 1.60 and 1.59 for one comparison (a
+    Wilson-interval z beside the binomial one under the formula): both now use the latter."""
+    from tensegrity_rigidity.paper.comparison import _ours
+    from tensegrity_rigidity.paper.studies import fig3
+
+    r = fig3.analyse({}, fig3.Scale(name="t", params={fig3.NAME: fig3.Params(trials=400)}))
+    (m,) = fig3.claims(r)
+    quoted = _ours(m, CLAIMS["single_node"])
+    assert f"{fig3.numbers(r)['largest_z']:.2f}" in quoted

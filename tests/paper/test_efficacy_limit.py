@@ -173,3 +173,23 @@ def test_a_bracket_names_one_value_when_its_ends_agree_and_counts_intervals_in_w
     many = SimpleNamespace(n=64, dim=2, intervals=19, asym_lo=0.045, asym_hi=0.061)
     assert el._bracket(one) == "0.170 at n = 8 in 2D (1 interval)"
     assert el._bracket(many) == "0.045 to 0.061 at n = 64 in 2D (19 intervals)"
+
+
+def test_the_answer_says_when_the_sizes_cannot_tell_the_dimensions_apart():
+    # the committed limit run: 2D -0.018 +- 0.071 (stat) +- 0.018 (fit form), 3D 0.1201 +- 0.0023
+    # with the power law to zero rejected at the slowest decay the fit tries
+    two = pd.Series({"value": -0.018, "stat": 0.071, "syst": 0.018, "zero_ok": True,
+                     "zero_x": 0.28})  # fmt: skip
+    # as a row of the limits table: numpy booleans
+    three = pd.DataFrame({"value": [0.1201], "stat": [0.0023], "syst": [0.0],
+                          "zero_ok": [False], "zero_x": [el.limits.X_GRID[0]]}).iloc[0]  # fmt: skip
+    c = el._caveats({2: two, 3: three})
+    assert c["not_apart"] == el.T.label("not_apart", upper=-0.018 + 2 * np.hypot(0.071, 0.018),
+                                        lower=0.1201 - 2 * 0.0023)  # fmt: skip
+    assert c["slowest"] == [el.T.label("slowest", dim=3, x=0.1)]
+    # a 2D limit tight about zero is told apart from 3D, and a power law rejected at an
+    # interior exponent needs no caveat
+    tight = two.copy()
+    tight[["stat", "syst"]] = 0.01, 0.0
+    three["zero_x"] = 0.5
+    assert el._caveats({2: tight, 3: three}) == {"slowest": None}

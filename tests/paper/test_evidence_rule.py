@@ -69,6 +69,27 @@ def test_a_factor_that_moves_ours_and_closes_the_gap_is_credited():
     assert e.credited and "accounted for by method" in row.reason
 
 
+def test_a_factor_that_opens_a_gap_elsewhere_in_its_family_is_not_credited():
+    """The change that closes the gap of S_t/S_r under compression, measured on the dilation
+    claim of the same family (0.67 +- 0.005, which ours agrees with), moves it to 0.62: it
+    would open a gap there, so it accounts for neither."""
+    near = Measurement.scalar(KEY, 0.372, 0.005, "n = 32", factor="method", label="paper's")
+    other = "st_sr_cables_dilation"
+    ours_there = Measurement.scalar(other, 0.668, 0.005, "n = 32")
+    opens = Measurement.scalar(other, 0.62, 0.005, "n = 32", factor="method", label="there")
+    row = _row(OURS, near, ours_there, opens)
+    e = _by_label(row)["paper's"]
+    assert e.verdict.startswith("then agrees") and not e.credited
+    assert CLAIMS[other].text in e.verdict and "accounted for" not in row.reason
+    # measured there without opening a gap (0.665 agrees), the credit stands
+    keeps = Measurement.scalar(other, 0.665, 0.005, "n = 32", factor="method", label="there")
+    assert _by_label(_row(OURS, near, ours_there, keeps))["paper's"].credited
+    # a control there is not the change: it opens nothing
+    control = Measurement.scalar(other, 0.62, 0.005, "n = 32", factor="method", label="c",
+                                 control=True)  # fmt: skip
+    assert _by_label(_row(OURS, near, ours_there, control))["paper's"].credited
+
+
 def test_a_factor_that_closes_the_gap_without_moving_ours_is_not_credited():
     """0.395 +- 0.012 agrees with the paper (z = 1.30, and 1.65 at our error) but lies 1.15
     of its errors from ours: it does not show that the factor moves our value."""

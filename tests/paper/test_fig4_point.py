@@ -102,3 +102,22 @@ def test_fig4c_is_measured_where_the_systems_are_critical():
     assert np.all(np.isfinite(value)) and np.all(np.isfinite(err)), (value, err)
     assert np.all(err < TARGETS["fig4c"]), err
     assert np.all(np.abs(value - 1) < np.maximum(3 * err, 0.02)), (value, err)
+
+
+def test_the_point_s_unresolved_values_are_counted_among_its_own():
+    """The paper's point has one value per f_c of its surface (9), the transition average one
+    per f_c of its paths (5): each count is of its own values (the report once said '6 of its
+    5'); a missing value counts as unresolved."""
+    from types import SimpleNamespace
+
+    est = SimpleNamespace(value=0.5, err=0.1)
+    average = pd.DataFrame({"sum_rel": [1.0] * 5, "sum_rel_err": [0.1] * 5})
+    point = pd.DataFrame({"sum_rel": [1.0, 0.1, np.nan] + [1.0] * 6,
+                          "sum_rel_err": [0.1, 0.5, np.nan] + [0.1] * 6})  # fmt: skip
+    path = pd.DataFrame({"p_r": [0.2, 0.4]})
+    r = SimpleNamespace(n=32, samples=8, transition_samples=8, average=average, point=point,
+                        dilation=path, compression=path,
+                        slopes={"dilation": est, "compression": est})  # fmt: skip
+    v = fig4.numbers(r)
+    assert (v["points"], v["unresolved"]) == (5, 0)
+    assert (v["point_values"], v["point_unresolved"]) == (9, 2)

@@ -727,4 +727,4 @@ def test_every_claim_is_also_read_from_laws_with_its_own_exponent(runs):
     table = fsm.report_tables(fss)["by_size"]
     assert {"n -> inf, laws", "fit form", "laws allowed", "own x"} <= set(table.columns)
     text = " ".join(b[1] for b in render(fsm.T, v, {}, {}, []) if b[0] == "p")
-    assert f"Of {len(ex)} extrapolated quantities" in text
+    assert f"Extrapolated quantities: {len(ex)};" in text

@@ -343,6 +343,30 @@ def runaway(fit: LawFit) -> bool:
     return bool(fit.x_at_bound and np.isclose(fit.x, X_GRID[0], atol=1e-4))
 
 
+def drifts(fit: LawFit, flat: LawFit) -> bool:
+    """Whether a law fits a size series significantly better than no size dependence.
+
+    Parameters
+    ----------
+    fit : LawFit
+        A law with a correction (``"finite"`` or ``"zero"``).
+    flat : LawFit
+        The ``"constant"`` law on the same series.
+
+    Returns
+    -------
+    bool
+        True when the drop in chi-square from ``flat`` to ``fit`` has a p-value below
+        :data:`ACCEPT_P` for the difference in degrees of freedom. Where the law's limit also
+        runs off (:func:`runaway`), the series moves with size at a rate the sizes do not fix:
+        a constant the data might still allow is not its limit.
+    """
+    ddof = flat.dof - fit.dof
+    if ddof <= 0 or not (np.isfinite(flat.chi2) and np.isfinite(fit.chi2)):
+        return False
+    return bool(stats.chi2.sf(max(flat.chi2 - fit.chi2, 0.0), ddof) < ACCEPT_P)
+
+
 @dataclass(frozen=True)
 class Limit:
     """A size series' limit over several laws.
@@ -364,7 +388,8 @@ class Limit:
         The range of the limits of the allowed laws (NaN when none is).
 
     A law whose limit :func:`runaway` says is not determined counts as not allowed here (its
-    fit stays in ``fits``).
+    fit stays in ``fits``); where such a law the data allow also fits significantly better than
+    no size dependence (:func:`drifts`), no limit is quoted at all.
     """
 
     fits: dict
@@ -407,6 +432,11 @@ def limit_laws(
     fits = {law: fit_law(law, n, y, err, n_boot, rng) for law in laws}
     good = [f for f in fits.values()
             if f.acceptable and np.isfinite(f.y_inf) and not runaway(f)]  # fmt: skip
+    loose = [f for f in fits.values() if f.acceptable and runaway(f)]
+    if loose:
+        flat = fits.get("constant") or fit_law("constant", n, y, err, 0, rng)
+        if any(drifts(f, flat) for f in loose):
+            good = []
     if not good:
         return Limit(fits, "", np.nan, np.nan, np.nan, np.nan, np.nan)
     ref, ok = good[0], [f.y_inf for f in good]

@@ -11,7 +11,8 @@ distance to the claimed side. A disagreement's explanation gives, per factor the
 factor changed, and the replication at the same size first. A factor accounts for the
 disagreement only under the evidence rule (:func:`credit`): the change moves our value
 significantly by its own z, Holm-corrected over the rows tried for that disagreement, the gap
-then closes, and the row is not a control. docs/guide/reproduction.md ("How claims are
+then closes, the row is not a control, and the same change opens no gap among the claims of
+its family that agree (:func:`family_opened`). docs/guide/reproduction.md ("How claims are
 compared") states the rules in full.
 """
 
@@ -382,7 +383,11 @@ def _rule(credited: bool, moved: float, adjusted: float) -> str:
 
 
 def _evidence(
-    claim: Claim, ours: Measurement, alternatives: list[Measurement], agreeing: bool = False
+    claim: Claim,
+    ours: Measurement,
+    alternatives: list[Measurement],
+    agreeing: bool = False,
+    opened=None,
 ) -> tuple[str, list[Evidence]]:
     """One clause per factor: the alternative measurements and whether they agree.
 
@@ -392,7 +397,9 @@ def _evidence(
     "disagrees": our error is not the yardstick there, since it is what is in question.
     For a disagreement each row is judged by the evidence rule (:func:`credit`): its move of
     our value (:func:`moved_z`) is tested at :data:`MOVES_ALPHA` with Holm's correction over
-    every non-control row of the claim's factors. Returns the clauses joined, and the
+    every non-control row of the claim's factors; a row the rule would credit is not credited
+    where ``opened(claim, row)`` names agreeing claims of the claim's family that the same
+    change makes disagree (:func:`family_opened`). Returns the clauses joined, and the
     evidence rows behind them.
     """
     tried = [(factor, a) for factor in claim.factors for a in alternatives if a.factor == factor]
@@ -420,11 +427,14 @@ def _evidence(
                 if z_ours >= AGREE_BELOW:
                     judged, closes = WORDS.label("larger_error", z=z_ours), False
             credited = credit(adjusted[i], closes, raw.control)
+            broken = opened(claim, raw) if credited and opened else []
+            credited = credited and not broken
             if raw.control:
                 judged = WORDS.label("judged", reads=judged, rule=WORDS.label("rule.control"))
             elif not agreeing:
-                words = WORDS.label(_rule(credited, moves[i], adjusted[i]), z=moves[i],
-                                    p=adjusted[i], tried=count)  # fmt: skip
+                rule = "rule.opens" if broken else _rule(credited, moves[i], adjusted[i])
+                words = WORDS.label(rule, z=moves[i], p=adjusted[i], tried=count,
+                                    opened=broken)  # fmt: skip
                 judged = WORDS.label("judged", reads=judged, rule=words)
             parts.append(_part(claim, a, z, judged, factor, moved_z=float(moves[i]),
                                moved_p=float(adjusted[i]), credited=credited))  # fmt: skip
@@ -462,8 +472,9 @@ def shared_measurements(rows: list[ComparisonRow]) -> list[tuple[str, str, float
     return out
 
 
-def _explain(claim: Claim, m: Measurement, others: list[Measurement]) -> tuple:
-    """(verdict, z, explanation, reason, replication, evidence) of our measurement ``m``."""
+def _explain(claim: Claim, m: Measurement, others: list[Measurement], opened=None) -> tuple:
+    """(verdict, z, explanation, reason, replication, evidence) of our measurement ``m``
+    (``opened``: see :func:`_evidence`)."""
     z, v = verdict(claim, m)
     same_size = [a for a in others if a.factor == REPLICATION and a.size is not None
                  and a.size == m.size]  # fmt: skip
@@ -471,7 +482,7 @@ def _explain(claim: Claim, m: Measurement, others: list[Measurement]) -> tuple:
     explanation = ""
     reason = WORDS.label("reason", z=z) if np.isfinite(z) else WORDS.label("reads.none")
     if v == "disagree":
-        said, rows = _evidence(claim, m, others)
+        said, rows = _evidence(claim, m, others, opened=opened)
         evidence += rows
         explanation = "; ".join(filter(None, [replicated, said]))
         reason = _reason_disagree(z, evidence)
@@ -488,6 +499,33 @@ def _explain(claim: Claim, m: Measurement, others: list[Measurement]) -> tuple:
         explanation = WORDS.label("agrees_only", only=only, replicated=replicated, said=said)
         reason = WORDS.label("reason.agrees_only", z=z, only=only)
     return v, z, explanation, reason, replication, evidence
+
+
+def family_opened(claim: Claim, change: Measurement, by_claim: dict) -> list[str]:
+    """The claims of ``claim``'s family (:attr:`Claim.target`) that our measurements agree
+    with and that the same change (``change.factor``, measured on them) makes disagree.
+
+    A factor that closes one gap while opening another in the same family does not account
+    for the gap: it is credited only where it is consistent with every claim of the family it
+    was measured on. A claim without a family is checked against none.
+    """
+    if not claim.target:
+        return []
+    out = []
+    for key, other in CLAIMS.items():
+        if key == claim.key or other.target != claim.target:
+            continue
+        ms = by_claim.get(key, [])
+        ours = next((m for m in ms if m.factor == "ours"), None)
+        if ours is None or verdict(other, ours)[1] != "agree":
+            continue
+        for a in ms:
+            if a.factor == change.factor and not a.control:
+                moved = _applied(ours, a) if a.shift else a
+                if verdict(other, moved)[1] == "disagree":
+                    out.append(other.text)
+                    break
+    return out
 
 
 def compare(results: dict) -> list[ComparisonRow]:
@@ -508,7 +546,10 @@ def compare(results: dict) -> list[ComparisonRow]:
             continue
         m = ours[0]
         v, z, explanation, reason, replication, evidence = _explain(
-            claim, m, [a for a in ms if a.factor != "ours"]
+            claim,
+            m,
+            [a for a in ms if a.factor != "ours"],
+            lambda c, a: family_opened(c, a, by_claim),
         )
         rows.append(ComparisonRow(
             key=key, claim=claim.text, paper=claim.paper, ours=_ours(m, claim), system=m.system,

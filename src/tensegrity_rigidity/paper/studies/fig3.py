@@ -65,7 +65,8 @@ def analyse(rows: Rows, scale: Scale) -> Fig3Result:
             sim.append({"p_r": p, "f_c": f, "P": float(P), "lo": float(lo), "hi": float(hi),
                         "analytic": single_node_probability(*_p(p, f))})  # fmt: skip
     sim = pd.DataFrame(sim)
-    sim["z"] = (sim.P - sim.analytic) / ((sim.hi - sim.lo) / (2 * 1.96))
+    # the binomial standard error under the formula: the claim's comparison uses the same
+    sim["z"] = (sim.P - sim.analytic) / np.sqrt(sim.analytic * (1 - sim.analytic) / trials)
     return Fig3Result(f_c=f_c, analytic=analytic, sim=sim, trials=trials)
 
 
