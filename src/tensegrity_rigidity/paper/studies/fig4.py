@@ -321,6 +321,7 @@ def numbers(r: Fig4Result) -> dict:
             "unresolved": int(np.sum(~(s.sum_rel_err <= np.abs(s.sum_rel)))),
             "point_unresolved": int(np.sum(~(r.point.sum_rel_err <= np.abs(r.point.sum_rel)))),
             "point_values": len(r.point),
+            "differences_missing": int(r.differences.sum_rel.isna().sum()) or None,
             "p_r_low": min(float(f.p_r.min()) for f in (r.dilation, r.compression)),
             "p_r_high": max(float(f.p_r.max()) for f in (r.dilation, r.compression))}  # fmt: skip
 
