@@ -43,14 +43,23 @@ PAPER_MARKER: dict[str, Any] = {"marker": "*", "ms": 9, "mfc": "none", "mew": 1.
 WORDS = load("style")
 
 
+#: the seed of the SVG element ids (matplotlib draws them at random otherwise)
+SVG_SALT = "tensegrity-rigidity"
+
+
 def save(fig, figdir: Path, fid: str) -> list[Path]:
-    """Write ``fig`` as ``fig<fid>.png`` and ``.svg`` under ``figdir``; close it."""
+    """Write ``fig`` as ``fig<fid>.png`` and ``.svg`` under ``figdir``; close it. The same
+    figure gives the same bytes on every run (no date, fixed SVG ids), so a re-rendered report
+    changes only where its numbers do."""
     figdir.mkdir(parents=True, exist_ok=True)
     paths = [figdir / f"fig{fid}.png", figdir / f"fig{fid}.svg"]
     with atomic_output(paths[0], "the figure", "fig.png") as tmp:
         fig.savefig(tmp, dpi=150, bbox_inches="tight")
-    with atomic_output(paths[1], "the figure", "fig.svg") as tmp:
-        fig.savefig(tmp, bbox_inches="tight")
+    with (
+        atomic_output(paths[1], "the figure", "fig.svg") as tmp,
+        plt.rc_context({"svg.hashsalt": SVG_SALT}),
+    ):
+        fig.savefig(tmp, bbox_inches="tight", metadata={"Date": None})
     plt.close(fig)
     return paths
 
