@@ -184,8 +184,8 @@ def test_the_answer_says_when_the_sizes_cannot_tell_the_dimensions_apart():
     three = pd.DataFrame({"value": [0.1201], "stat": [0.0023], "syst": [0.0],
                           "zero_ok": [False], "zero_x": [el.limits.X_GRID[0]]}).iloc[0]  # fmt: skip
     c = el._caveats({2: two, 3: three})
-    assert c["not_apart"] == el.T.label("not_apart", upper=-0.018 + 2 * np.hypot(0.071, 0.018),
-                                        lower=0.1201 - 2 * 0.0023)  # fmt: skip
+    err = np.hypot(np.hypot(0.071, 0.018), 0.0023)
+    assert c["not_apart"] == el.T.label("not_apart", diff=0.1381, err=err)
     assert c["slowest"] == [el.T.label("slowest", dim=3, x=0.1)]
     # a 2D limit tight about zero is told apart from 3D, and a power law rejected at an
     # interior exponent needs no caveat
@@ -193,3 +193,15 @@ def test_the_answer_says_when_the_sizes_cannot_tell_the_dimensions_apart():
     tight[["stat", "syst"]] = 0.01, 0.0
     three["zero_x"] = 0.5
     assert el._caveats({2: tight, 3: three}) == {"slowest": None}
+    # so is a 2D limit far above the 3D one, not only one far below
+    above = tight.copy()
+    above["value"] = 0.30
+    assert "not_apart" not in el._caveats({2: above, 3: three})
+
+
+def test_the_answer_stands_without_its_caveats():
+    """The caveats are their own sentences: without them the answer is still printed."""
+    v = {"answer": el.T.label("answer.finite.finite"), "not_apart": None, "slowest": None}
+    text = " ".join(" ".join(b[1]) if isinstance(b[1], list) else str(b[1])
+                    for b in render(el.STUDY.template, v, {}, {}, []))  # fmt: skip
+    assert el.T.label("answer.finite.finite") in text and "rejected only" not in text

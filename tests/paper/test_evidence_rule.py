@@ -90,6 +90,27 @@ def test_a_factor_that_opens_a_gap_elsewhere_in_its_family_is_not_credited():
     assert _by_label(_row(OURS, near, ours_there, control))["paper's"].credited
 
 
+def test_the_family_check_compares_the_same_change_and_skips_the_same_system():
+    """Only the same setting of the factor counts there (delta = 0.1 is not delta = 0.3), and
+    a claim about the same system (struts under dilation: the same number as cables under
+    compression) differs only by the paper's other value, so it is not checked."""
+    other = "st_sr_cables_dilation"
+    ours_there = Measurement.scalar(other, 0.668, 0.005, "n = 32")
+    near = Measurement.scalar(KEY, 0.372, 0.005, "n = 32", factor="delta", label="delta = 0.1")
+    same = Measurement.scalar(other, 0.665, 0.005, "", factor="delta", label="delta = 0.1")
+    different = Measurement.scalar(other, 0.60, 0.005, "", factor="delta", label="delta = 0.3")
+    assert _by_label(_row(OURS, near, ours_there, same, different))["delta = 0.1"].credited
+    opened = Measurement.scalar(other, 0.60, 0.005, "", factor="delta", label="delta = 0.1")
+    assert not _by_label(_row(OURS, near, ours_there, opened, different))["delta = 0.1"].credited
+    # the same system: ours agrees with its 0.359 +- 0.015 and the change moves it to 0.30
+    twin = "st_sr_struts_dilation"
+    assert CLAIMS[twin].same_as == KEY
+    method = Measurement.scalar(KEY, 0.372, 0.005, "", factor="method", label="paper's")
+    twin_ours = Measurement.scalar(twin, 0.37, 0.005, "n = 32")
+    twin_moved = Measurement.scalar(twin, 0.30, 0.005, "", factor="method", label="paper's")
+    assert _by_label(_row(OURS, method, twin_ours, twin_moved))["paper's"].credited
+
+
 def test_a_factor_that_closes_the_gap_without_moving_ours_is_not_credited():
     """0.395 +- 0.012 agrees with the paper (z = 1.30, and 1.65 at our error) but lies 1.15
     of its errors from ours: it does not show that the factor moves our value."""

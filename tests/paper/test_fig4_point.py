@@ -115,14 +115,14 @@ def test_the_point_s_unresolved_values_are_counted_among_its_own():
     point = pd.DataFrame({"sum_rel": [1.0, 0.1, np.nan] + [1.0] * 6,
                           "sum_rel_err": [0.1, 0.5, np.nan] + [0.1] * 6})  # fmt: skip
     path = pd.DataFrame({"p_r": [0.2, 0.4]})
-    differences = pd.DataFrame({"sum_rel": [0.1, np.nan, np.nan, 1.1]})
+    differences = pd.DataFrame({"sum_rel": [0.1, np.nan, np.nan, 1.1], "S_r": [0.5, 0, 0, 0.4]})
     r = SimpleNamespace(n=32, samples=8, transition_samples=8, average=average, point=point,
                         dilation=path, compression=path, differences=differences,
                         slopes={"dilation": est, "compression": est})  # fmt: skip
     v = fig4.numbers(r)
     assert (v["points"], v["unresolved"]) == (5, 0)
     assert (v["point_values"], v["point_unresolved"]) == (9, 2)
-    # the paired differences' missing values are counted (S_r = 0 there), or not mentioned
+    # the paired differences' values missing because S_r = 0 there are counted, or none named
     assert v["differences_missing"] == 2
-    r.differences = differences.fillna(0.5)
+    r.differences = differences.assign(S_r=0.5)
     assert fig4.numbers(r)["differences_missing"] is None

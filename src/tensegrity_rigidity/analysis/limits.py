@@ -357,9 +357,10 @@ def drifts(fit: LawFit, flat: LawFit) -> bool:
     -------
     bool
         True when the drop in chi-square from ``flat`` to ``fit`` has a p-value below
-        :data:`ACCEPT_P` for the difference in degrees of freedom. Where the law's limit also
-        runs off (:func:`runaway`), the series moves with size at a rate the sizes do not fix:
-        a constant the data might still allow is not its limit.
+        :data:`ACCEPT_P` for the difference in degrees of freedom (2 for the finite law: its
+        amplitude and its exponent, a free parameter of the fit even at a bound). Where the
+        law's limit also runs off (:func:`runaway`), the series moves with size at a rate the
+        sizes do not fix: a constant the data might still allow is not its limit.
     """
     ddof = flat.dof - fit.dof
     if ddof <= 0 or not (np.isfinite(flat.chi2) and np.isfinite(fit.chi2)):
@@ -432,7 +433,8 @@ def limit_laws(
     fits = {law: fit_law(law, n, y, err, n_boot, rng) for law in laws}
     good = [f for f in fits.values()
             if f.acceptable and np.isfinite(f.y_inf) and not runaway(f)]  # fmt: skip
-    loose = [f for f in fits.values() if f.acceptable and runaway(f)]
+    # only the finite law is nested in the constant (b = 0): its chi-square drop is a test
+    loose = [f for f in fits.values() if f.law == "finite" and f.acceptable and runaway(f)]
     if loose:
         flat = fits.get("constant") or fit_law("constant", n, y, err, 0, rng)
         if any(drifts(f, flat) for f in loose):

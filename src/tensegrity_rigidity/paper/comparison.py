@@ -434,7 +434,7 @@ def _evidence(
             elif not agreeing:
                 rule = "rule.opens" if broken else _rule(credited, moves[i], adjusted[i])
                 words = WORDS.label(rule, z=moves[i], p=adjusted[i], tried=count,
-                                    opened=broken)  # fmt: skip
+                                    opened="; ".join(broken))  # fmt: skip
                 judged = WORDS.label("judged", reads=judged, rule=words)
             parts.append(_part(claim, a, z, judged, factor, moved_z=float(moves[i]),
                                moved_p=float(adjusted[i]), credited=credited))  # fmt: skip
@@ -503,28 +503,33 @@ def _explain(claim: Claim, m: Measurement, others: list[Measurement], opened=Non
 
 def family_opened(claim: Claim, change: Measurement, by_claim: dict) -> list[str]:
     """The claims of ``claim``'s family (:attr:`Claim.target`) that our measurements agree
-    with and that the same change (``change.factor``, measured on them) makes disagree.
+    with and that the same change makes disagree.
 
     A factor that closes one gap while opening another in the same family does not account
     for the gap: it is credited only where it is consistent with every claim of the family it
-    was measured on. A claim without a family is checked against none.
+    was measured on. The same change is the factor's measurement there with the same label
+    where one has it (a node disorder of 0.1 is not one of 0.3), else every non-control
+    measurement of the factor there; a claim opens when every such reading disagrees. A claim
+    without a family is checked against none, and one about the same system (:attr:`Claim.same_as`)
+    is not checked: it differs only by the paper's other value.
     """
     if not claim.target:
         return []
     out = []
     for key, other in CLAIMS.items():
-        if key == claim.key or other.target != claim.target:
+        if other.target != claim.target or key in (claim.key, claim.same_as):
+            continue
+        if other.same_as == claim.key:
             continue
         ms = by_claim.get(key, [])
         ours = next((m for m in ms if m.factor == "ours"), None)
         if ours is None or verdict(other, ours)[1] != "agree":
             continue
-        for a in ms:
-            if a.factor == change.factor and not a.control:
-                moved = _applied(ours, a) if a.shift else a
-                if verdict(other, moved)[1] == "disagree":
-                    out.append(other.text)
-                    break
+        same = [a for a in ms if a.factor == change.factor and not a.control]
+        readings = [a for a in same if a.label == change.label] or same
+        moved = [_applied(ours, a) if a.shift else a for a in readings]
+        if moved and all(verdict(other, m)[1] == "disagree" for m in moved):
+            out.append(other.text)
     return out
 
 

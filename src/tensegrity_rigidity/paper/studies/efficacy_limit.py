@@ -379,21 +379,22 @@ def numbers(r: EfficacyLimitResult) -> dict:
 
 
 def _caveats(rows: dict[int, pd.Series]) -> dict:
-    """What the answer does not exclude: the 2D limit's two-error upper end reaching the 3D
-    limit's lower end (the sizes cannot tell the dimensions apart), and, per dimension, a
-    power law to zero rejected with its exponent at the slowest decay the fit tries (only decays
-    at least that fast are rejected)."""
+    """What the answer does not exclude: 2D and 3D limits less than two errors apart (the
+    sizes cannot tell the dimensions apart), and, per dimension, a power law to zero rejected
+    with its exponent at the slowest decay the fit tries (only decays at least that fast are
+    rejected)."""
     out: dict = {}
     if 2 in rows and 3 in rows:
         two, three = rows[2], rows[3]
-        upper = two.value + 2 * np.hypot(two.stat, two.syst)
-        lower = three.value - 2 * np.hypot(three.stat, three.syst)
-        if upper >= lower:
-            out["not_apart"] = T.label("not_apart", upper=upper, lower=lower)
+        diff = abs(two.value - three.value)
+        err = float(np.hypot(np.hypot(two.stat, two.syst), np.hypot(three.stat, three.syst)))
+        if diff < 2 * err:
+            out["not_apart"] = T.label("not_apart", diff=diff, err=err)
     slowest = [
         T.label("slowest", dim=dim, x=row.zero_x)
         for dim, row in rows.items()
-        if not bool(row.get("zero_ok", True)) and np.isclose(row.zero_x, limits.X_GRID[0])
+        if not bool(row.get("zero_ok", True))
+        and np.isclose(row.zero_x, limits.X_GRID[0], atol=1e-4)
     ]
     out["slowest"] = slowest or None
     return out

@@ -79,7 +79,8 @@ class Fig4Result(Result):
     at the paper's point the measured P, N, its Wilson interval (lo, hi) and the fitted S_r,
     S_t, D_f = dP/df_c, S_c, S_s with errors; ``point``: the strain average there (S_r and the
     ratios), ``curves`` with covariances over f_c; ``differences``: the average there from
-    paired central differences; ``slopes``: strain -> least-squares slope of P over f_c at
+    paired central differences (with the strain-averaged ``S_r``: the ratio is NaN where it
+    is 0); ``slopes``: strain -> least-squares slope of P over f_c at
     the paper's point."""
 
     average: pd.DataFrame
@@ -308,7 +309,7 @@ def _differences(centre, d_r, d_t, samples) -> pd.DataFrame:
         if S_r != 0:
             ratio = total / S_r
             err = np.hypot(total_e / S_r, ratio * S_r_e / S_r)
-        rows.append({"f_c": f, "sum_rel": ratio, "sum_rel_err": abs(err)})
+        rows.append({"f_c": f, "sum_rel": ratio, "sum_rel_err": abs(err), "S_r": S_r})
     return pd.DataFrame(rows)
 
 
@@ -321,7 +322,7 @@ def numbers(r: Fig4Result) -> dict:
             "unresolved": int(np.sum(~(s.sum_rel_err <= np.abs(s.sum_rel)))),
             "point_unresolved": int(np.sum(~(r.point.sum_rel_err <= np.abs(r.point.sum_rel)))),
             "point_values": len(r.point),
-            "differences_missing": int(r.differences.sum_rel.isna().sum()) or None,
+            "differences_missing": int((r.differences.S_r == 0).sum()) or None,
             "p_r_low": min(float(f.p_r.min()) for f in (r.dilation, r.compression)),
             "p_r_high": max(float(f.p_r.max()) for f in (r.dilation, r.compression))}  # fmt: skip
 
