@@ -132,6 +132,11 @@ def test_beside_2d_and_the_report_section(tiny_3d, tmp_path):
     assert row.ours_2d == TWO_D_OURS["st_sr_cables_compression"].value
     z = abs(row.largest - row.ours_2d) / math.hypot(row.largest_err, row.ours_2d_err)
     assert row.z_2d == pytest.approx(z)
+    # the extrapolation set beside 2D is the 3D quantity's own limit, no exponent borrowed
+    f = tiny_3d.extrapolated.set_index("key").loc["st_sr_cables_compression"]
+    own = math.hypot(f.limit_stat, f.limit_syst)
+    z_own = abs(f.limit - row.ours_2d) / math.hypot(own, row.ours_2d_err)
+    assert np.isnan(row.z_2d_inf) if np.isnan(f.limit) else row.z_2d_inf == pytest.approx(z_own)
     v = three_d.numbers(tiny_3d)
     literature = REFERENCES["pc_fcc_chubynsky_thorpe"].value
     assert v["check"] == literature and v["n_top"] == 4 and v["few"] == [2, 3, 4]

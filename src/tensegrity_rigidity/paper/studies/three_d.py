@@ -285,10 +285,17 @@ def _z(v: float, e: float, two) -> float:
     return an.agreement_z(v, e**2, two.value, two.error or np.nan)
 
 
+def _own(f) -> tuple[float, float]:
+    """A quantity's own limit (its laws, no exponent borrowed) and its error, statistical and
+    fit-form combined (NaN where the sizes fix none)."""
+    return float(f.limit), float(np.hypot(f.limit_stat, f.limit_syst))
+
+
 def beside_2d(r: ThreeDResult) -> pd.DataFrame:
     """Per quantity: the largest size's value, the two extrapolations, the paper's 2D value as
     printed, ours in 2D (:data:`~tensegrity_rigidity.paper.claims.TWO_D_OURS`) and the z of the
-    largest size (``z_2d``) and of the free extrapolation (``z_2d_inf``) against ours in 2D."""
+    largest size (``z_2d``) and of the quantity's own limit (``z_2d_inf``: its own laws, no
+    exponent borrowed; NaN where the sizes fix none) against ours in 2D."""
     ex, out = r.extrapolated.set_index("key"), []
     for key in [k for k in KEYS_3D if k in ex.index]:
         s, f, two = (
@@ -303,7 +310,7 @@ def beside_2d(r: ThreeDResult) -> pd.DataFrame:
                     "y_inf_first_order_err": float(f.y_inf_first_order_err),
                     "paper_2d": CLAIMS[key].paper, "ours_2d": two.value,
                     "ours_2d_err": two.error or np.nan, "z_2d": _z(s.value, s.err, two),
-                    "z_2d_inf": _z(f.y_inf, f.y_inf_err, two)})  # fmt: skip
+                    "z_2d_inf": _z(*_own(f), two)})  # fmt: skip
     return pd.DataFrame(out)
 
 
@@ -325,15 +332,17 @@ def claims(r: ThreeDResult) -> tuple[Measurement, ...]:
 
 
 def _group(r: ThreeDResult, keys: tuple[str, ...], few: list[int]) -> dict:
-    """One paragraph's numbers: each quantity extrapolated, and the largest z against ours in
-    2D of the extrapolations and of the largest size."""
+    """One paragraph's numbers: each quantity's own limit, and the largest z against ours in
+    2D of those limits and of the largest size."""
     ex, n_top = r.extrapolated.set_index("key"), max(r.sizes)
     parts, z_top, z_inf, misfits = [], [], [], ""
     for key in keys:
         f, (v, e), two = ex.loc[key], r.at(key, n_top), TWO_D_OURS[key]
-        parts.append(T.label("part", name=T.label(f"short.{key}"), value=fmt(f.y_inf, f.y_inf_err)))
+        own = _own(f)
+        value = fmt(*own) if np.isfinite(own[0]) else T.label("no_limit")
+        parts.append(T.label("part", name=T.label(f"short.{key}"), value=value))
         z_top.append(_z(v, e, two))
-        z_inf.append(_z(f.y_inf, f.y_inf_err, two))
+        z_inf.append(_z(*own, two))
         misfits += misfit(f.chi2, f.dof)
     return {"parts": "; ".join(parts) + misfits, "z_inf": np.nanmax(z_inf),
             "z_top": np.nanmax(z_top), "few": "" if n_top in few else None}  # fmt: skip
