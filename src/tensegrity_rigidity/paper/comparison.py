@@ -434,7 +434,7 @@ def _evidence(
             elif not agreeing:
                 rule = "rule.opens" if broken else _rule(credited, moves[i], adjusted[i])
                 words = WORDS.label(rule, z=moves[i], p=adjusted[i], tried=count,
-                                    opened="; ".join(broken))  # fmt: skip
+                                    opened=len(broken))  # fmt: skip
                 judged = WORDS.label("judged", reads=judged, rule=words)
             parts.append(_part(claim, a, z, judged, factor, moved_z=float(moves[i]),
                                moved_p=float(adjusted[i]), credited=credited))  # fmt: skip
