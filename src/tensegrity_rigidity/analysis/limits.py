@@ -349,7 +349,7 @@ def drifts(fit: LawFit, flat: LawFit) -> bool:
     Parameters
     ----------
     fit : LawFit
-        A law with a correction (``"finite"`` or ``"zero"``).
+        The ``"finite"`` law (the one nested in the constant, so that the drop is a test).
     flat : LawFit
         The ``"constant"`` law on the same series.
 

@@ -517,9 +517,11 @@ def family_opened(claim: Claim, change: Measurement, by_claim: dict) -> list[str
         return []
     out = []
     for key, other in CLAIMS.items():
-        if other.target != claim.target or key in (claim.key, claim.same_as):
-            continue
-        if other.same_as == claim.key:
+        if (
+            other.target != claim.target
+            or claim.key in (key, other.same_as)
+            or key == claim.same_as
+        ):
             continue
         ms = by_claim.get(key, [])
         ours = next((m for m in ms if m.factor == "ours"), None)
