@@ -21,6 +21,7 @@ from tensegrity_rigidity.paper.comparison import (
     AGREE_BELOW,
     compare,
     comparison_frame,
+    decimals,
     fmt,
     verdict,
     z_score,
@@ -34,6 +35,13 @@ def test_values_show_two_significant_digits_of_their_error():
     assert fmt(1.0, 1e-12) == "1.000000 ± 0.000000"  # at most 6 decimals
     assert fmt(2.0, 0.0) == "2.000 ± 0.000" and fmt(2.0) == "2.000"
     assert fmt(0.25, 0.004, 2) == "0.2500 ± 0.0040" and fmt(float("nan"), 0.1) == "n/a"
+
+
+def test_a_second_error_takes_the_first_errors_decimals():
+    """A fit-form systematic beside a statistical error is written to the same decimals (it was
+    written to five whatever its size: ``0.01234`` beside ``0.0063``, ``0.00000`` for 3e-6)."""
+    assert decimals(0.0063) == 4 and decimals(0.00013) == 5 and decimals(0.2) == 3
+    assert decimals(float("nan")) == 3 and decimals(0.0) == 3 and decimals(1e-12) == 6
 
 
 @dataclass(frozen=True)

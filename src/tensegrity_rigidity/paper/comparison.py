@@ -173,16 +173,22 @@ class ComparisonRow:
 SUMMARY_COLUMNS = ["claim", "paper", "ours", "verdict", "reason"]
 
 
+def decimals(err, digits=3) -> int:
+    """The decimals that show an error ``err`` to two significant digits: ``digits``, more (up
+    to 6) for a small error."""
+    if err is None or not np.isfinite(err) or err <= 0:
+        return digits
+    return int(np.clip(1 - np.floor(np.log10(err)), digits, max(digits, 6)))
+
+
 def fmt(value, err=None, digits=3) -> str:
-    """``value ± err`` to ``digits`` decimals, more (up to 6) where the error needs them to
-    show two significant digits ("n/a" for a missing or non-finite value): ``0.65662 ± 0.00078``,
-    not ``0.657 ± 0.001``."""
+    """``value ± err`` to :func:`decimals` ("n/a" for a missing or non-finite value):
+    ``0.65662 ± 0.00078``, not ``0.657 ± 0.001``."""
     if value is None or not np.isfinite(value):
         return "n/a"
     if err is None or not np.isfinite(err):
         return f"{value:.{digits}f}"
-    if err > 0:
-        digits = int(np.clip(1 - np.floor(np.log10(err)), digits, max(digits, 6)))
+    digits = decimals(err, digits)
     return f"{value:.{digits}f} ± {err:.{digits}f}"
 
 

@@ -27,7 +27,7 @@ from ...analysis import limits
 from ...analysis.agreement import chi2_against
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, REPLICATION, Measurement
-from ..comparison import AGREE_BELOW, fmt
+from ..comparison import AGREE_BELOW, decimals, fmt
 from ..plotting import CYCLE, draw_clusters
 from ..study import Result, Scale, Study
 from ..style import PAGE, grid, save, size_axis, unresolved, width_panel
@@ -912,9 +912,10 @@ def _calibration(r: FiniteSizeResult) -> dict:
     if c is None or not np.isfinite(c.value):
         return {}
     a, b = (REFERENCES[k] for k in PC_ANCHORS)
-    out = {"cal_pc": fmt(c.value, c.stat), "cal_syst": c.syst, "cal_nu": NU_PC.value,
-           "cal_nu_err": NU_PC.error, "cal_omega_ref": OMEGA_REF, "cal_omega_lo": min(OMEGAS),
-           "cal_omega_hi": max(OMEGAS), "cal_n_mins": sorted({int(f.n_min) for f in c.fits}),
+    out = {"cal_pc": fmt(c.value, c.stat), "cal_syst": f"{c.syst:.{decimals(c.stat)}f}",
+           "cal_nu": NU_PC.value, "cal_nu_err": NU_PC.error, "cal_omega_ref": OMEGA_REF,
+           "cal_omega_lo": min(OMEGAS), "cal_omega_hi": max(OMEGAS),
+           "cal_n_mins": sorted({int(f.n_min) for f in c.fits}),
            "cal_allowed": c.allowed, "cal_fits": len(c.fits), "cal_lo": c.low, "cal_hi": c.high,
            "anchors_z": abs(a.value - b.value)
            / np.hypot(a.error or 0.0, b.error or 0.0),
