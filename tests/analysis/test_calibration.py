@@ -59,6 +59,16 @@ def test_probabilities_from_known_thresholds():
     assert table.P.tolist() == pytest.approx([0.5, 2 / 3])
 
 
+def test_a_sample_rigid_from_the_start_is_rigid_at_p_r_zero():
+    """``s* = 0`` (rigid with no event) was counted floppy at p_r = 0, where ``decide`` finds it
+    rigid; ``P(0)`` came out too low on a grid that includes 0."""
+    t = np.array([0.0, 0.3, np.nan])
+    assert an.probability_from_thresholds(t, [0.0, 0.3, 0.5]).tolist() == [1 / 3, 1 / 3, 2 / 3]
+    rows = pd.DataFrame({"p_t": [0.4] * 3, "sample": [0, 1, 2], "threshold_p_r": t})
+    y, _, _ = an.outcomes_from_thresholds(rows, np.array([0.0]))
+    assert y[:, 0].tolist() == [True, False, False]
+
+
 def test_outcomes_from_thresholds_pair_the_samples():
     rows = pd.DataFrame(
         {

@@ -103,6 +103,9 @@ def test_one_sided_elements_are_refused_unless_as_rods():
     r, s = rigid_clusters(inst, as_rods=True), rigid_clusters(as_rods)
     assert (r.rank, r.wraps) == (s.rank, s.wraps)
     np.testing.assert_array_equal(r.labels, s.labels)
+    with pytest.raises(InputError, match="as_rods must be True or False"):  # was read as True
+        rigid_clusters(inst, as_rods="yes")  # type: ignore[arg-type]
+    assert len(repr(r)) < 300 and "<(75,) int64 array>" in repr(r)
 
 
 def test_not_a_network_is_refused():

@@ -125,6 +125,83 @@ def test_tolerance_and_bad_input():
         contact_network(np.zeros((2, 3)), [0.5, 0.5], np.eye(2) * 5)
 
 
+@pytest.mark.parametrize("name", ["triangular", "fcc"])
+@pytest.mark.parametrize("scale", [1e-200, 1e-155, 1e-150, 1e104, 1e155, 1e200])
+def test_contacts_at_any_scale(name, scale):
+    """Squared lengths under- and overflowed: a triangular packing at 1e-155 had no contact
+    (and was called unjammed), FCC at 1e-150 a box of "dependent rows", 1e104 an OverflowError."""
+    p = crystal_packing(name, 3)
+    net = contact_network(p.positions * scale, p.radii * scale, p.box * scale)
+    assert _contacts(net) == _contacts(p.contact_network())
+    assert Packing(p.positions * scale, p.radii * scale, p.box * scale).packing_fraction() == (
+        pytest.approx(p.packing_fraction(), rel=1e-12)
+    )
+
+
+@pytest.mark.parametrize("tolerance", ["a", None, [0.1], 1j, "0.1", True, 1e300, float("nan")])
+def test_a_tolerance_that_is_not_a_fraction_of_a_diameter_is_refused(tolerance):
+    p = crystal_packing("square", 2)
+    with pytest.raises(InputError, match="tolerance"):
+        contact_network(p.positions, p.radii, p.box, tolerance=tolerance)
+
+
+@pytest.mark.parametrize("cells", [(2, 2), [[1, 2, 3]], 2.0, 0, 10**6])
+def test_crystal_cells_are_checked_before_anything_is_allocated(cells):
+    """``(2, 2)`` for a 3D crystal gave NumPy's broadcast error; ``10**6`` cells exhausted the
+    machine."""
+    with pytest.raises(InputError, match="cells|memory"):
+        crystal_packing("fcc", cells)
+
+
+@pytest.mark.parametrize(
+    "change, match",
+    [
+        (("edge", "kind", "rod"), None),
+        (("edge", "kind", None), "kind"),
+        (("edge", "kind", 2.7), "kind"),
+        (("edge", "kind", 7), "kind"),
+        (("edge", "shift", "xy"), "shift"),
+        (("edge", "shift", (0.5, 0.0)), "shift"),
+        (("edge", "stiffness", 2.0), "stiffness"),
+        (("graph", "box", 5.0), "box"),
+        (("graph", "box", "ab"), "box"),
+        (("node", "position", [0.0, [1, 2]]), "position"),
+    ],
+)
+def test_networkx_graphs_with_bad_attributes_get_one_line(change, match):
+    """Each of these raised a raw ValueError, TypeError or IndexError, or (stiffness on one
+    edge) was silently dropped."""
+    g = network_to_networkx(crystal_packing("square", 2).contact_network())
+    where, key, value = change
+    if where == "edge":
+        u, v, k = next(iter(g.edges(keys=True)))
+        g.edges[u, v, k][key] = value
+    elif where == "node":
+        g.nodes[0][key] = value
+    else:
+        g.graph[key] = value
+    if match is None:
+        assert network_from_networkx(g).kinds[0] == Element.ROD
+    else:
+        with pytest.raises(InputError, match=match):
+            network_from_networkx(g)
+
+
+def test_interop_refuses_objects_of_the_wrong_type(tmp_path):
+    p = crystal_packing("square", 2)
+    with pytest.raises(InputError, match="networkx graph"):
+        network_from_networkx({})
+    with pytest.raises(InputError, match="PeriodicNetwork"):
+        network_to_networkx(None)
+    with pytest.raises(InputError, match="Packing"):
+        write_gsd(tmp_path / "a.gsd", p.contact_network())
+    write_gsd(tmp_path / "a.gsd", p)
+    assert read_gsd(tmp_path / "a.gsd", frame=np.int64(0)).n_particles == 4
+    for frame in ("0", None, 1.5, True):
+        with pytest.raises(InputError, match="frame must be an integer"):
+            read_gsd(tmp_path / "a.gsd", frame=frame)
+
+
 @pytest.mark.parametrize(
     "builder, name", [(kagome_lattice, "kagome"), (honeycomb_lattice, "honeycomb")]
 )

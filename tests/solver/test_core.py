@@ -842,6 +842,30 @@ def test_reprs_are_a_few_lines_with_the_arrays_by_shape():
     assert "accepted=True" in repr(decide(inst))
 
 
+def test_results_compare_by_identity_and_hash():
+    """``decide(i) == decide(i)`` raised "truth value of an array is ambiguous" and ``hash``
+    a TypeError; results hold arrays, so they compare as objects (verdicts compare by status)."""
+    from tensegrity_rigidity import decide, lattice_instance, rigid_clusters, solve
+
+    inst = lattice_instance(n=6, p_r=0.8, seed=1)
+    for call in (decide, solve, rigid_clusters):
+        a, b = call(inst), call(inst)
+        assert a == a and a != b and len({a, b}) == 2
+
+
+def test_options_that_are_not_options_are_refused_not_replaced_by_the_defaults():
+    """``find_threshold(..., options={})`` ran with the default options."""
+    from tensegrity_rigidity import InputError, decide, find_threshold, lattice_instance
+
+    inst = lattice_instance(n=6, p_r=0.8, seed=1)
+    with pytest.raises(InputError, match="SolverOptions"):
+        decide(inst, {})  # type: ignore[arg-type]
+    net = inst.network
+    u = np.random.default_rng(0).random(net.n_sites)
+    with pytest.raises(InputError, match="SolverOptions"):
+        find_threshold(net, u, u, inst.strain, 0.0, 0.0, options={})  # type: ignore[arg-type]
+
+
 def test_an_unresolved_verdict_names_how_its_solvers_ended():
     """A search that runs out says which solver ran out and how (HiGHS's model status)."""
     from tensegrity_rigidity import lattice_instance

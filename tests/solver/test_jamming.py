@@ -51,6 +51,17 @@ def test_bad_input_is_one_line():
         jamming("packing.gsd")  # type: ignore[arg-type]
     with pytest.raises(InputError, match="violation_tol"):
         JammingOptions(violation_tol=0.5)
+    with pytest.raises(InputError, match="must be a JammingOptions"):  # an AttributeError
+        jamming(net, "local", {"violation_tol": 1e-9})  # type: ignore[arg-type]
+    assert JammingOptions(eigen_iterations=np.int64(5)).eigen_iterations == 5  # was refused
+
+
+def test_a_jamming_result_prints_in_a_few_hundred_characters():
+    """Its repr printed every rattler and every force: 16,595 characters at N = 128."""
+    result = jamming(crystal_packing("triangular", 12).contact_network(), "strict")
+    text = repr(result)
+    assert len(text) < 600 and "status='jammed'" in text and "<(433,) float64 array>" in text
+    assert result != jamming(crystal_packing("triangular", 12).contact_network(), "strict")
 
 
 def _check_motion(net, motion, tau):

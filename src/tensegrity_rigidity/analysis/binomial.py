@@ -55,8 +55,30 @@ def wilson(k, n, z: float = 1.96):
     return p, lo, hi
 
 
+def rigid_at(thresholds: np.ndarray, p_r: float) -> np.ndarray:
+    """Which samples are rigid at ``p_r``, from their thresholds ``s*``.
+
+    A sample is rigid for ``p_r > s*``; ``s* = 0`` marks a sample rigid from the start, which is
+    rigid at ``p_r = 0`` too (no event made it rigid; an event at a uniform of exactly 0, of
+    probability ``2^-53`` per site, would read the same); NaN (never rigid) is rigid nowhere.
+
+    Parameters
+    ----------
+    thresholds : (S,) float
+        Per-sample thresholds.
+    p_r : float
+        Where.
+
+    Returns
+    -------
+    (S,) bool
+    """
+    t = np.asarray(thresholds, dtype=float)
+    return (t < p_r) | (t == 0.0)
+
+
 def probability_from_thresholds(thresholds: np.ndarray, p_r: np.ndarray) -> np.ndarray:
-    """P(p_r) from per-sample thresholds: the fraction of samples with ``s* < p_r``.
+    """P(p_r) from per-sample thresholds: the fraction of samples rigid there (:func:`rigid_at`).
 
     Parameters
     ----------
@@ -71,9 +93,7 @@ def probability_from_thresholds(thresholds: np.ndarray, p_r: np.ndarray) -> np.n
         P at each value of ``p_r``; exactly the fraction of rigid samples a grid sweep of the
         same samples finds there (a sample is rigid for ``p_r > s*``).
     """
-    t = np.asarray(thresholds, dtype=float)
-    t = np.where(np.isnan(t), np.inf, t)
-    return np.array([np.mean(t < p) for p in np.atleast_1d(p_r)])
+    return np.array([np.mean(rigid_at(thresholds, p)) for p in np.atleast_1d(p_r)])
 
 
 def rigidity_probability(df: pd.DataFrame, by: list[str]) -> pd.DataFrame:
@@ -148,10 +168,9 @@ def outcomes_from_thresholds(
     samples = common_samples(thresholds, p_t_col)
     for p_t, sub in thresholds.groupby(p_t_col):
         s = sub.set_index("sample").reindex(samples)["threshold_p_r"].to_numpy()
-        s = np.where(np.isnan(s), np.inf, s)
         for p in p_r_grid:
             if p + p_t <= 1 + 1e-12:
-                cols.append(s < p)
+                cols.append(rigid_at(s, p))
                 pr.append(p)
                 pt.append(p_t)
     return np.array(cols).T, np.array(pr), np.array(pt)

@@ -524,7 +524,7 @@ def binomial_variance(p_r: float, p_t: float, efficacy: float, sites: int) -> fl
     return float((p_r + efficacy**2 * p_t - mean**2) / sites)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class WidthExponent:
     """Widths of the threshold distributions at several sizes and the geometric part's decay.
 
@@ -795,7 +795,7 @@ def corrected_limit(
                           max(ok, default=np.nan), len(ok))  # fmt: skip
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class BinomialWidths:
     """Threshold widths against the binomial bond-count noise alone.
 

@@ -433,7 +433,7 @@ def fit_finite_size(
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class WidthScaling:
     """Threshold distributions against size: nu and p_c without a fitted exponent.
 
@@ -564,7 +564,7 @@ def width_scaling(
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FractalDimension:
     """Mean mass of a cluster against size: ``M(n) = A n^d``, a line in log-log.
 

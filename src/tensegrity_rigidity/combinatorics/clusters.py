@@ -15,11 +15,11 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.limits import check_memory, stage_bytes
-from ..model.network import Element, Instance, PeriodicNetwork
+from ..model.network import Element, Instance, PeriodicNetwork, fields_repr, show
 from . import pebble
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RigidClusters:
     """The combinatorial rigidity of a rods-only periodic network on its fixed box.
 
@@ -50,6 +50,8 @@ class RigidClusters:
     floppy_modes: int
     self_stresses: int
     wraps: bool
+
+    __repr__ = fields_repr
 
     @property
     def n_clusters(self) -> int:
@@ -160,7 +162,7 @@ def first_wrapping(network: PeriodicNetwork, order: np.ndarray) -> int:
     return int(first)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SpanningCluster:
     """The rigid cluster that first resists a generic strain as rods are added one by one.
 
@@ -195,6 +197,8 @@ class SpanningCluster:
     stressed_nodes: int
     backbone: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     backbone_nodes: int = 0
+
+    __repr__ = fields_repr
 
 
 def spanning_cluster(network: PeriodicNetwork, order: np.ndarray) -> SpanningCluster:
@@ -288,6 +292,8 @@ def rigid_clusters(network: PeriodicNetwork | Instance, as_rods: bool = False) -
     >>> rigid_clusters(lattice_instance(6, p_r=0.3, seed=1)).wraps
     False
     """
+    if not isinstance(as_rods, (bool, np.bool_)):
+        raise InputError(f"as_rods must be True or False, got {show(as_rods)}")
     net = _as_network(network)
     kinds = net.kinds
     one_sided = np.flatnonzero((kinds == Element.CABLE) | (kinds == Element.STRUT))

@@ -12,8 +12,10 @@ Paths (parameter ``s``):
 * ``"total"``: ``p_r = s`` in ``[0, T]`` with ``p_r + p_t = T`` fixed (one-sided -> rods).
 
 The threshold ``s*`` is the event that made the sample rigid: the sample is rigid for
-``p_r > s*`` and floppy for ``p_r <= s*`` (``s* = nan`` if it is floppy along the whole path,
-``s* = 0`` if rigid from the start). Hence ``P(p_r) = mean(s* < p_r)`` on any grid.
+``p_r > s*`` and floppy for ``p_r <= s*`` (``s* = nan`` if it is floppy along the whole path).
+``s* = 0`` marks a sample rigid from the start, at ``p_r = 0`` too. Hence ``P(p_r)`` is the
+fraction of samples with ``s* < p_r`` or ``s* = 0`` on any grid
+(:func:`~tensegrity_rigidity.analysis.binomial.rigid_at`).
 
 Search. Each probe is a certified verdict (:func:`~tensegrity_rigidity.solver.decide`), and a
 certificate says more than its own configuration:
@@ -315,7 +317,7 @@ def find_threshold(
         return _pebble_threshold(network, u, v, p_t, f_c, path)
     if method != "lp":
         raise InputError(f"unknown threshold method {method!r}; use 'lp' or 'pebble'")
-    opts = options or SolverOptions(min_norm=False)
+    opts = SolverOptions(min_norm=False) if options is None else options
     if not isinstance(opts, SolverOptions):
         raise InputError(f"options must be a SolverOptions, got {type(opts).__name__}")
     ev = EventPath(u, v, path, p_t, f_c)

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .network import Element, PeriodicNetwork
+from .network import Element, PeriodicNetwork, _as_float_array, check_count, show
 from .packing import Packing
 
 
@@ -101,6 +101,9 @@ def read_gsd(path: str | os.PathLike, frame: int = -1) -> Packing:
     """
     import gsd.hoomd
 
+    if isinstance(frame, (bool, np.bool_)) or not isinstance(frame, (int, np.integer)):
+        raise InputError(f"frame must be an integer, got {show(frame)}")
+    frame = int(frame)
     path = Path(path)
     if not path.is_file():
         raise InputError(f"{path}: no such file")
@@ -136,6 +139,8 @@ def write_gsd(path: str | os.PathLike, packing: Packing) -> None:
     """
     import gsd.hoomd
 
+    if not isinstance(packing, Packing):
+        raise InputError(f"write_gsd needs a Packing (positions, radii, box), got {show(packing)}")
     params, q = hoomd_box(packing.box)
     dim = packing.dim
     frame = gsd.hoomd.Frame()
@@ -170,6 +175,8 @@ def network_to_networkx(network: PeriodicNetwork):
     """
     import networkx as nx
 
+    if not isinstance(network, PeriodicNetwork):
+        raise InputError(f"network_to_networkx needs a PeriodicNetwork, got {show(network)}")
     g = nx.MultiDiGraph(box=np.array(network.box))
     for i, p in enumerate(network.positions):
         g.add_node(i, position=np.array(p))
@@ -205,42 +212,74 @@ def network_from_networkx(graph, box=None, kind: Element = Element.STRUT) -> Per
     PeriodicNetwork
         Edges in the graph's edge order (``site`` attributes, if all present, order them).
     """
+    if not all(hasattr(graph, a) for a in ("graph", "nodes", "edges", "is_directed")):
+        raise InputError(f"graph must be a networkx graph, got {show(graph)}")
     box = graph.graph.get("box") if box is None else box
     if box is None:
         raise InputError("the graph has no 'box' attribute: pass box=(d, d) lattice vectors")
-    box = np.asarray(box, dtype=float)
+    box = _as_float_array("box", box, (None, None))
+    dim = box.shape[0]
+    if box.shape != (dim, dim) or dim not in (2, 3):
+        raise InputError(f"box must have shape (2, 2) or (3, 3), got {box.shape}")
     nodes = list(graph.nodes)
     index = {v: k for k, v in enumerate(nodes)}
-    try:
-        positions = np.array([graph.nodes[v]["position"] for v in nodes], dtype=float)
-    except KeyError:
-        raise InputError("every node needs a 'position' attribute") from None
-    dim = box.shape[0]
-    rows = []
-    edges = graph.edges(data=True)
-    for u, v, data in edges:
-        shift = np.asarray(data.get("shift", np.zeros(dim)), dtype=float)
-        if shift.shape != (dim,):
-            raise InputError(f"edge ({u!r}, {v!r}): shift must have {dim} entries, got {shift}")
-        tail = data.get("tail")
-        if not graph.is_directed() and np.any(shift) and tail is None:
-            raise InputError(
-                f"undirected edge ({u!r}, {v!r}) has a non-zero shift but no 'tail' attribute "
-                "saying which end it is measured from"
-            )
-        if tail is not None and tail not in (u, v):
-            raise InputError(f"edge ({u!r}, {v!r}): tail {tail!r} is not one of its ends")
-        if tail is not None and tail != u:
-            u, v = v, u
-        code = int(data.get("kind", kind))
-        rows.append((data.get("site"), index[u], index[v], shift, code, data.get("stiffness")))
+    positions = np.array([_node_position(graph, v, dim) for v in nodes]).reshape(-1, dim)
+    rows = [_edge_row(graph, u, v, data, dim, index, kind) for u, v, data in graph.edges(data=True)]
     if rows and all(r[0] is not None for r in rows):
         rows.sort(key=lambda r: r[0])
     bonds = np.array([[r[1], r[2]] for r in rows], dtype=np.int64).reshape(-1, 2)
     shifts = np.array([r[3] for r in rows]).reshape(-1, dim)
     kinds = np.array([r[4] for r in rows], dtype=np.int64)
     stiff = [r[5] for r in rows]
-    stiffness = None
-    if rows and all(x is not None for x in stiff):
-        stiffness = np.array(stiff, dtype=float)
+    given = sum(x is not None for x in stiff)
+    if 0 < given < len(rows):
+        raise InputError(
+            f"{given} of {len(rows)} edges carry a 'stiffness': give it on every edge or on none"
+        )
+    stiffness = np.array(stiff, dtype=float) if rows and given else None
     return PeriodicNetwork(box, positions, bonds, shifts, kinds, stiffness)
+
+
+def _node_position(graph, v, dim: int) -> np.ndarray:
+    """The ``position`` attribute of node ``v``: ``dim`` numbers."""
+    if "position" not in graph.nodes[v]:
+        raise InputError(f"node {v!r} has no 'position' attribute (every node needs one)")
+    return _as_float_array(f"node {v!r}'s position", graph.nodes[v]["position"], (dim,))
+
+
+def _edge_kind(value) -> int:
+    """An edge's kind: an :class:`~.network.Element`, its integer code or its name ("strut")."""
+    if isinstance(value, str) and value.upper() in Element.__members__:
+        return int(Element[value.upper()])
+    if isinstance(value, (Element, int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+        if int(value) in set(Element):
+            return int(value)
+    names = ", ".join(e.name.lower() for e in Element)
+    raise InputError(f"kind must be an Element, its code or one of {names}; got {show(value)}")
+
+
+def _edge_row(graph, u, v, data, dim: int, index: dict, kind) -> tuple:
+    """One edge as ``(site, i, j, shift, kind code, stiffness)``, measured from its tail."""
+    where = f"edge ({u!r}, {v!r})"
+    shift = np.asarray(data.get("shift", np.zeros(dim, dtype=np.int64)))
+    whole = shift.dtype.kind in "iuf" and bool(np.all(shift == np.round(shift)))
+    if shift.shape != (dim,) or not whole:
+        raise InputError(f"{where}: shift must be {dim} integers, got {show(data.get('shift'))}")
+    tail = data.get("tail")
+    if not graph.is_directed() and np.any(shift) and tail is None:
+        raise InputError(
+            f"undirected {where} has a non-zero shift but no 'tail' attribute saying which end it "
+            "is measured from"
+        )
+    if tail is not None and tail not in (u, v):
+        raise InputError(f"{where}: tail {tail!r} is not one of its ends")
+    if tail is not None and tail != u:
+        u, v = v, u
+    stiffness = data.get("stiffness")
+    if stiffness is not None:
+        stiffness = float(_as_float_array(f"{where}'s stiffness", stiffness, ()))
+    site = data.get("site")
+    if site is not None:
+        site = check_count(f"{where}'s site", site)
+    code = _edge_kind(data.get("kind", kind))
+    return site, index[u], index[v], shift.astype(np.int64), code, stiffness

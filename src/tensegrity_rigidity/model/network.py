@@ -18,7 +18,7 @@ included). It is exactly what an instance file stores (see :mod:`tensegrity_rigi
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from enum import IntEnum
 
 import numpy as np
@@ -87,6 +87,49 @@ def show(value) -> str:
     if len(text) > _SHOWN_CHARACTERS:
         text = text[: _SHOWN_CHARACTERS - 3] + "..."
     return text
+
+
+def short_repr(obj, items: list[tuple[str, object]]) -> str:
+    """``Name(field=value, ...)`` with arrays shown by shape and dtype only (a repr of a few
+    lines instead of every tension and displacement), floats to 6 digits.
+
+    Parameters
+    ----------
+    obj : object
+        Whose repr (its class name heads it).
+    items : list of (str, object)
+        The fields shown, in order.
+
+    Returns
+    -------
+    str
+    """
+
+    def brief(value: object) -> str:
+        if isinstance(value, np.ndarray):
+            return f"<{value.shape} {value.dtype} array>"
+        if isinstance(value, (float, np.floating)):
+            return f"{float(value):.6g}"
+        return repr(value)
+
+    inner = ", ".join(f"{name}={brief(value)}" for name, value in items)
+    return f"{type(obj).__name__}({inner})"
+
+
+def fields_repr(obj) -> str:
+    """:func:`short_repr` of every field of a dataclass that is shown (``field(repr=False)`` is
+    not): a dataclass's ``__repr__`` of one line whatever its arrays hold.
+
+    Parameters
+    ----------
+    obj : dataclass instance
+        Whose repr.
+
+    Returns
+    -------
+    str
+    """
+    return short_repr(obj, [(f.name, getattr(obj, f.name)) for f in fields(obj) if f.repr])
 
 
 def check_real(name: str, value) -> float:

@@ -17,13 +17,15 @@ bound the shifts: a triclinic box, or a box of a few cells).
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
-from .network import Element, PeriodicNetwork, _as_float_array
+from .limits import check_memory
+from .network import Element, PeriodicNetwork, _as_float_array, check_real, show
 
 __all__ = [
     "CRYSTALS",
@@ -37,6 +39,14 @@ __all__ = [
 #: Default contact tolerance, in units of the mean diameter: gaps up to it count as contacts. Far
 #: above the round-off of a crystal's exact contacts (about 1e-16) and far below any real gap.
 DEFAULT_CONTACT_TOLERANCE = 1e-9
+#: The largest contact tolerance, in mean diameters: a gap of a whole diameter is no contact, and
+#: a larger cutoff only multiplies the images searched.
+MAX_CONTACT_TOLERANCE = 1.0
+#: Two particles closer than this (in mean diameters) sit at the same place: no contact direction.
+SAME_PLACE = 1e-12
+#: Bytes per particle of :func:`crystal_packing` (grid, fractional and Cartesian coordinates,
+#: radius, with room for temporaries), for its memory guard.
+CRYSTAL_BYTES_PER_PARTICLE = 200
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,8 +127,10 @@ def packing_fraction(radii, box) -> float:
     radii = np.asarray(radii, dtype=float)
     box = np.asarray(box, dtype=float)
     dim = box.shape[0]
-    volume = np.pi * radii**2 if dim == 2 else 4.0 * np.pi * radii**3 / 3.0
-    return float(volume.sum() / abs(np.linalg.det(box)))
+    unit = float(np.abs(box).max())  # in units of the box, so that no power over- or underflows
+    a = radii / unit
+    volume = np.pi * a**2 if dim == 2 else 4.0 * np.pi * a**3 / 3.0
+    return float(volume.sum() / abs(np.linalg.det(box / unit)))
 
 
 def _check_packing(positions, radii, box):
@@ -126,7 +138,8 @@ def _check_packing(positions, radii, box):
     dim = box.shape[0]
     if box.shape != (dim, dim) or dim not in (2, 3):
         raise InputError(f"box must have shape (2, 2) or (3, 3), got {box.shape}")
-    if not abs(np.linalg.det(box)) > 1e-12 * float(np.abs(box).max()) ** dim:
+    largest = float(np.abs(box).max())
+    if not (largest > 0 and abs(np.linalg.det(box / largest)) > 1e-12):  # any scale
         raise InputError("box must have linearly independent rows (non-zero volume)")
     positions = _as_float_array("positions", positions, (None, dim))
     if positions.shape[0] == 0:
@@ -176,9 +189,21 @@ def contact_network(
     (2, 3)
     """
     positions, radii, box = _check_packing(positions, radii, box)
-    tolerance = float(tolerance)
-    if not (np.isfinite(tolerance) and tolerance >= 0):
-        raise InputError(f"tolerance must be finite and non-negative, got {tolerance!r}")
+    tolerance = check_real("tolerance", tolerance)
+    if not 0 <= tolerance <= MAX_CONTACT_TOLERANCE:
+        raise InputError(
+            f"tolerance must be between 0 and {MAX_CONTACT_TOLERANCE:g} mean diameters, "
+            f"got {show(tolerance)}"
+        )
+    given_positions, given_box = positions, box
+    # in units of the mean diameter: no squared length over- or underflows at any scale
+    unit = 2.0 * float(radii.mean())
+    positions, radii, box = positions / unit, radii / unit, box / unit
+    if not (np.all(np.isfinite(positions)) and np.all(radii > 0) and np.all(np.isfinite(box))):
+        raise InputError(
+            "the packing's lengths span more than double precision: positions and box in units "
+            "of the mean diameter must be finite and every radius positive"
+        )
     slack = tolerance * 2.0 * float(radii.mean())
     cutoff = 2.0 * float(radii.max()) + slack
     widths = 1.0 / np.linalg.norm(np.linalg.inv(box), axis=0)  # distances between lattice planes
@@ -191,13 +216,13 @@ def contact_network(
     dist = np.sqrt(np.einsum("bi,bi->b", d, d))
     keep = dist - (radii[i] + radii[j]) <= slack
     i, j, s, dist = i[keep], j[keep], s[keep], dist[keep]
-    if np.any(dist <= 1e-12 * cutoff):
+    if np.any(dist <= SAME_PLACE):
         b = int(np.argmin(dist))
         raise InputError(f"particles {i[b]} and {j[b]} sit at the same place")
     order = np.lexsort((*s.T[::-1], j, i))
     bonds = np.c_[i, j][order]
     kinds = np.full(len(bonds), Element.STRUT, dtype=np.int64)
-    return PeriodicNetwork(box, positions, bonds, s[order], kinds)
+    return PeriodicNetwork(given_box, given_positions, bonds, s[order], kinds)
 
 
 def _canonical(i, j, s):
@@ -307,10 +332,18 @@ def crystal_packing(name: str, cells) -> Packing:
         raise InputError(f"unknown crystal {name!r}; choose from {', '.join(CRYSTALS)}")
     vectors, basis, _ = CRYSTALS[name]
     dim = vectors.shape[0]
-    counts = np.broadcast_to(np.asarray(cells), (dim,))
+    counts = np.asarray(cells)
+    if counts.ndim > 1 or counts.size not in (1, dim):
+        raise InputError(f"cells must be one int or {dim} ints for {name!r}, got {show(cells)}")
+    counts = np.broadcast_to(counts.reshape(-1), (dim,))
     if counts.dtype.kind not in "iu" or np.any(counts < 1):
-        raise InputError(f"cells must be positive integers, got {cells!r}")
-    grid = np.array(list(itertools.product(*[range(int(c)) for c in counts])), dtype=float)
+        raise InputError(f"cells must be positive integers, got {show(cells)}")
+    particles = math.prod(int(c) for c in counts) * len(basis)
+    check_memory(
+        CRYSTAL_BYTES_PER_PARTICLE * float(particles),
+        f"a packing of {particles:,} {name} particles",
+    )
+    grid = np.indices(tuple(int(c) for c in counts)).reshape(dim, -1).T.astype(float)
     frac = (grid[:, None, :] + basis[None, :, :]).reshape(-1, dim)
     positions = frac @ vectors
     box = counts[:, None] * vectors

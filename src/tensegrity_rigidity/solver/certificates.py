@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..model.network import norms_from_squares
+from ..model.network import norms_from_squares, short_repr
 
 #: Unit round-off of the extended precision the certificates are evaluated in (``2^-64`` on
 #: x86-64; ``2^-53`` where ``longdouble`` is a double).
@@ -43,22 +43,7 @@ class Resolution:
     displacement: float = 1e8
 
 
-def short_repr(obj, fields: list[tuple[str, object]]) -> str:
-    """``Name(field=value, ...)`` with arrays shown by shape and dtype only (a repr of a few
-    lines instead of every tension and displacement), floats to 6 digits."""
-
-    def show(value: object) -> str:
-        if isinstance(value, np.ndarray):
-            return f"<{value.shape} {value.dtype} array>"
-        if isinstance(value, (float, np.floating)):
-            return f"{float(value):.6g}"
-        return repr(value)
-
-    inner = ", ".join(f"{name}={show(value)}" for name, value in fields)
-    return f"{type(obj).__name__}({inner})"
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FloppyCertificate:
     """A displacement checked against the resolution model.
 
@@ -85,7 +70,7 @@ class FloppyCertificate:
         )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RigidCertificate:
     """An admissible self-stress checked against the resolution model.
 

@@ -21,8 +21,8 @@ import numpy as np
 from ..errors import InputError, UndecidedWarning
 from ..model.limits import check_energy_scale, check_memory, stage_bytes
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
-from ..model.network import Instance, show
-from .certificates import FloppyCertificate, RigidCertificate, short_repr, undecided_reason
+from ..model.network import Instance, short_repr, show
+from .certificates import FloppyCertificate, RigidCertificate, undecided_reason
 from .displacements import MinimumNorm, minimum_norm
 from .linalg import one_blas_thread
 from .options import SolverOptions
@@ -33,7 +33,7 @@ from .stages import search
 __all__ = ["SolveResult", "SolverOptions", "Verdict", "decide", "energy_certified", "solve"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Verdict:
     """A certified verdict (the result of :func:`decide`).
 
@@ -48,7 +48,7 @@ class Verdict:
     stage : str
         The strategy whose candidate was accepted ("" when undecided).
     scale : float
-        ``max |e0|`` over the non-empty sites (physical units).
+        ``max |e0|`` over all bond sites, empty ones included (physical units).
     factorizations, iterations : int
         Work spent: numeric factorisations, Newton iterations.
     message : str
@@ -84,7 +84,7 @@ class Verdict:
         return head[:-1] + ",\n" + ",\n".join(rest) + ")"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SolveResult:
     """The relaxed state of an instance and the certificate behind its verdict.
 
@@ -292,7 +292,7 @@ def decide(
         Status, the accepted certificate (or the best candidates) and the work spent. Starting
         points only add candidates: they never change a decided verdict.
     """
-    opts = options or SolverOptions()
+    opts = SolverOptions() if options is None else options
     with one_blas_thread():  # the same last bits whatever the thread settings
         p, s = _search(instance, opts, initial_displacements, initial_tensions)
     return _verdict(p, s)
@@ -321,7 +321,7 @@ def solve(
         (:func:`decide`), then the relaxation (:func:`~.relaxation.relax`), then the minimum-norm
         projection (:func:`~.displacements.minimum_norm`). No energy threshold decides.
     """
-    opts = options or SolverOptions()
+    opts = SolverOptions() if options is None else options
     start = time.perf_counter()
     with one_blas_thread():  # the same last bits whatever the thread settings
         p, s = _search(instance, opts, initial_displacements)

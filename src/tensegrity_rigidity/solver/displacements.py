@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from .relaxation import Relaxation
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MinNormResult:
     """The projection of the origin onto the minimisers and its KKT residuals."""
 
@@ -48,7 +48,7 @@ class MinNormResult:
     norm_lower: float = float("nan")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MinimumNorm:
     """The displacements :func:`~tensegrity_rigidity.solver.core.solve` reports."""
 

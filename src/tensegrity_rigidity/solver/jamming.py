@@ -29,7 +29,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import InputError
-from ..model.network import Element, PeriodicNetwork
+from ..model.network import Element, PeriodicNetwork, check_count, fields_repr
 from .certificates import EPS, WITHIN_RESOLUTION, bond_vectors
 from .highs import run_lp
 from .linalg import one_blas_thread
@@ -64,11 +64,10 @@ class JammingOptions:
             raise InputError(f"JammingOptions.violation_tol must lie in (0, 1e-3), got {tau!r}")
         for name in ("eigen_iterations", "polish_rounds"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise InputError(f"JammingOptions.{name} must be a positive integer, got {value!r}")
+            check_count(f"JammingOptions.{name}", value, least=1)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class JammedCertificate:
     """Contact forces and a rank bound, checked against the resolution model.
 
@@ -99,8 +98,10 @@ class JammedCertificate:
     margin: float
     accepted: bool
 
+    __repr__ = fields_repr
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, eq=False)
 class UnjammingMotion:
     """A motion checked against the resolution model.
 
@@ -127,13 +128,15 @@ class UnjammingMotion:
     opened: int
     accepted: bool
 
+    __repr__ = fields_repr
+
     @property
     def flex(self) -> bool:
         """Whether the motion opens no contact (``A x = 0`` to resolution)."""
         return self.opened == 0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class JammingResult:
     """The verdict of :func:`jamming`.
 
@@ -170,11 +173,13 @@ class JammingResult:
     n_contacts: int
     backbone_contacts: int
     certificate: JammedCertificate | UnjammingMotion | None
-    jammed: JammedCertificate | None
-    unjamming: UnjammingMotion | None
+    jammed: JammedCertificate | None = field(repr=False)  # the certificate or a candidate
+    unjamming: UnjammingMotion | None = field(repr=False)
     reason: str = ""
     message: str = ""
     dim: int = 2
+
+    __repr__ = fields_repr
 
     @property
     def n_rattlers(self) -> int:
@@ -618,7 +623,9 @@ def jamming(
         raise InputError(f"expected a PeriodicNetwork, got {type(network).__name__}")
     if kind not in KINDS:
         raise InputError(f"kind must be one of {', '.join(KINDS)}, got {kind!r}")
-    opts = options or JammingOptions()
+    opts = JammingOptions() if options is None else options
+    if not isinstance(opts, JammingOptions):
+        raise InputError(f"options must be a JammingOptions, got {type(opts).__name__}")
     occupied = network.kinds != Element.EMPTY
     if np.any(network.kinds[occupied] != Element.STRUT):
         raise InputError("every contact must be a strut (Element.STRUT); rods or cables are not "

@@ -23,7 +23,7 @@ from .stages import Search
 from .tolerances import Tolerances
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Relaxation:
     """The relaxed state of an instance in the normalised units of its problem.
 

@@ -26,7 +26,7 @@ from .problem import Problem
 from .selfstress import kept, purify, rebalance
 
 
-@dataclass
+@dataclass(eq=False)
 class Search:
     """State shared by the strategies of one verdict search (normalised units of the problem)."""
 
