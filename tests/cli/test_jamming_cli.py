@@ -5,14 +5,16 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from tensegrity_rigidity import Instance, crystal_packing, save_instance
 from tensegrity_rigidity.cli.main import main
 from tensegrity_rigidity.model.interop import write_gsd
 
 
-def test_jamming_command_on_a_gsd_frame(tmp_path, capsys):
-    path = tmp_path / "tri.gsd"
+@pytest.mark.parametrize("name", ["tri.gsd", "TRI.GSD"])  # an upper-case suffix was refused
+def test_jamming_command_on_a_gsd_frame(tmp_path, capsys, name):
+    path = tmp_path / name
     write_gsd(path, crystal_packing("triangular", 3))
     assert main(["jamming", str(path)]) == 0
     out = capsys.readouterr().out

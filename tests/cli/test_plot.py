@@ -64,6 +64,17 @@ def test_bad_figure_path_is_one_line_before_solving(tmp_path, capsys, name, mess
     assert err.startswith("error: ") and message in err and err.count("\n") == 1
 
 
+def test_pgf_without_tex_is_refused_before_solving(tmp_path, capsys, monkeypatch):
+    """``--plot fig.pgf`` ended in "RuntimeError: 'xelatex' not found" after the solve."""
+    import shutil
+
+    monkeypatch.setattr(shutil, "which", lambda name: None)
+    save_instance(tmp_path / "s.npz", lattice_instance(4, p_r=0.9, seed=0))
+    assert main(["solve", str(tmp_path / "s.npz"), "--plot", str(tmp_path / "f.pgf")]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and "cannot write a figure of format 'pgf'" in err
+
+
 def test_figure_path_that_is_a_directory_is_refused(tmp_path, capsys):
     inst = lattice_instance(4, p_r=0.9, seed=0)
     save_instance(tmp_path / "s.npz", inst)

@@ -215,6 +215,14 @@ def test_workers_below_one_and_missing_evidence_are_refused_everywhere(tmp_path,
     assert local_workers(None) == usable_cores() and local_workers(1) == 1
 
 
+def test_an_estimate_prices_the_workers_asked_for_even_above_the_local_cores(capsys):
+    """``--estimate --workers 100`` priced 2 workers and warned "running at most 2", although
+    the help promises the wall time on N workers for the cluster scales."""
+    assert main(["reproduce", "--scale", "tiny", "--estimate", "--workers", "100"]) in (0, 1)
+    out, err = capsys.readouterr()
+    assert "on 100 worker(s)" in out and "running at most" not in err
+
+
 def test_large_delta_warns_in_one_line(tmp_path, capsys):
     spec = tmp_path / "s.toml"
     spec.write_text(textwrap.dedent(SPEC).replace("n = 5", "n = 5\ndelta = 0.49"))

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import json
+import os
 import shutil
 import warnings
 
@@ -95,6 +96,7 @@ def test_every_key_with_every_malformed_value_is_one_line(base, where):
         ({"lattice": {"kind": "fcc"}, "strain": {"angles": "uniform"}}, "sequence_rotation"),
         ({"p_r": 10**400}, "'p_r' must be finite"),
         ({"threshold": {"path": ["p_r"]}}, "[threshold] path must be one of"),
+        ({"solver": {"regularization": 0}}, "regularization must be positive"),
     ],
 )
 def test_the_reported_malformed_specs_are_refused(extra, needle):
@@ -235,3 +237,30 @@ def test_a_manifest_entry_never_names_a_file_outside_the_directory(tmp_path, fin
     run_sweep(parse_spec(GRID | {"p_r": [0.5, 0.7]}), out, executor="serial", progress=False)
     assert victim.read_text() == "keep me"
     assert len(load_results(out)) == 4
+
+
+def test_packing_fractions_that_seed_the_same_samples_are_refused():
+    """0.8400001 and 0.8400002 drew the same packings (the seed rounds the fraction to 1e-6)."""
+    spec = {"packing": {}, "n": 16, "fraction": [0.8400001, 0.8400002]}
+    with pytest.raises(SpecError, match="differ in their first 6 decimals"):
+        parse_spec(spec)
+    parse_spec(spec | {"fraction": [0.840001, 0.840002]})
+
+
+def test_a_spec_is_read_once_so_a_pipe_works_and_a_bom_is_named(tmp_path):
+    """``sweep <(cat spec.toml)`` read the pipe twice and saw an empty second read."""
+    from tensegrity_rigidity.ensemble.spec import load_spec_text
+
+    text = "n = 4\np_r = [0.5]\nsamples = 1\n"
+    read, write = os.pipe()
+    os.write(write, text.encode())
+    os.close(write)
+    try:
+        spec, source = load_spec_text(f"/dev/fd/{read}")
+    finally:
+        os.close(read)
+    assert source == text and spec.samples == 1
+    bom = tmp_path / "bom.toml"
+    bom.write_text("\ufeff" + text, encoding="utf-8")
+    with pytest.raises(SpecError, match="byte-order mark"):
+        load_spec_text(bom)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -113,6 +115,28 @@ def test_unreadable_file(tmp_path):
         load_instance(path)
     with pytest.raises(InputError, match="no such file"):
         load_instance(tmp_path / "absent.npz")
+
+
+def test_a_cut_npy_header_and_a_path_that_is_no_file_are_one_line(tmp_path):
+    """A header cut inside its dict raised tokenize.TokenError; a FIFO read "no such file"."""
+    import io
+    import zipfile
+
+    cut = io.BytesIO()
+    header = b"{'descr': '<f8', 'fortran_order': False, 'shape': (2,"
+    cut.write(b"\x93NUMPY\x01\x00" + len(header).to_bytes(2, "little") + header)
+    path = tmp_path / "cut.npz"
+    with zipfile.ZipFile(path, "w") as zf:
+        for key in ("box", "positions", "bonds", "shifts", "kinds", "strain"):
+            zf.writestr(f"{key}.npy", cut.getvalue())
+    with pytest.raises(InputError, match="not a readable"):
+        load_instance(path)
+    fifo = tmp_path / "fifo.npz"
+    os.mkfifo(fifo)
+    with pytest.raises(InputError, match="not a regular file"):
+        load_instance(fifo)
+    with pytest.raises(InputError, match="a directory"):
+        load_instance(tmp_path)
 
 
 def test_round_trip(tmp_path):

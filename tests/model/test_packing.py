@@ -24,7 +24,13 @@ from tensegrity_rigidity.model.interop import (
     write_gsd,
 )
 from tensegrity_rigidity.model.network import Element
-from tensegrity_rigidity.model.packing import CRYSTALS, Packing, _pairs_general, _pairs_orthogonal
+from tensegrity_rigidity.model.packing import (
+    CRYSTALS,
+    Packing,
+    _pairs_general,
+    _pairs_orthogonal,
+    reduce_box,
+)
 from tensegrity_rigidity.model.softdisks import soft_packing
 
 
@@ -136,6 +142,26 @@ def test_contacts_at_any_scale(name, scale):
     assert Packing(p.positions * scale, p.radii * scale, p.box * scale).packing_fraction() == (
         pytest.approx(p.packing_fraction(), rel=1e-12)
     )
+
+
+@pytest.mark.parametrize("tilt", [1, 7, 2000])
+def test_a_tilted_box_is_searched_as_its_reduced_lattice(tilt):
+    """A HOOMD tilt of 2e3 listed billions of image shifts (out of memory); the same lattice
+    with short vectors has the same contacts, their shifts in the given vectors."""
+    p = crystal_packing("triangular", 4)
+    box = np.array([p.box[0], p.box[1] + tilt * p.box[0]])
+    net = contact_network(p.positions, p.radii, box)
+    vectors = p.positions[net.bonds[:, 1]] + net.shifts @ box - p.positions[net.bonds[:, 0]]
+    assert net.n_sites == 48 and np.allclose(np.linalg.norm(vectors, axis=1), 1.0)
+    reduced, basis = reduce_box(box)
+    assert abs(round(np.linalg.det(basis))) == 1 and np.allclose(basis @ box, reduced)
+
+
+def test_a_particle_wider_than_its_box_is_refused():
+    """One particle of diameter 1000 in a unit box: millions of self-contacts, a hang."""
+    with pytest.raises(InputError, match="wider than the box"):
+        contact_network([[0.0, 0.0]], [500.0], np.eye(2))
+    assert crystal_packing("triangular", 1).contact_network().n_sites == 3  # touching: kept
 
 
 @pytest.mark.parametrize("tolerance", ["a", None, [0.1], 1j, "0.1", True, 1e300, float("nan")])

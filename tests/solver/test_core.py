@@ -877,3 +877,27 @@ def test_an_unresolved_verdict_names_how_its_solvers_ended():
     assert v.reason == "not resolved"
     assert "lp: verdict LP Iteration limit reached" in v.message
     assert "lp: feasibility LP Iteration limit reached" in v.message
+
+
+def test_a_displacement_bound_below_the_linear_size_is_refused():
+    """``displacement_bound = 1e-2`` (or 1e-300 in a spec) turned floppy samples rigid: every
+    self-stress passed ``w > tau + U r`` with a force residual of 0.25."""
+    from tensegrity_rigidity import InputError, decide, lattice_instance
+    from tensegrity_rigidity.solver.core import linear_size
+
+    inst = lattice_instance(n=8, p_r=0.6, p_t=0.2, phi="shear", seed=4)
+    assert decide(inst).status == "floppy"
+    size = linear_size(inst.network)
+    assert 6 < size < 8  # the box is about 0.87 n bond lengths wide
+    with pytest.raises(InputError, match="below this network's linear size"):
+        decide(inst, SolverOptions(displacement_bound=1e-2))
+    assert decide(inst, SolverOptions(displacement_bound=2 * size)).status == "floppy"
+
+
+def test_a_strain_whose_extensions_underflow_is_refused():
+    """A strain of 1e-322 gave extensions of 0 and the verdict floppy (1e-321 was refused)."""
+    from tensegrity_rigidity import InputError, Instance, decide, lattice_instance
+
+    inst = lattice_instance(n=6, p_r=1.0, seed=1)
+    with pytest.raises(InputError, match="underflows"):
+        decide(Instance(inst.network, np.eye(2) * 1e-322))

@@ -64,11 +64,11 @@ def _run(args) -> int:
     from ..solver.jamming import jamming
 
     path = Path(args.file)
-    if path.suffix == ".gsd":
+    if path.suffix.lower() == ".gsd":
         from ..model.interop import read_gsd
 
         network = read_gsd(path, args.frame).contact_network(tolerance=args.tolerance)
-    elif path.suffix == ".npz":
+    elif path.suffix.lower() == ".npz":
         from ..model.io import load_instance
 
         network = load_instance(path).network

@@ -49,10 +49,11 @@ def add_parser(sub) -> None:
 
 
 def _estimate(args) -> int:
-    from ..ensemble.executors import local_workers
+    from ..ensemble.executors import check_workers, usable_cores
     from ..paper.budget import describe, estimate, expected_errors
 
-    workers = local_workers(args.workers, "--workers")
+    check_workers(args.workers, "--workers")  # nothing runs: any count is priced, not capped
+    workers = usable_cores() if args.workers is None else args.workers
     est = estimate(args.scale, workers, out=args.out)
     print(describe(est, expected_errors(args.scale)))
     on_two = est if workers == 2 else estimate(args.scale, 2, out=args.out)

@@ -24,6 +24,7 @@ import pandas as pd
 from ..errors import InputError
 from ..model.softdisks import DIAMETER_RATIO, soft_packing
 from ..solver.jamming import JammingOptions, jamming
+from .spec import fraction_key
 
 #: Columns of a study row.
 COLUMNS = (
@@ -52,7 +53,7 @@ def sample_rng(seed: int, n: int, phi: float, sample: int) -> np.random.Generato
     numpy.random.Generator
         ``default_rng([seed, n, round(phi 1e6), sample])``.
     """
-    return np.random.default_rng([int(seed), int(n), int(round(phi * 1e6)), int(sample)])
+    return np.random.default_rng([int(seed), int(n), fraction_key(phi), int(sample)])
 
 
 def jamming_row(

@@ -107,6 +107,27 @@ from ..solver.jamming import JammingOptions
 GRID_KEYS = ("n", "delta", "p_r", "p_t", "f_c", "phi", "seed")
 #: the grid of packing mode: particles, packing fraction, seed
 PACKING_KEYS = ("n", "fraction", "seed")
+
+#: Packing fractions enter the seed rounded to this many decimals: two fractions closer than
+#: that would draw the same packings, so a spec must keep them apart.
+FRACTION_DECIMALS = 6
+
+
+def fraction_key(phi: float) -> int:
+    """A packing fraction as the integer that seeds its samples: ``round(phi 10^6)``.
+
+    Parameters
+    ----------
+    phi : float
+        Packing fraction.
+
+    Returns
+    -------
+    int
+    """
+    return int(round(phi * 10**FRACTION_DECIMALS))
+
+
 FLAT_KEYS = GRID_KEYS + ("samples", "verdict", "fraction")
 VERDICTS = ("exact", "paper")
 #: how threshold mode finds a sample's threshold (:func:`~.thresholds.find_threshold`)
@@ -722,6 +743,12 @@ def _packing_spec(data: dict) -> Spec:
         raise SpecError("'n' must be at least 4 particles and 'seed' non-negative")
     if not all(0 < f < 1 for f in grid["fraction"]):
         raise SpecError(f"'fraction' must lie in (0, 1), got {show(grid['fraction'])}")
+    keys = [fraction_key(f) for f in grid["fraction"]]
+    if len(set(keys)) < len(keys):
+        raise SpecError(
+            f"'fraction' values must differ in their first {FRACTION_DECIMALS} decimals (they "
+            f"seed the samples rounded so), got {show(grid['fraction'])}"
+        )
     section = data["packing"]
     dim = _number("[packing] dim", section.get("dim", 2), integer=True)
     ratio = _number("[packing] ratio", section.get("ratio", DIAMETER_RATIO))
@@ -762,6 +789,29 @@ def load_spec(path: str | os.PathLike) -> Spec:
         If the file cannot be read, is not UTF-8 or TOML, or is not a valid spec (one
         sentence, prefixed with the path).
     """
+    return load_spec_text(path)[0]
+
+
+def load_spec_text(path: str | os.PathLike) -> tuple[Spec, str]:
+    """:func:`load_spec`, with the file's text: read once (a pipe, ``<(...)``, reads only once).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The TOML file.
+
+    Returns
+    -------
+    spec : Spec
+        The validated spec.
+    text : str
+        The file's text (kept beside the results as ``_spec.toml``).
+
+    Raises
+    ------
+    SpecError
+        As :func:`load_spec`.
+    """
     if not isinstance(path, (str, os.PathLike)):
         raise SpecError(f"a spec file's path must be a str or path, got {show(path)}")
     path = Path(path)
@@ -774,11 +824,16 @@ def load_spec(path: str | os.PathLike) -> Spec:
             f"{path}: not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset {exc.start}); "
             "TOML files are UTF-8"
         ) from None
+    if text.startswith("\ufeff"):
+        raise SpecError(
+            f"{path}: starts with a byte-order mark (U+FEFF), which TOML does not allow; save it "
+            "as UTF-8 without BOM"
+        )
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"{path}: not valid TOML ({exc})") from None
     try:
-        return parse_spec(data)
+        return parse_spec(data), text
     except SpecError as exc:
         raise SpecError(f"{path}: {exc}") from None

@@ -39,7 +39,6 @@ import json
 import os
 import re
 import socket
-import tomllib
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -545,13 +544,3 @@ def expected_keys(spec: Spec) -> pd.DataFrame:
             "theta": thetas * len(keys),
         }
     )
-
-
-def load_source(path: str | os.PathLike) -> str | None:
-    """The text of a spec file, for ``_spec.toml`` (None when it cannot be read as TOML)."""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-        tomllib.loads(text)
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return None
-    return text

@@ -39,8 +39,8 @@ from ..model.limits import (
 from .executors import open_pool
 from .jamming import sample_seconds
 from .runner import run_chunk
-from .spec import GridPoint, Spec, load_spec
-from .store import ResultStore, load_source
+from .spec import GridPoint, Spec, load_spec_text
+from .store import ResultStore
 from .summary import phi_name
 
 #: memory of one row in a loaded frame (25 columns; measured 218 bytes)
@@ -424,8 +424,7 @@ def run_sweep(
             f"{type(spec).__name__}"
         )
     if not isinstance(spec, Spec):
-        source = load_source(spec)
-        spec = load_spec(spec)
+        spec, source = load_spec_text(spec)
     store = ResultStore(out)
     check_size(spec, out)
     start = time.perf_counter()

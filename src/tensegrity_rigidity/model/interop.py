@@ -15,11 +15,11 @@
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from .io import check_input_file
 from .network import Element, PeriodicNetwork, _as_float_array, check_count, show
 from .packing import Packing
 
@@ -104,9 +104,7 @@ def read_gsd(path: str | os.PathLike, frame: int = -1) -> Packing:
     if isinstance(frame, (bool, np.bool_)) or not isinstance(frame, (int, np.integer)):
         raise InputError(f"frame must be an integer, got {show(frame)}")
     frame = int(frame)
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    path = check_input_file(path, "a GSD file")
     try:
         with gsd.hoomd.open(str(path), mode="r") as trajectory:
             count = len(trajectory)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import os
 import stat
+import tokenize
 import zipfile
 import zlib
 from collections.abc import Iterator
@@ -30,7 +31,43 @@ REQUIRED_KEYS = ("box", "positions", "bonds", "shifts", "kinds", "strain")
 OPTIONAL_KEYS = ("stiffness",)
 
 _NPY_MAGIC = b"\x93NUMPY"
-_READ_ERRORS = (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error)
+_READ_ERRORS = (
+    OSError,
+    ValueError,
+    EOFError,
+    SyntaxError,  # a cut .npy header (NumPy parses it as a Python literal)
+    tokenize.TokenError,
+    zipfile.BadZipFile,
+    zlib.error,
+)
+
+
+def check_input_file(path: str | os.PathLike, what: str) -> Path:
+    """A path to read: an existing regular file (a directory, FIFO or device is refused).
+
+    Parameters
+    ----------
+    path : str or path-like
+        What was passed.
+    what : str
+        What the file should be, for the message ("an instance file").
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InputError
+        When nothing is there, or something other than a regular file.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"{path}: no such file")
+    if not path.is_file():
+        kind = "a directory" if path.is_dir() else "not a regular file (a FIFO or a device?)"
+        raise InputError(f"{path}: is {kind}, not {what}")
+    return path
 
 
 def check_output_file(
@@ -254,11 +291,7 @@ def load_instance(path: str | os.PathLike) -> Instance:
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InputError(f"an instance file's path must be a str or path, got {show(path)}")
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"{path}: is a directory, not an instance file")
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    path = check_input_file(path, "an instance file")
     arrays = _read_npz(path)
     try:
         return Instance.from_arrays(

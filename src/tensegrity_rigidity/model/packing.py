@@ -44,6 +44,11 @@ DEFAULT_CONTACT_TOLERANCE = 1e-9
 MAX_CONTACT_TOLERANCE = 1.0
 #: Two particles closer than this (in mean diameters) sit at the same place: no contact direction.
 SAME_PLACE = 1e-12
+#: A particle wider than the shortest lattice vector by more than this fraction overlaps its own
+#: image (exactly as wide touches it: the one-cell crystal boxes; the slack absorbs round-off).
+OWN_IMAGE_SLACK = 1e-9
+#: Bytes per particle image of the general contact search (coordinates and the tree over them).
+IMAGE_BYTES = 96
 #: Bytes per particle of :func:`crystal_packing` (grid, fractional and Cartesian coordinates,
 #: radius, with room for temporaries), for its memory guard.
 CRYSTAL_BYTES_PER_PARTICLE = 200
@@ -206,12 +211,25 @@ def contact_network(
         )
     slack = tolerance * 2.0 * float(radii.mean())
     cutoff = 2.0 * float(radii.max()) + slack
-    widths = 1.0 / np.linalg.norm(np.linalg.inv(box), axis=0)  # distances between lattice planes
+    reduced, basis = reduce_box(box)
+    shortest = float(np.linalg.norm(reduced, axis=1).min())
+    if 2.0 * float(radii.max()) > shortest * (1.0 + OWN_IMAGE_SLACK):
+        raise InputError(
+            f"particle {int(np.argmax(radii))} is wider than the box (diameter "
+            f"{2.0 * float(radii.max()) * unit:.6g} > shortest lattice vector "
+            f"{shortest * unit:.6g}): it overlaps its own periodic image"
+        )
+    widths = 1.0 / np.linalg.norm(np.linalg.inv(reduced), axis=0)  # between lattice planes
     orthogonal = np.array_equal(box, np.diag(np.diag(box))) and bool(np.all(np.diag(box) > 0))
     if orthogonal and bool(np.all(widths > 2.0 * cutoff)):
         i, j, s = _pairs_orthogonal(positions, np.diag(box), cutoff)
     else:
-        i, j, s = _pairs_general(positions, box, widths, cutoff)
+        i, j, s = _pairs_general(positions, reduced, widths, cutoff)
+        s = s @ basis  # back to the given box's lattice vectors
+        first = np.zeros(len(s), dtype=np.int64)  # a self-contact's shift lexicographically > 0
+        for a in range(s.shape[1] - 1, -1, -1):
+            first = np.where(s[:, a] != 0, s[:, a], first)
+        s = np.where(((i == j) & (first < 0))[:, None], -s, s)
     d = positions[j] + s @ box - positions[i]
     dist = np.sqrt(np.einsum("bi,bi->b", d, d))
     keep = dist - (radii[i] + radii[j]) <= slack
@@ -248,12 +266,48 @@ def _pairs_orthogonal(positions, lengths, cutoff):
     return _canonical(i, j, s)
 
 
+def reduce_box(box: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Short lattice vectors of the same lattice (pairwise Gauss reduction).
+
+    A strongly tilted box (a HOOMD tilt of 200, say) spans the same lattice as a nearly
+    orthogonal one; searched as given, its images within reach of a contact run to billions.
+
+    Parameters
+    ----------
+    box : (d, d) float
+        Lattice vectors as rows.
+
+    Returns
+    -------
+    reduced : (d, d) float
+        ``basis @ box``: no row shortened further by adding a whole multiple of another.
+    basis : (d, d) int64
+        The unimodular integer change of basis (a shift ``s`` in the reduced box is ``s @ basis``
+        in the given one).
+    """
+    reduced = np.array(box, dtype=float)
+    dim = reduced.shape[0]
+    basis = np.eye(dim, dtype=np.int64)
+    changed = True
+    while changed:  # each step strictly shortens a row, so this ends
+        changed = False
+        for a, b in itertools.permutations(range(dim), 2):
+            k = round(float(reduced[a] @ reduced[b]) / float(reduced[b] @ reduced[b]))
+            if k != 0:
+                reduced[a] -= k * reduced[b]
+                basis[a] -= k * basis[b]
+                changed = True
+    return reduced, basis
+
+
 def _pairs_general(positions, box, widths, cutoff):
     """Candidate pairs by a tree over the images of every particle for each shift in reach."""
     frac = positions @ np.linalg.inv(box)
     wrap = np.floor(frac)
     inside = (frac - wrap) @ box
     reach = np.floor(1.0 + cutoff / widths).astype(np.int64)
+    images = math.prod(int(2 * k + 1) for k in reach) * len(positions)
+    check_memory(IMAGE_BYTES * float(images), f"a contact search over {images:,} particle images")
     shifts = np.array(list(itertools.product(*[range(-k, k + 1) for k in reach])), dtype=np.int64)
     n = len(positions)
     images = (inside[None, :, :] + (shifts @ box)[:, None, :]).reshape(-1, box.shape[0])

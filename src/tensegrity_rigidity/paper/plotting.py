@@ -20,9 +20,11 @@ Nothing here selects a Matplotlib backend: :func:`plot_solution` draws on a bare
 from __future__ import annotations
 
 import os
+import shutil
 from pathlib import Path
 from typing import Any
 
+import matplotlib
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.cm import ScalarMappable
@@ -334,7 +336,9 @@ def check_plot_path(path: str | os.PathLike) -> Path:
         link, a device, in a missing directory), or Matplotlib cannot write its format.
     """
     p = check_output_file(path, "the figure path", "network.png")
-    formats = Figure().canvas.get_supported_filetypes()
+    formats = dict(Figure().canvas.get_supported_filetypes())
+    if shutil.which(matplotlib.rcParams["pgf.texsystem"]) is None:
+        formats.pop("pgf", None)  # Matplotlib writes PGF through a TeX installation
     fmt = p.suffix.lstrip(".").lower()
     if fmt not in formats:
         raise InputError(

@@ -21,8 +21,8 @@ import numpy as np
 from ..errors import InputError, UndecidedWarning
 from ..model.limits import check_energy_scale, check_memory, stage_bytes
 from ..model.mechanics import affine_extensions, energy_from_extensions, rigidity_matrix
-from ..model.network import Instance, short_repr, show
-from .certificates import FloppyCertificate, RigidCertificate, undecided_reason
+from ..model.network import Instance, PeriodicNetwork, short_repr, show
+from .certificates import FloppyCertificate, Resolution, RigidCertificate, undecided_reason
 from .displacements import MinimumNorm, minimum_norm
 from .linalg import one_blas_thread
 from .options import SolverOptions
@@ -244,7 +244,13 @@ def _search(instance: Instance, opts: SolverOptions, start, start_tensions=None)
         start_tensions = _starting_point("initial_tensions", start_tensions, (net.n_sites,))
     need = stage_bytes("solve", net.n_nodes, dim=net.dim)
     check_memory(need, f"solving a {net.dim}D network of {net.n_nodes:,} nodes")
+    check_displacement_bound(net, opts.displacement_bound)
     p = Problem(instance, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
+    if p.scale == 0 and np.any(instance.strain):
+        raise InputError(
+            "the strain is not zero but every affine extension underflows to zero in double "
+            "precision; rescale the strain (verdicts do not depend on its magnitude)"
+        )
     check_energy_scale(p.scale, instance.network.stiffness_or_ones()[p.sites])
     u0 = t0 = None
     if start is not None and p.scale > 0:
@@ -253,6 +259,56 @@ def _search(instance: Instance, opts: SolverOptions, start, start_tensions=None)
         t0 = np.asarray(start_tensions, dtype=float)[p.sites]
     s = search(p, opts.resolution, opts.stages, u0, t0, opts.refiner, opts.polish, opts.balance)
     return p, s
+
+
+def linear_size(network: PeriodicNetwork) -> float:
+    """The box's largest width (distance between opposite faces) in median bond lengths.
+
+    A zero-energy displacement that takes up a strain across the box can be that large in units
+    of the largest affine extension, so a smaller displacement bound ``U`` would call floppy
+    networks rigid (docs/model.md, "The resolution model").
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        The network (empty sites count among the bonds).
+
+    Returns
+    -------
+    float
+        ``max_a w_a / median |d_b|`` (0 without bonds).
+    """
+    lengths = network.bond_lengths()
+    if lengths.size == 0:
+        return 0.0
+    unit = float(np.abs(network.box).max())  # widths of the box scaled to 1: no overflow
+    widths = 1.0 / np.linalg.norm(np.linalg.inv(network.box / unit), axis=0)
+    return float(widths.max() * (unit / float(np.median(lengths))))
+
+
+def check_displacement_bound(network: PeriodicNetwork, bound: float) -> None:
+    """Refuse a displacement bound ``U`` below the network's :func:`linear_size`.
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        The network to be decided.
+    bound : float
+        ``SolverOptions.displacement_bound``.
+
+    Raises
+    ------
+    InputError
+        When ``bound < linear_size(network)``.
+    """
+    size = linear_size(network)
+    if bound < size:
+        raise InputError(
+            f"SolverOptions.displacement_bound = {bound:g} is below this network's linear size "
+            f"({size:.3g} bond lengths): its zero-energy displacements can be that large, so "
+            "floppy samples would be called rigid; use at least that (the default is "
+            f"{Resolution.displacement:g})"
+        )
 
 
 def _verdict(p: Problem, s) -> Verdict:

@@ -104,6 +104,11 @@ class SolverOptions:
                 raise InputError(
                     f"SolverOptions.{f.name} must be finite and non-negative, got {show(value)}"
                 )
+        if not self.regularization > 0:
+            raise InputError(
+                f"SolverOptions.regularization must be positive, got {show(self.regularization)}: "
+                "without it the Newton matrix of a floppy network is singular"
+            )
         for name, kind in (("refiner", Refiner), ("tolerances", Tolerances)):
             if not isinstance(getattr(self, name), kind):
                 raise InputError(
