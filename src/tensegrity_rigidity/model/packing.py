@@ -11,7 +11,8 @@ may touch its own images).
 Contacts are found by SciPy's ``cKDTree``: with ``boxsize`` in an orthogonal box at least twice as
 wide as the largest contact distance (each pair touches through one image at most), otherwise on
 the images of the particles for every shift within reach of the cutoff (fractional coordinates
-bound the shifts: a triclinic box, or a box of a few cells).
+bound the shifts: a triclinic box, or a box of a few cells), in the box's Gauss-reduced lattice
+vectors (a strongly tilted box spans the lattice of a nearly orthogonal one).
 """
 
 from __future__ import annotations
