@@ -75,14 +75,16 @@ def quiet_unraisable(hook):
 
 
 @contextmanager
-def deferred() -> Iterator[None]:
+def deferred(deliver: bool = True) -> Iterator[None]:
     """Hold SIGINT and SIGTERM back while the block runs; deliver them after it.
 
     A signal that arrives inside the block is recorded; when the block ends (normally or by
     an exception) the handlers in place before are restored and the first recorded signal is
     passed to its handler (raising :class:`Terminated` or ``KeyboardInterrupt``), or raised
-    again when that handler is the default. Outside the main thread (where handlers cannot be
-    set) the block runs as it is.
+    again when that handler is the default. With ``deliver=False`` the recorded signals are
+    dropped instead: for the clean-up after an interrupt, which a second Ctrl-C or the same
+    SIGTERM sent to the whole process group must not cut short. Outside the main thread (where
+    handlers cannot be set) the block runs as it is.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
@@ -98,7 +100,7 @@ def deferred() -> Iterator[None]:
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
-        if caught:
+        if caught and deliver:
             handler = previous[caught[0]]
             if callable(handler):
                 handler(caught[0], None)

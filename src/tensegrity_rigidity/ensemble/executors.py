@@ -35,6 +35,7 @@ from collections.abc import Callable, Iterable
 from contextlib import contextmanager
 from typing import Any
 
+from .. import interrupts
 from ..errors import SpecError
 
 
@@ -221,13 +222,18 @@ class _LocalPool(Pool):
 def _shutdown(executor: cf.Executor, abort: bool) -> None:
     """Shut an executor down; ``abort`` kills its processes first (nobody will save what they
     compute now)."""
-    if abort:
-        for proc in list((getattr(executor, "_processes", None) or {}).values()):
-            try:
-                proc.kill()
-            except (OSError, ValueError, AttributeError):
-                pass
-    executor.shutdown(wait=True, cancel_futures=True)
+    if not abort:
+        executor.shutdown(wait=True, cancel_futures=True)
+        return
+    for proc in list((getattr(executor, "_processes", None) or {}).values()):
+        try:
+            proc.kill()
+        except (OSError, ValueError, AttributeError):
+            pass
+    # its processes are dead, so this ends; a second Ctrl-C (or the group's SIGTERM reaching
+    # us twice) cutting it short would lose the report of what was saved
+    with interrupts.deferred(deliver=False):
+        executor.shutdown(wait=True, cancel_futures=True)
 
 
 def _serial_pool() -> Pool:

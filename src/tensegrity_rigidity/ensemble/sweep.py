@@ -522,8 +522,9 @@ def run_sweep(
                     save(fut, futures.pop(fut))
                 submit_more()
         except KeyboardInterrupt as exc:
-            pool.cancel(futures)
-            bar.close()
+            with interrupts.deferred(deliver=False):  # a second signal changes nothing now
+                pool.cancel(futures)
+                bar.close()
             raise SweepInterrupted(report(interrupted=True), exc) from None
         bar.close()
         if failed:
