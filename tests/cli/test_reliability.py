@@ -223,6 +223,12 @@ def test_an_estimate_prices_the_workers_asked_for_even_above_the_local_cores(cap
     assert "on 100 worker(s)" in out and "running at most" not in err
 
 
+def test_an_estimate_against_a_file_is_refused(tmp_path, capsys):
+    (tmp_path / "f").write_text("")
+    code = main(["reproduce", "--scale", "tiny", "--estimate", "--out", str(tmp_path / "f")])
+    assert "not a directory" in _one_error(capsys, code)
+
+
 def test_large_delta_warns_in_one_line(tmp_path, capsys):
     spec = tmp_path / "s.toml"
     spec.write_text(textwrap.dedent(SPEC).replace("n = 5", "n = 5\ndelta = 0.49"))

@@ -49,10 +49,15 @@ def add_parser(sub) -> None:
 
 
 def _estimate(args) -> int:
+    from pathlib import Path
+
     from ..ensemble.executors import check_workers, usable_cores
+    from ..errors import InputError
     from ..paper.budget import describe, estimate, expected_errors
 
     check_workers(args.workers, "--workers")  # nothing runs: any count is priced, not capped
+    if args.out is not None and Path(args.out).exists() and not Path(args.out).is_dir():
+        raise InputError(f"--out {args.out}: not a directory (a reproduction's output)")
     workers = usable_cores() if args.workers is None else args.workers
     est = estimate(args.scale, workers, out=args.out)
     print(describe(est, expected_errors(args.scale)))
