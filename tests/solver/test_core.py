@@ -901,3 +901,48 @@ def test_a_strain_whose_extensions_underflow_is_refused():
     inst = lattice_instance(n=6, p_r=1.0, seed=1)
     with pytest.raises(InputError, match="underflows"):
         decide(Instance(inst.network, np.eye(2) * 1e-322))
+
+
+def _one_node(extra_lengths=(), kind=1, height=1e6):
+    """One node in a box (1, 0), (0, height): a rod to its own +x image, plus empty sites to its
+    (0, k) images (lengths k height)."""
+    from tensegrity_rigidity import PeriodicNetwork
+
+    shifts = [[1, 0]] + [[0, k] for k in extra_lengths]
+    kinds = [kind] + [0] * len(extra_lengths)
+    box = np.array([[1.0, 0.0], [0.0, height]])
+    return PeriodicNetwork(box, np.zeros((1, 2)), [[0, 0]] * len(shifts), shifts, kinds)
+
+
+def test_an_empty_site_far_longer_than_the_elements_is_refused_not_read_floppy():
+    """A rod to its own image is exactly rigid under compression (its row of R is zero); an
+    empty site 2e9 long beside it set the tolerance scale and the rod read floppy with u = 0."""
+    from tensegrity_rigidity import InputError, Instance, decide
+
+    strain = -np.eye(2)
+    assert decide(Instance(_one_node(), strain)).status == "rigid"
+    assert decide(Instance(_one_node([1], height=1e5), strain)).status == "rigid"  # resolved
+    with pytest.raises(InputError, match="bond lengths span a factor 2.05e"):
+        decide(Instance(_one_node([2047]), strain))
+
+
+def test_exactly_zero_extensions_are_floppy_not_an_underflow():
+    """xy shear on x and y bonds: every e0 is exactly 0 (u = 0 is a floppy certificate); the
+    underflow check refused it."""
+    from tensegrity_rigidity import Instance, PeriodicNetwork, decide
+
+    net = PeriodicNetwork(np.eye(2), np.zeros((1, 2)), [[0, 0]] * 2, [[1, 0], [0, 1]], [1, 1])
+    assert decide(Instance(net, np.array([[0.0, 1.0], [1.0, 0.0]]))).status == "floppy"
+
+
+def test_a_rigid_verdict_whose_relaxation_leaves_the_bound_says_so():
+    """Two rods zig-zag across a unit box with height 1e-9: the zero-energy mode needs
+    displacements of 2.5e8 extensions, beyond U = 1e8, so the verdict is rigid (within U), and
+    solve() returned energy 0 beside it without a word."""
+    from tensegrity_rigidity import Instance, PeriodicNetwork
+
+    net = PeriodicNetwork(
+        np.eye(2), [[0, 0], [0.5, 1e-9]], [[0, 1], [1, 0]], [[0, 0], [1, 0]], [1, 1]
+    )
+    res = solve(Instance(net, np.array([[1.0, 0.0], [0.0, 0.0]])))
+    assert res.status == "rigid" and "rigid within the displacement bound U = 1e+08" in res.message

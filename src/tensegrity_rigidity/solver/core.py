@@ -245,12 +245,15 @@ def _search(instance: Instance, opts: SolverOptions, start, start_tensions=None)
     need = stage_bytes("solve", net.n_nodes, dim=net.dim)
     check_memory(need, f"solving a {net.dim}D network of {net.n_nodes:,} nodes")
     check_displacement_bound(net, opts.displacement_bound)
+    check_length_range(net, opts.violation_tol)
     p = Problem(instance, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
     if p.scale == 0 and np.any(instance.strain):
-        raise InputError(
-            "the strain is not zero but every affine extension underflows to zero in double "
-            "precision; rescale the strain (verdicts do not depend on its magnitude)"
-        )
+        unit = instance.strain / float(np.abs(instance.strain).max())
+        if np.any(affine_extensions(net, unit)):  # zero only through underflow
+            raise InputError(
+                "the strain is not zero but every affine extension underflows to zero in "
+                "double precision; rescale the strain (verdicts do not depend on its magnitude)"
+            )
     check_energy_scale(p.scale, instance.network.stiffness_or_ones()[p.sites])
     u0 = t0 = None
     if start is not None and p.scale > 0:
@@ -308,6 +311,45 @@ def check_displacement_bound(network: PeriodicNetwork, bound: float) -> None:
             f"({size:.3g} bond lengths): its zero-energy displacements can be that large, so "
             "floppy samples would be called rigid; use at least that (the default is "
             f"{Resolution.displacement:g})"
+        )
+
+
+#: The resolution of the lengths: the shortest bond's affine extension must stay this many
+#: violation tolerances above the largest one's, else its constraint is below the resolution.
+LENGTH_RESOLUTION = 1e3
+
+
+def check_length_range(network: PeriodicNetwork, violation_tol: float) -> None:
+    """Refuse bond lengths that span more than ``1 / (LENGTH_RESOLUTION tau)`` (1e6 by default).
+
+    Tolerances are relative to the largest affine extension over every site (empty ones too, so
+    that a threshold search sees one scale along its path); a bond ``1 / tau`` times shorter than
+    the longest is below that resolution, and a rod across a unit box beside an empty site 2e9
+    long read floppy with ``u = 0``.
+
+    Parameters
+    ----------
+    network : PeriodicNetwork
+        The network.
+    violation_tol : float
+        ``tau`` of the resolution model.
+
+    Raises
+    ------
+    InputError
+        When ``max |d_b| / min |d_b|`` (all sites) exceeds the bound.
+    """
+    lengths = network.bond_lengths()
+    if lengths.size == 0:
+        return
+    ratio = float(lengths.max()) / float(lengths.min())
+    top = 1.0 / (LENGTH_RESOLUTION * violation_tol)
+    if ratio > top:
+        raise InputError(
+            f"bond lengths span a factor {ratio:.3g}, more than {top:.3g}: at violation_tol = "
+            f"{violation_tol:g} relative to the largest affine extension the shortest bonds' "
+            "constraints fall below the resolution (drop empty sites that are much longer than "
+            "the elements, or lower violation_tol)"
         )
 
 
@@ -386,7 +428,8 @@ def solve(
         projected = minimum_norm(relaxed, opts.min_norm)
     if not verdict.decided:
         warnings.warn(f"undecided sample: {verdict.message}", UndecidedWarning, stacklevel=2)
-    return _result(instance, p, verdict, relaxed, projected, time.perf_counter() - start)
+    seconds = time.perf_counter() - start
+    return _result(instance, p, verdict, relaxed, projected, seconds, opts.displacement_bound)
 
 
 def _result(
@@ -396,6 +439,7 @@ def _result(
     relaxed: Relaxation,
     projected: MinimumNorm,
     seconds: float,
+    bound: float,
 ) -> SolveResult:
     """The three levels' results in the instance's physical units."""
     net, pe, k_unit = instance.network, relaxed.problem, relaxed.k_unit
@@ -409,7 +453,15 @@ def _result(
     t_full[p.sites] = relaxed.tensions * k_unit * p.scale
     affine = affine_extensions(net, instance.strain)
     rc, fc = verdict.rigid, verdict.floppy
-    message = "; ".join(x for x in (verdict.message, projected.message) if x)
+    beyond = ""
+    size = float(np.abs(relaxed.u).max(initial=0.0))
+    if verdict.status == "rigid" and size > bound:
+        beyond = (
+            f"rigid within the displacement bound U = {bound:g}: the relaxation lowered the "
+            f"energy with displacements of size {size:.3g} beyond it (units of the largest "
+            "affine extension), where the resolution model does not look (docs/model.md)"
+        )
+    message = "; ".join(x for x in (verdict.message, projected.message, beyond) if x)
     factorizations = p.factorizations + (pe.factorizations if pe is not p else 0)
     return SolveResult(
         energy=float(relaxed.energy * e_unit),
