@@ -148,3 +148,18 @@ def test_info_on_the_output_of_reproduce_summarises_its_sweeps(tmp_path, capsys)
     assert "... 1 more sweep (--rows to show them)" in capsys.readouterr().out
     assert main(["info", str(out / "studies" / "fig_a")]) == 0  # one sweep: as before
     assert "grid sweep, 2 grid points x 3 samples" in capsys.readouterr().out
+
+
+def test_info_names_the_threshold_method(tmp_path, capsys):
+    """info printed "path p_r, solver defaults" for a pebble sweep and an lp one alike (and the
+    options of a solver the pebble game never calls)."""
+    from tensegrity_rigidity.ensemble.spec import parse_spec
+    from tensegrity_rigidity.ensemble.sweep import run_sweep
+
+    for method in ("pebble", "lp"):
+        spec = {"n": 4, "samples": 2, "threshold": {"path": "p_r", "method": method}}
+        run_sweep(parse_spec(spec), tmp_path / method, executor="serial", progress=False)
+        assert main(["info", str(tmp_path / method)]) == 0
+        text = capsys.readouterr().out
+        solver = "unused" if method == "pebble" else "defaults"
+        assert f"path p_r by {method}" in text and f"solver {solver}," in text

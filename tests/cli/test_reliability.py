@@ -136,7 +136,8 @@ def test_solve_output_to_a_full_device(instance_file):
 
 
 def test_solve_into_a_closed_pipe(instance_file):
-    """``solve FILE | head``: the reader is gone before the output is written."""
+    """``solve FILE | head``: the reader is gone before the output is written. It printed
+    "error: the output pipe was closed" with status 2, noise after ``info DIR | head -1``."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "tensegrity_rigidity", "solve", str(instance_file), "--json"],
         stdout=subprocess.PIPE,
@@ -146,8 +147,7 @@ def test_solve_into_a_closed_pipe(instance_file):
     proc.stdout.close()
     err = proc.stderr.read().strip()
     proc.wait(timeout=60)
-    assert proc.returncode == 2 and len(err.splitlines()) == 1, err
-    assert "Traceback" not in err and "pipe was closed" in err
+    assert proc.returncode == 141 and err == "", err  # silent, as the shell's own tools
 
 
 def test_solve_json_has_no_nan_or_infinity(capsys, instance_file, monkeypatch):

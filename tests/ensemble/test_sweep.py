@@ -18,7 +18,7 @@ import pytest
 from tensegrity_rigidity.cli.main import main
 from tensegrity_rigidity.ensemble.spec import load_spec, parse_spec
 from tensegrity_rigidity.ensemble.sweep import load_results, run_sweep
-from tensegrity_rigidity.errors import SpecError
+from tensegrity_rigidity.errors import InputError, SpecError
 
 SPEC = """
 n = 6
@@ -160,6 +160,7 @@ def _frame_of_fresh(spec, out):
         ("[strain]\ngamma = 2.0\n", "gamma"),
         ("[strain]\nangles = 'uniform'\n", "angles"),
         ("[lattice]\nkind = 'square'\n", "lattice"),
+        ("[solver]\nmax_iter = 7\n", "solver.max_iter: 40 there, 7 in this spec"),
     ],
 )
 def test_other_settings_into_same_dir_are_refused(tmp_path, capsys, change, named):
@@ -329,3 +330,28 @@ def test_rows_name_their_strain_beside_phi_without_storing_it(tmp_path):
     assert names == {0.0: "dilation", np.pi / 2: "shear", np.pi: "compression", 0.5: "0.5"}
     assert "strain" not in ResultStore(tmp_path / "s").read()
     assert rows.phi.dtype == float
+
+
+def test_close_angles_keep_their_own_names_and_load_results_reads_a_spec_file(tmp_path):
+    """0.70001 and 0.70004 were both named "0.7" (a groupby merged them); ``spec="g.toml"``
+    raised AttributeError, and another sweep's spec gave an empty frame without a word."""
+    text = "n = 4\np_r = 0.6\nphi = [0.70001, 0.70004]\nsamples = 2\n"
+    path = _write(tmp_path, text, "g.toml")
+    run_sweep(path, tmp_path / "s", executor="serial", progress=False)
+    rows = load_results(tmp_path / "s", spec=path)
+    assert sorted(set(rows.strain)) == ["0.70001", "0.70004"] and len(rows) == 4
+    other = _write(tmp_path, text.replace("n = 4", "n = 5"), "other.toml")
+    with pytest.raises(InputError, match="holds no row of the spec given"):
+        load_results(tmp_path / "s", spec=other)
+    with pytest.raises(InputError, match="a Spec or a TOML file's path"):
+        load_results(tmp_path / "s", spec=3)  # type: ignore[arg-type]
+
+
+def test_a_refusal_names_the_setting_in_a_line_even_when_a_whole_solver_differs(tmp_path):
+    """A pebble directory resumed with an lp spec printed 4,000 characters of solver options
+    and called the lp spec's method "(absent)"."""
+    from tensegrity_rigidity.ensemble.store import _differences
+
+    diff = _differences({"solver": None, "method": "pebble"}, {"solver": {"a": "x" * 500}})
+    assert diff[0] == "method: 'pebble' there, the default in this spec"
+    assert len(diff[1]) < 160 and diff[1].startswith("solver: the default there, {")

@@ -44,7 +44,12 @@ def _run(args) -> int:
     grid = ", ".join(f"{k} = {values(k)}" for k in spec.grid)
     print(f"{args.dir}: {spec.mode} sweep, {spec.n_points()} grid points x {spec.samples} samples")
     print(f"  grid      {grid}")
-    path = f", path {spec.threshold['path']}" if spec.threshold else ""
+    path = ""
+    if spec.threshold:
+        method = spec.threshold.get("method", "lp")
+        path = f", path {spec.threshold['path']} by {method}"
+        if method == "pebble":  # the pebble game solves nothing: no solver options apply
+            path += " (combinatorial)"
     axes = "SO(3) sequence rotations" if spec.lattice == "fcc" else f"{spec.angles} angles"
     if spec.packing is not None:
         dim, ratio = spec.packing["dim"], spec.packing["ratio"]
@@ -53,7 +58,7 @@ def _run(args) -> int:
     else:
         print(
             f"  settings  {spec.lattice} lattice, gamma = {spec.gamma:g}, {axes}"
-            f"{path}, solver {spec.solver or 'defaults'}, chunks of {spec.chunk_size}"
+            f"{path}, solver {_solver(spec)}, chunks of {spec.chunk_size}"
         )
     print(
         f"  done      {d['done']} of {d['total']} samples ({d['undecided']} undecided); "
@@ -139,3 +144,12 @@ def _reproduction(root: Path, sweeps: list[Path], max_rows: int) -> int:
         more = len(lines) - max_rows
         print(f"... {more} more {'sweep' if more == 1 else 'sweeps'} (--rows to show them)")
     return 0
+
+
+def _solver(spec) -> str:
+    """The solver options a spec sets, in a line ("defaults", "unused" for the pebble game)."""
+    from ..model.network import show
+
+    if spec.threshold and spec.threshold.get("method") == "pebble":
+        return "unused"
+    return show(spec.solver) if spec.solver else "defaults"

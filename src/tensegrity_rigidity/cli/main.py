@@ -11,11 +11,12 @@
 Exit status and messages:
 
 * 0: done;
-* 2: the user's to fix (bad input, a busy or unusable directory, a full disk, a closed output
-  pipe): one line ``error: ...`` on stderr, never a traceback;
+* 2: the user's to fix (bad input, a busy or unusable directory, a full disk): one line
+  ``error: ...`` on stderr, never a traceback;
 * 1: work failed (a chunk raised, a worker or the Dask scheduler died): one line ``error: ...``
   with a resume hint, finished work saved;
-* 130 / 143: interrupted by Ctrl-C / SIGTERM, finished work saved.
+* 130 / 143: interrupted by Ctrl-C / SIGTERM, finished work saved;
+* 141: the output pipe closed early (``info DIR | head``), silently, as the shell's own tools.
 
 Warnings are printed as one line each, ``warning: ...``.
 """
@@ -263,6 +264,10 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     print(f"warning: {text}", file=sys.stderr if file is None else file)
 
 
+#: Exit status when the output pipe closed early: 128 + SIGPIPE, as a shell reports a process
+#: that SIGPIPE killed.
+CLOSED_PIPE = 141
+
 #: Signals held back while the command line starts (see :func:`main`).
 _START_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
@@ -336,12 +341,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return int(getattr(exc, "exit_status", 2))
     except BrokenPipeError:
-        # stdout was closed early (``... | head``): silence the final flush, say it once
+        # stdout was closed early (``... | head``): the reader has what it wanted; silence the
+        # final flush and end as a process killed by SIGPIPE would (128 + 13)
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         os.close(devnull)
-        print("error: the output pipe was closed before all output was written", file=sys.stderr)
-        return 2
+        return CLOSED_PIPE
     except OSError as exc:  # a full disk, a read-only file system, ... while writing output
         where = f" ({exc.filename})" if exc.filename else ""
         print(f"error: {exc.strerror or exc}{where}", file=sys.stderr)

@@ -49,6 +49,7 @@ import pyarrow.parquet as pq
 from filelock import FileLock, Timeout
 
 from ..errors import InputError, SpecError
+from ..model.network import show
 from .spec import Spec, parse_spec
 
 FORMAT = 2
@@ -183,15 +184,24 @@ def spec_from_canonical(canonical: dict) -> Spec:
 
 
 def _differences(old: dict, new: dict, prefix: str = "") -> list[str]:
-    """Settings that differ, as "name: old -> new" phrases."""
+    """Settings that differ, as "name: old there, new in this spec" phrases, each value cut to a
+    few words (a whole solver's options would fill a screen)."""
     out = []
     for key in sorted(set(old) | set(new)):
-        a, b = old.get(key, "(absent)"), new.get(key, "(absent)")
+        a, b = old.get(key, _DEFAULT), new.get(key, _DEFAULT)
         if isinstance(a, dict) and isinstance(b, dict):
             out += _differences(a, b, f"{prefix}{key}.")
         elif a != b:
-            out.append(f"{prefix}{key}: {a!r} there, {b!r} in this spec")
+            out.append(f"{prefix}{key}: {_shown(a)} there, {_shown(b)} in this spec")
     return out
+
+
+#: A setting a spec leaves at its default is absent from its settings.
+_DEFAULT = object()
+
+
+def _shown(value) -> str:
+    return "the default" if value is _DEFAULT or value is None else show(value)
 
 
 class ResultStore:

@@ -76,12 +76,13 @@ def phi_name(phi: float) -> str:
     Returns
     -------
     str
-        "dilation", "shear", "compression", or the angle to 4 significant digits.
+        "dilation", "shear", "compression", or the angle to 12 significant digits (fewer
+        merged grid points: 0.70001 and 0.70004 both read "0.7").
     """
     for name, value in NAMED_STRAINS.items():
         if math.isclose(phi, value, abs_tol=1e-12):
             return name
-    return f"{phi:.4g}"
+    return f"{phi:.12g}"
 
 
 def format_table(table: pd.DataFrame, max_rows: int = 40) -> str:

@@ -535,7 +535,7 @@ def run_sweep(
 
 
 def load_results(
-    out: str | os.PathLike, spec: Spec | None = None, all_rows: bool = False
+    out: str | os.PathLike, spec: Spec | str | os.PathLike | None = None, all_rows: bool = False
 ) -> pd.DataFrame:
     """Rows of a sweep directory, sorted by grid point and sample.
 
@@ -543,8 +543,9 @@ def load_results(
     ----------
     out : path
         Results directory.
-    spec : Spec, optional
-        Return the rows of this spec; default the latest spec run into ``out``.
+    spec : Spec or path, optional
+        Return the rows of this spec (or of the TOML file at this path); default the latest
+        spec run into ``out``.
     all_rows : bool
         Return every row in ``out`` (also those of earlier, larger specs).
 
@@ -552,13 +553,19 @@ def load_results(
     -------
     pandas.DataFrame
         One row per sample (empty when there are none). Beside ``phi`` (radians), ``strain``
-        names it: "dilation", "shear", "compression", or the angle to 4 digits.
+        names it: "dilation", "shear", "compression", or the angle to 12 digits.
 
     Raises
     ------
     InputError
-        When ``out`` is not a results directory or one of its parts is damaged.
+        When ``out`` is not a results directory or one of its parts is damaged, or holds no
+        row of the ``spec`` given (another sweep's directory).
     """
+    if spec is not None and not isinstance(spec, Spec):
+        if not isinstance(spec, (str, os.PathLike)):
+            kind = type(spec).__name__
+            raise InputError(f"spec must be a Spec or a TOML file's path, got a {kind}")
+        spec = load_spec_text(spec)[0]
     store = ResultStore(out)
     if not store.root.is_dir():
         raise InputError(f"{store.root}: no such results directory")
@@ -566,9 +573,15 @@ def load_results(
     if df.empty:
         return df
     if not all_rows:
+        given = spec is not None
         spec = spec or _recorded_spec(store)
         if spec is not None:
             df = store.rows_of(spec, df)
+        if given and df.empty:
+            raise InputError(
+                f"{store.root} holds no row of the spec given (another sweep's directory, or "
+                "other settings): pass all_rows=True to read every row"
+            )
     keys = [c for c in ("n", "delta", "p_r", "p_t", "f_c", "phi", "fraction", "seed", "sample")
             if c in df]  # fmt: skip
     df = df.sort_values(keys, kind="stable").reset_index(drop=True)
