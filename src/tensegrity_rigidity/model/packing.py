@@ -227,10 +227,7 @@ def contact_network(
     else:
         i, j, s = _pairs_general(positions, reduced, widths, cutoff)
         s = s @ basis  # back to the given box's lattice vectors
-        first = np.zeros(len(s), dtype=np.int64)  # a self-contact's shift lexicographically > 0
-        for a in range(s.shape[1] - 1, -1, -1):
-            first = np.where(s[:, a] != 0, s[:, a], first)
-        s = np.where(((i == j) & (first < 0))[:, None], -s, s)
+        s = np.where(((i == j) & (_first_nonzero(s) < 0))[:, None], -s, s)  # lexicographically > 0
     d = positions[j] + s @ box - positions[i]
     dist = np.sqrt(np.einsum("bi,bi->b", d, d))
     keep = dist - (radii[i] + radii[j]) <= slack
@@ -246,11 +243,16 @@ def contact_network(
 
 def _canonical(i, j, s):
     """Keep each contact once: ``i < j``, or ``i == j`` with ``s`` lexicographically positive."""
-    first = np.zeros(len(s), dtype=np.int64)
-    for a in range(s.shape[1] - 1, -1, -1):  # the first non-zero component, read backwards
-        first = np.where(s[:, a] != 0, s[:, a], first)
-    keep = (i < j) | ((i == j) & (first > 0))
+    keep = (i < j) | ((i == j) & (_first_nonzero(s) > 0))
     return i[keep], j[keep], s[keep]
+
+
+def _first_nonzero(s):
+    """The first non-zero component of each row of ``s`` (0 for a zero row)."""
+    first = np.zeros(len(s), dtype=np.int64)
+    for a in range(s.shape[1] - 1, -1, -1):  # read backwards: the first one written last
+        first = np.where(s[:, a] != 0, s[:, a], first)
+    return first
 
 
 def _pairs_orthogonal(positions, lengths, cutoff):
