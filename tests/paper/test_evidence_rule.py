@@ -180,3 +180,13 @@ def test_the_finite_size_extrapolations_carry_the_sizes_they_rest_on():
     p = fss.PARAMS["fss"]
     assert fss._sizes(p, KEY) == tuple(p.sizes) == (8, 16, 32, 64)
     assert fss._sizes(p, "rods_only_pc") == p.pc_sizes
+
+
+def test_an_extrapolation_without_a_value_leaves_its_factor_unresolved():
+    """alpha at p_t = 0.3 under dilation: no law fitted the sizes (no value), and the reason
+    still said "not by finite size (tested over n = 8, 16, 32, 64)"."""
+    none = Measurement.scalar(KEY, float("nan"), float("nan"), "n = 8-64", factor="finite size",
+                              label="n -> inf", sizes=(8, 16, 32, 64))  # fmt: skip
+    row = _row(OURS, none)
+    assert "not by finite size" not in row.reason
+    assert "unresolved: finite size (tested over n = 8, 16, 32, 64)" in row.reason

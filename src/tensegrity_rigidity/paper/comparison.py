@@ -594,7 +594,11 @@ def _reason_disagree(z: float, evidence: list[Evidence]) -> str:
     extrapolation was tested over. A control row tells nothing about its factor: a factor
     with only controls is not yet tested."""
     untested = (WORDS.label("untested"), WORDS.label("reads.none"))
-    inconclusive = WORDS.label("reads.inconclusive", times=RESOLVES_WITHIN)
+    # measured without a resolved value (an extrapolation no law fits): unresolved, not "not by"
+    unresolved = (
+        WORDS.label("reads.inconclusive", times=RESOLVES_WITHIN),
+        WORDS.label("reads.none"),
+    )
     by: dict[str, list[str]] = {k: [] for k in KINDS}
     sizes: dict[str, set[int]] = {}
     factors = [e.factor for e in evidence if e.factor != REPLICATION]
@@ -604,7 +608,7 @@ def _reason_disagree(z: float, evidence: list[Evidence]) -> str:
         sizes.setdefault(e.factor, set()).update(e.sizes)
         kind = ("accounted" if e.credited
                 else "untested" if e.verdict in untested
-                else "unresolved" if e.verdict.startswith(inconclusive) else "not_by")  # fmt: skip
+                else "unresolved" if e.verdict.startswith(unresolved) else "not_by")  # fmt: skip
         if e.factor not in by[kind]:
             by[kind].append(e.factor)
     listed = {f for names in by.values() for f in names}
