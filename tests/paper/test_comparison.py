@@ -370,3 +370,10 @@ def test_the_single_node_text_and_its_claim_quote_one_largest_deviation():
     (m,) = fig3.claims(r)
     quoted = _ours(m, CLAIMS["single_node"])
     assert f"{fig3.numbers(r)['largest_z']:.2f}" in quoted
+
+
+def test_a_report_without_claims_writes_the_comparison_header():
+    """Six reports wrote comparison.csv as one byte, read back as a table without columns."""
+    df = comparison_frame([])
+    assert list(df.columns[:7]) == ["key", "claim", "paper", "ours", "system", "z", "verdict"]
+

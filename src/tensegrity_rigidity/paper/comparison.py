@@ -18,7 +18,7 @@ compared") states the rules in full.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
 import pandas as pd
@@ -679,10 +679,12 @@ def evidence_frame(row: ComparisonRow) -> pd.DataFrame:
 
 def comparison_frame(rows: list[ComparisonRow]) -> pd.DataFrame:
     """The rows as a table (every field but the evidence rows, one column each); z rounded
-    for display."""
-    df = pd.DataFrame([{k: v for k, v in asdict(r).items() if k != "evidence"} for r in rows])
-    if len(df):
-        df["z"] = df.z.round(2)
+    for display; a report that compares no claim gets the header alone (an empty file read
+    as having no columns)."""
+    columns = [f.name for f in fields(ComparisonRow) if f.name != "evidence"]
+    df = pd.DataFrame([{k: v for k, v in asdict(r).items() if k != "evidence"} for r in rows],
+                      columns=columns)  # fmt: skip
+    df["z"] = df.z.astype(float).round(2)
     return df
 
 

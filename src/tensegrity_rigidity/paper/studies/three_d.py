@@ -428,7 +428,17 @@ def _envelope(r: ThreeDResult) -> dict:
             "env_x_lo": float(X_3D[0]), "env_x_hi": float(X_3D[-1]), "env_allowed": e.allowed,
             "env_fits": len(e.fits), "env_n_mins": sorted({int(f.n_min) for f in e.fits}),
             "env_x_low": e.x_low, "env_x_high": e.x_high,
+            "env_at_ends": "" if (e.x_low, e.x_high) == (X_3D[0], X_3D[-1]) else None,
             "env_z": an.agreement_z(e.value, e.err**2, PC_3D_CHECK.value, 0.0)}  # fmt: skip
+
+
+def envelope_table(r: ThreeDResult) -> pd.DataFrame | None:
+    """Every fit of the exponent-agnostic p_c: smallest size, exponent, limit, chi-square and
+    whether the data allow it (the report quotes their range)."""
+    e = r.pc_envelope
+    if e is None:
+        return None
+    return pd.DataFrame([vars(f) for f in e.fits])
 
 
 def _binomial(r: ThreeDResult) -> dict:
@@ -547,5 +557,5 @@ STUDY = Study(
     name=NAME, params=PARAMS, default=Params(), sweeps=sweeps, analyse=analyse, claims=claims,
     cost=cost, numbers=numbers, figures=figures, report_tables=report_tables,
     tables=lambda r: {"three_d_by_size": r.by_size, "three_d_extrapolated": r.extrapolated,
-                      "three_d_beside_2d": beside_2d(r)},
+                      "three_d_beside_2d": beside_2d(r), "three_d_pc_envelope": envelope_table(r)},
 )  # fmt: skip
