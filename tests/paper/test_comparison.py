@@ -376,4 +376,3 @@ def test_a_report_without_claims_writes_the_comparison_header():
     """Six reports wrote comparison.csv as one byte, read back as a table without columns."""
     df = comparison_frame([])
     assert list(df.columns[:7]) == ["key", "claim", "paper", "ours", "system", "z", "verdict"]
-

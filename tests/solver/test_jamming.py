@@ -201,3 +201,41 @@ def test_packings_at_their_jamming_onset_are_jammed_and_isostatic(dim, n):
         # one contact fewer and the backbone is floppy: a flex or an opening motion
         nudged = _with_contacts_removed(sp.packing.contact_network(tolerance=0), 1, seed)
         assert jamming(nudged).status == "unjammed"
+
+
+@pytest.mark.parametrize("name, cells", [("square", (2, 1)), ("square", (3, 1)), ("sc", (2, 1, 1))])
+def test_a_contact_with_its_own_image_does_not_hold_a_particle_locally(name, cells):
+    """A box one cell wide along x: each particle touches its own x-images, which move with it,
+    so it slides along x alone. The local test held the image fixed and said jammed."""
+    net = crystal_packing(name, cells).contact_network()
+    assert np.any(net.bonds[:, 0] == net.bonds[:, 1])
+    result = jamming(net, "local")
+    assert result.status == "unjammed" and result.certificate.accepted
+
+
+def _lowered(eps):
+    """A triangular crystal of 36 with particle 14's contacts at 60, 240 and 300 degrees removed
+    and 14 lowered by eps: moving it alone downwards opens its three contacts."""
+    p = crystal_packing("triangular", 6)
+    net = p.contact_network()
+    d = p.positions[net.bonds[:, 1]] + net.shifts @ p.box - p.positions[net.bonds[:, 0]]
+    angle = np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 360
+    out = ((net.bonds[:, 0] == 14) & np.isin(np.round(angle), [60, 240, 300])) | (
+        (net.bonds[:, 1] == 14) & np.isin(np.round(angle), [240, 60, 120])  # seen from the other
+    )
+    q = p.positions.copy()
+    q[14, 1] -= eps
+    return PeriodicNetwork(p.box, q, net.bonds[~out], net.shifts[~out], net.kinds[~out])
+
+
+@pytest.mark.parametrize("eps", [1e-9, 1e-10])
+def test_a_particle_free_alone_unjams_the_packing_collectively_and_strictly(eps):
+    """The local test certified the motion while the collective and strict searches stopped at
+    "not resolved" (openings of order eps); the local motion is a motion of theirs too."""
+    net = _lowered(eps)
+    assert np.sum(net.bonds == 14) == 3
+    for kind in ("local", "collective", "strict"):
+        result = jamming(net, kind)
+        assert result.status == "unjammed", (kind, result.message)
+        u = result.certificate.displacements
+        assert np.abs(u[14]).max() > 0.5 * np.abs(u).max()  # particle 14 carries the motion
