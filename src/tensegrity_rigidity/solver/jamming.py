@@ -300,15 +300,15 @@ class _System:
         if kind == "local":  # each contact once per end, its neighbour held fixed
             # a particle's own image moves with it: that contact blocks nothing (a square box of
             # one cell along x let its particle slide along x, and read locally jammed)
-            k = np.flatnonzero(i != j)
-            rows = np.arange(2 * k.size)
-            ends = np.r_[i[k], j[k]]
-            values = np.r_[-nhat[k], nhat[k]]
-            self.sites = np.r_[sites[k], sites[k]]
+            two = np.flatnonzero(i != j)
+            rows = np.arange(2 * two.size)
+            ends = np.r_[i[two], j[two]]
+            values = np.r_[-nhat[two], nhat[two]]
+            self.sites = np.r_[sites[two], sites[two]]
             coo_r = np.repeat(rows, dim)
             coo_c = (dim * ends[:, None] + axes).ravel()
             coo_v = values.ravel()
-            self.n_rows, self.n_cols, self.q = 2 * k.size, dim * nodes.size, 0
+            self.n_rows, self.n_cols, self.q = 2 * two.size, dim * nodes.size, 0
         else:
             moving = i != j  # a contact with its own image: the particle's displacement cancels
             r = np.flatnonzero(moving)
