@@ -317,3 +317,17 @@ def test_the_backbone_is_what_a_strain_stresses_at_the_threshold(n, sample):
     assert t[backbone].min() > 100 * t[~backbone].max()
     if (n, sample) in ((16, 8), (32, 3)):
         assert sc.backbone.sum() < sc.stressed.sum()
+
+
+def test_bonds_of_a_lone_node_to_its_own_images_are_one_body():
+    """Two bonds of node 1 to its own images (and nothing else at it) got labels 1 and 2, while
+    on a node with other bonds they join that node's cluster."""
+    net = PeriodicNetwork(
+        np.eye(2) * 3.0,
+        [[0.3, 0.4], [1.7, 2.1]],
+        [[0, 0], [1, 1], [1, 1]],
+        [[2, 2], [-2, 0], [2, 1]],
+        [Element.ROD] * 3,
+    )
+    labels = rigid_clusters(net).labels
+    assert labels[1] == labels[2] != labels[0]

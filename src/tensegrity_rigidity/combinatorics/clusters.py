@@ -59,6 +59,27 @@ class RigidClusters:
         return int(self.labels.max(initial=-1)) + 1
 
 
+def _lone_nodes_one_body(raw: np.ndarray, sites: np.ndarray, eu: np.ndarray,
+                         ev: np.ndarray) -> np.ndarray:  # fmt: skip
+    """Bonds of a node to its own images, on a node with no other bond, as one body: the node.
+
+    The kernel gives each such bond a label of its own there (and the node's cluster's label
+    on a node that has other bonds), so that two bonds of one lone node read as two bodies.
+    """
+    self_bond = eu[sites] == ev[sites]
+    if not self_bond.any():
+        return raw
+    out = raw.copy()
+    other = np.zeros(int(max(eu.max(initial=0), ev.max(initial=0))) + 1, dtype=bool)
+    other[eu[sites[~self_bond]]] = other[ev[sites[~self_bond]]] = True
+    first: dict[int, int] = {}
+    for b in sites[self_bond]:
+        node = int(eu[b])
+        if not other[node]:
+            out[b] = out[first.setdefault(node, int(b))]
+    return out
+
+
 def _as_network(network) -> PeriodicNetwork:
     if isinstance(network, Instance):
         return network.network
@@ -307,7 +328,8 @@ def rigid_clusters(network: PeriodicNetwork | Instance, as_rods: bool = False) -
     status, first, out, over = pebble.play(net.n_nodes, eu, ev, gx, gy, sites, False, True, NO_COMP)
     independent = status[sites] == pebble.INDEPENDENT
     seeds = np.r_[sites[independent], sites[~independent]]
-    raw = pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, seeds, out)
+    raw = _lone_nodes_one_body(pebble.label_clusters(net.n_nodes, eu, ev, gx, gy, seeds, out),
+                               sites, eu, ev)  # fmt: skip
     labels = np.full(net.n_sites, -1, dtype=np.int64)
     if sites.size:
         # renumber by first site: labels do not depend on the seeding order
