@@ -648,6 +648,10 @@ def test_the_pc_scale_runs_the_pebble_game_and_measures_the_clusters(pebble_run,
     assert (rows.solves == 0).all() and (rows.cluster_nodes <= 100).all()
     assert (rows.stressed_sites <= rows.cluster_sites).all() and (rows.stressed_sites > 0).all()
     assert set(r.extrapolated.key) == {"rods_only_pc"} and r.pc_widths is not None
+    # the widths the report quotes are in a table of their own (they were in its prose only)
+    widths = fsm.tables(r)["pc_widths"]
+    assert list(widths.n) == [5, 6, 8, 10] and np.allclose(widths.width, r.pc_widths.width)
+    assert (widths.p_c == r.pc_widths.p_c).all()
     f = r.fractal
     assert set(f.cluster) == {"rigid", "stressed", "backbone"} and set(f.mass) == {"nodes", "sites"}
     # the backbone is a stressed region of the spanning cluster: never heavier than the

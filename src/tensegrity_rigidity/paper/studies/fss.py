@@ -1221,8 +1221,21 @@ def tables(r: FiniteSizeResult) -> dict:
            "fss_pcrit_first_positive": None if r.paper_pcrit is None or not len(r.paper_pcrit)
            else r.paper_pcrit,
            "pc_calibration_fits": None if r.pc_calibration is None
-           else calibration_table(r.pc_calibration)}  # fmt: skip
+           else calibration_table(r.pc_calibration),
+           "pc_widths": widths_table(r.pc_widths)}  # fmt: skip
     return {k: v for k, v in out.items() if v is not None}
+
+
+def widths_table(w: an.WidthScaling | None) -> pd.DataFrame | None:
+    """The widths reading the report quotes: per size the standard deviation of the rods-only
+    thresholds and their P = 1/2 point, with nu and p_c from them (each with its chi-square)
+    repeated on every row."""
+    if w is None:
+        return None
+    return pd.DataFrame({"n": w.n, "width": w.width, "width_err": w.width_err,
+                         "centre": w.centre, "centre_err": w.centre_err, "nu": w.nu,
+                         "nu_err": w.nu_err, "nu_chi2": w.nu_chi2, "p_c": w.p_c,
+                         "p_c_err": w.p_c_err, "p_c_chi2": w.p_c_chi2})  # fmt: skip
 
 
 def cost(scale: Scale, costs) -> float:
