@@ -244,8 +244,9 @@ def _search(instance: Instance, opts: SolverOptions, start, start_tensions=None)
         start_tensions = _starting_point("initial_tensions", start_tensions, (net.n_sites,))
     need = stage_bytes("solve", net.n_nodes, dim=net.dim)
     check_memory(need, f"solving a {net.dim}D network of {net.n_nodes:,} nodes")
-    check_displacement_bound(net, opts.displacement_bound)
-    check_length_range(net, opts.violation_tol)
+    lengths = net.bond_lengths()  # both checks read them
+    check_displacement_bound(net, opts.displacement_bound, lengths)
+    check_length_range(net, opts.violation_tol, lengths)
     p = Problem(instance, opts.regularization, opts.factorization, True, tolerances=opts.tolerances)
     if p.scale == 0 and np.any(instance.strain):
         unit = instance.strain / float(np.abs(instance.strain).max())
@@ -264,7 +265,7 @@ def _search(instance: Instance, opts: SolverOptions, start, start_tensions=None)
     return p, s
 
 
-def linear_size(network: PeriodicNetwork) -> float:
+def linear_size(network: PeriodicNetwork, lengths: np.ndarray | None = None) -> float:
     """The box's largest width (distance between opposite faces) in median bond lengths.
 
     A zero-energy displacement that takes up a strain across the box can be that large in units
@@ -275,13 +276,15 @@ def linear_size(network: PeriodicNetwork) -> float:
     ----------
     network : PeriodicNetwork
         The network (empty sites count among the bonds).
+    lengths : (m,) float, optional
+        Its bond lengths, when already at hand.
 
     Returns
     -------
     float
         ``max_a w_a / median |d_b|`` (0 without bonds).
     """
-    lengths = network.bond_lengths()
+    lengths = network.bond_lengths() if lengths is None else lengths
     if lengths.size == 0:
         return 0.0
     unit = float(np.abs(network.box).max())  # widths of the box scaled to 1: no overflow
@@ -289,7 +292,9 @@ def linear_size(network: PeriodicNetwork) -> float:
     return float(widths.max() * (unit / float(np.median(lengths))))
 
 
-def check_displacement_bound(network: PeriodicNetwork, bound: float) -> None:
+def check_displacement_bound(
+    network: PeriodicNetwork, bound: float, lengths: np.ndarray | None = None
+) -> None:
     """Refuse a displacement bound ``U`` below the network's :func:`linear_size`.
 
     Parameters
@@ -298,13 +303,15 @@ def check_displacement_bound(network: PeriodicNetwork, bound: float) -> None:
         The network to be decided.
     bound : float
         ``SolverOptions.displacement_bound``.
+    lengths : (m,) float, optional
+        Its bond lengths, when already at hand.
 
     Raises
     ------
     InputError
         When ``bound < linear_size(network)``.
     """
-    size = linear_size(network)
+    size = linear_size(network, lengths)
     if bound < size:
         raise InputError(
             f"SolverOptions.displacement_bound = {bound:g} is below this network's linear size "
@@ -319,7 +326,9 @@ def check_displacement_bound(network: PeriodicNetwork, bound: float) -> None:
 LENGTH_RESOLUTION = 1e3
 
 
-def check_length_range(network: PeriodicNetwork, violation_tol: float) -> None:
+def check_length_range(
+    network: PeriodicNetwork, violation_tol: float, lengths: np.ndarray | None = None
+) -> None:
     """Refuse bond lengths that span more than ``1 / (LENGTH_RESOLUTION tau)`` (1e6 by default).
 
     Tolerances are relative to the largest affine extension over every site (empty ones too, so
@@ -333,13 +342,15 @@ def check_length_range(network: PeriodicNetwork, violation_tol: float) -> None:
         The network.
     violation_tol : float
         ``tau`` of the resolution model.
+    lengths : (m,) float, optional
+        Its bond lengths, when already at hand.
 
     Raises
     ------
     InputError
         When ``max |d_b| / min |d_b|`` (all sites) exceeds the bound.
     """
-    lengths = network.bond_lengths()
+    lengths = network.bond_lengths() if lengths is None else lengths
     if lengths.size == 0:
         return
     ratio = float(lengths.max()) / float(lengths.min())
