@@ -55,12 +55,12 @@ T = load(NAME)
 #: (n, samples) of the rods-only thresholds of the p_c extrapolation: the median's error is
 #: about 1.25 x the threshold spread / sqrt(S), 0.0007 to 0.0011 per size
 FSS_PC = ((8, 4000), (16, 1200), (32, 400), (64, 100), (128, 64))
-#: the same by the pebble game (the pc scale): errors 1.1e-4 to 2.2e-4 per size
-PC_PEBBLE = ((32, 4000), (64, 4000), (128, 1000), (256, 200), (512, 200))
-#: the same with ten times the samples at n = 256 and 512 and n = 1024 added, for p_c to about
-#: 1e-4 and d_f to about 0.005 (expected from the pc run's errors, not run yet): a Dask
-#: cluster's work (about 21 CPU hours, three quarters of it at n = 1024)
-PC_PEBBLE_CLUSTER = (*PC_PEBBLE[:3], (256, 2000), (512, 2000), (1024, 1000))
+#: the same by the pebble game (the pc scale): 2,000 or more samples per size, for the masses
+#: of the spanning cluster to 0.5 % per size (d_f to about 0.005) and p_c to about 1e-4
+PC_PEBBLE = ((32, 4000), (64, 4000), (128, 4000), (256, 2000), (512, 2000))
+#: the same with n = 1024 added (1,000 samples at about 25 CPU s each, a pebble-game pass
+#: over 3 million sites: about 7 CPU hours): a Dask cluster's work
+PC_PEBBLE_CLUSTER = (*PC_PEBBLE, (1024, 1000))
 #: the rods-only transition's own correlation-length exponent: the calibration fixes nu here
 #: (p_c is then a linear fit) instead of fitting it, and borrows no other transition's
 NU_PC = REFERENCES["nu_javerzat_notarmuzi"]
