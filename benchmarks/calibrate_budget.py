@@ -14,7 +14,7 @@ constant that would reproduce the measurement is the current one times that rati
 factors pool the rows of different p_t). With `--write` it sets those constants in the costs
 file, their source naming the runs; with `--analysis` it also times each study's analysis on
 the stored rows of the runs (nothing is solved) and writes its seconds per 100 bootstrap
-replicas. Constants it does not measure (the pebble game's, the 3D ones, the error model) are
+replicas. Constants it does not measure (the 3D ones, the error model) are
 carried over unchanged. Rows of a run on a shared machine are slower by its load: use quiet runs.
 
 Run: python benchmarks/calibrate_budget.py RUN_DIR [RUN_DIR ...] [--write] [--analysis]
@@ -36,9 +36,9 @@ from _record import machine, record, table
 from tensegrity_rigidity.paper import budget
 
 #: the p_t at which each mode's constant is stated (its p_t factor is 1 there)
-REFERENCE_PT = {"threshold": 0.3, "grid": 0.15, "paper": 0.0}
+REFERENCE_PT = {"threshold": 0.3, "pebble": 0.0, "grid": 0.15, "paper": 0.0}
 #: the costs file's entry of each mode's per-row seconds
-ENTRY = {"threshold": "threshold", "grid": "grid", "paper": "paper_verdict"}
+ENTRY = {"threshold": "threshold", "pebble": "pebble", "grid": "grid", "paper": "paper_verdict"}
 HEADER = """\
 # Measured costs of the budget model (tensegrity_rigidity.paper.budget), each with what it is
 # and where it was measured. Written by benchmarks/calibrate_budget.py (--write), which
@@ -55,10 +55,10 @@ def write_costs(costs: dict, path: Path = budget.DATA) -> None:
 
 
 def sweep_mode(spec_file: Path) -> str:
-    """ "threshold", "grid" or "paper" for a stored sweep (its ``_spec.json``)."""
+    """ "threshold", "pebble", "grid" or "paper" for a stored sweep (its ``_spec.json``)."""
     settings = json.loads(spec_file.read_text())["settings"]
     if settings["mode"] == "threshold":
-        return "threshold"
+        return "pebble" if settings.get("threshold_method") == "pebble" else "threshold"
     return "paper" if settings.get("verdict") == "paper" else "grid"
 
 

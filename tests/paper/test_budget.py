@@ -228,6 +228,13 @@ def test_the_costs_file_names_the_source_of_every_measured_constant():
         spec.loader.exec_module(module)
     finally:
         sys.path.remove(str(bench))
+    # a pebble-game sweep is priced, and measured, as "pebble", not as a threshold search
+    spec_file = Path(__file__).parent / "_pebble_spec.json"
+    try:
+        spec_file.write_text('{"settings": {"mode": "threshold", "threshold_method": "pebble"}}')
+        assert module.sweep_mode(spec_file) == "pebble"
+    finally:
+        spec_file.unlink(missing_ok=True)
     out = Path(__file__).parent / "_costs_roundtrip.toml"
     try:
         module.write_costs(COSTS.data, out)
