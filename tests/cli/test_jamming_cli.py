@@ -34,3 +34,20 @@ def test_jamming_command_refuses_other_files(tmp_path, capsys):
     (tmp_path / "p.txt").write_text("1 2 3")
     assert main(["jamming", str(tmp_path / "p.txt")]) == 2
     assert capsys.readouterr().err.startswith("error: ")
+
+
+def test_a_packing_with_nothing_left_to_move_prints_an_infinite_margin(tmp_path, capsys):
+    """One particle in its box: after pinning nothing moves, the margin is infinite (null in
+    JSON), and the text form printed a traceback formatting it."""
+    net = crystal_packing("triangular", 1).contact_network()
+    save_instance(tmp_path / "one.npz", Instance(net, np.zeros((2, 2))))
+    assert main(["jamming", str(tmp_path / "one.npz"), "--kind", "collective"]) == 0
+    assert "jammed     margin inf" in capsys.readouterr().out
+
+
+def test_gsd_options_on_an_instance_file_are_refused_not_ignored(tmp_path, capsys):
+    net = crystal_packing("square", 2).contact_network()
+    save_instance(tmp_path / "sq.npz", Instance(net, np.zeros((2, 2))))
+    for flag in (["--tolerance", "0.1"], ["--frame", "3"]):
+        assert main(["jamming", str(tmp_path / "sq.npz"), *flag]) == 2
+        assert "--tolerance and --frame read a GSD file" in capsys.readouterr().err

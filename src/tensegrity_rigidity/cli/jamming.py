@@ -8,6 +8,11 @@ import sys
 from pathlib import Path
 
 
+#: largest gap of a contact read from a GSD frame, in mean diameters: single precision's
+#: resolution with room for a few roundings
+GSD_TOLERANCE = 1e-5
+
+
 def add_parser(sub) -> None:
     p = sub.add_parser(
         "jamming",
@@ -26,11 +31,11 @@ def add_parser(sub) -> None:
     p.add_argument(
         "--tolerance",
         type=float,
-        default=1e-5,
-        help="GSD only: largest gap of a contact in mean diameters (default 1e-5: GSD stores "
-        "positions in single precision)",
+        default=None,
+        help=f"GSD only: largest gap of a contact in mean diameters (default {GSD_TOLERANCE:g}: "
+        "GSD stores positions in single precision)",
     )
-    p.add_argument("--frame", type=int, default=-1, help="GSD frame (default the last)")
+    p.add_argument("--frame", type=int, default=None, help="GSD only: frame (default the last)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.set_defaults(handler=_run)
 
@@ -67,10 +72,17 @@ def _run(args) -> int:
     if path.suffix.lower() == ".gsd":
         from ..model.interop import read_gsd
 
-        network = read_gsd(path, args.frame).contact_network(tolerance=args.tolerance)
+        tolerance = GSD_TOLERANCE if args.tolerance is None else args.tolerance
+        frame = -1 if args.frame is None else args.frame
+        network = read_gsd(path, frame).contact_network(tolerance=tolerance)
     elif path.suffix.lower() == ".npz":
         from ..model.io import load_instance
 
+        if args.tolerance is not None or args.frame is not None:
+            raise InputError(
+                f"{path}: --tolerance and --frame read a GSD file; an instance file's contacts "
+                "are its struts"
+            )
         network = load_instance(path).network
     else:
         raise InputError(f"{path}: expected a .gsd or an instance .npz file")
@@ -85,7 +97,8 @@ def _run(args) -> int:
     for r in results:
         detail = r["message"] or ""
         if r["status"] == "jammed":
-            detail = f"margin {r['margin']:.3g}, excess contacts " + str(
+            margin = "inf" if r["margin"] is None else f"{r['margin']:.3g}"  # JSON has no inf
+            detail = f"margin {margin}, excess contacts " + str(
                 r["backbone_contacts"] - r["isostatic_contacts"]
             )
         elif r["status"] == "unjammed" and "motion" in r:
