@@ -664,6 +664,36 @@ def test_part_missing_from_the_manifest_is_recomputed(tmp_path):
     assert not everything.duplicated(["point_key", "sample", "theta"]).any()
 
 
+def test_a_manifest_line_that_is_not_utf8_is_skipped_as_a_torn_one(tmp_path):
+    """A byte that is not UTF-8 in the manifest raised UnicodeDecodeError from info,
+    load_results and a resumed sweep; it is damage, skipped like a torn line."""
+    spec = _write(tmp_path, SMALL)
+    out = tmp_path / "u"
+    run_sweep(spec, out, executor="serial", progress=False)
+    with open(out / "_manifest.jsonl", "ab") as f:
+        f.write(b"\xff{\n")
+    assert len(load_results(out)) == 2 * 2 * 2 * 8
+    assert run_sweep(spec, out, executor="serial", progress=False).samples_run == 0
+
+
+def test_a_part_that_matches_its_checksum_but_is_no_results_table_is_refused_by_name(tmp_path):
+    """Only a forged manifest gets there: a pyarrow traceback became one line naming it."""
+    import hashlib
+    import json
+
+    spec = _write(tmp_path, SMALL)
+    out = tmp_path / "p"
+    run_sweep(spec, out, executor="serial", progress=False)
+    lines = (out / "_manifest.jsonl").read_text().splitlines()
+    entry = json.loads(lines[0])
+    garbage = b"not parquet at all"
+    (out / entry["part"]).write_bytes(garbage)
+    entry |= {"bytes": len(garbage), "sha256": hashlib.sha256(garbage).hexdigest()}
+    (out / "_manifest.jsonl").write_text("\n".join([json.dumps(entry), *lines[1:]]) + "\n")
+    with pytest.raises(InputError, match=f"{entry['part']}: not a results part"):
+        load_results(out)
+
+
 # --------------------------------------------------------------------------- size guards
 
 

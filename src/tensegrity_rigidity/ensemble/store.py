@@ -390,7 +390,8 @@ class ResultStore:
         path = self.root / "_manifest.jsonl"
         entries: dict[str, dict] = {}
         try:
-            text = path.read_text()
+            # a line with bytes that are not UTF-8 is damaged, skipped as a torn one is
+            text = path.read_bytes().decode("utf-8", errors="replace")
         except FileNotFoundError:
             return entries
         except OSError as exc:
@@ -430,7 +431,7 @@ class ResultStore:
                 )
                 (self.root / name).unlink(missing_ok=True)
                 continue
-            keys = pq.read_table(pa.BufferReader(data), columns=KEY_COLUMNS)
+            keys = self._table(name, data, KEY_COLUMNS)
             self.done.update(
                 zip(
                     keys.column("point_key").to_pylist(),
@@ -496,11 +497,24 @@ class ResultStore:
             if data is None:
                 damaged.append(name)
             else:
-                tables.append(pq.read_table(pa.BufferReader(data)))
+                tables.append(self._table(name, data))
         if not tables:
             return pd.DataFrame(), damaged, size
-        rows = pa.concat_tables(tables, promote_options="default").to_pandas()
+        try:
+            rows = pa.concat_tables(tables, promote_options="default").to_pandas()
+        except pa.ArrowException as exc:
+            raise InputError(f"{self.root}: parts with different columns ({exc})") from None
         return rows, damaged, size
+
+    def _table(self, name: str, data: bytes, columns: list[str] | None = None) -> pa.Table:
+        """A listed part's rows (``columns`` only, if given); a part that matches its checksum
+        but is not a results table (written by something else) is refused by name."""
+        try:
+            return pq.read_table(pa.BufferReader(data), columns=columns)
+        except pa.ArrowException as exc:
+            raise InputError(
+                f"{self.root / name}: not a results part ({str(exc).splitlines()[0]})"
+            ) from None
 
     def read(self) -> pd.DataFrame:
         """Every row of every listed part (empty frame if none); InputError on a damaged part."""
