@@ -96,7 +96,8 @@ def test_every_key_with_every_malformed_value_is_one_line(base, where):
         ({"lattice": {"kind": "fcc"}, "strain": {"angles": "uniform"}}, "sequence_rotation"),
         ({"p_r": 10**400}, "'p_r' must be finite"),
         ({"threshold": {"path": ["p_r"]}}, "[threshold] path must be one of"),
-        ({"solver": {"regularization": 0}}, "regularization must be positive"),
+        ({"solver": {"regularization": 0}}, "regularization must be at least 1e-14"),
+        ({"solver": {"regularization": 1e-17}}, "regularization must be at least 1e-14"),
     ],
 )
 def test_the_reported_malformed_specs_are_refused(extra, needle):

@@ -17,6 +17,7 @@ from tensegrity_rigidity.solver.certificates import Resolution
 from tensegrity_rigidity.solver.options import strategy_named
 from tensegrity_rigidity.solver.problem import Problem
 from tensegrity_rigidity.solver.stages import DEFAULT_STRATEGIES, Refiner, Search
+from tensegrity_rigidity.solver.tolerances import Tolerances
 from tests.instances import near_threshold_instance, random_instance
 
 N_INSTANCES = 300
@@ -864,6 +865,26 @@ def test_options_that_are_not_options_are_refused_not_replaced_by_the_defaults()
     u = np.random.default_rng(0).random(net.n_sites)
     with pytest.raises(InputError, match="SolverOptions"):
         find_threshold(net, u, u, inst.strain, 0.0, 0.0, options={})  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    "make, needle",
+    [
+        # a shift lost in rounding: CHOLMOD's factorisation failed with "ArithmeticError: 31"
+        (lambda: SolverOptions(regularization=1e-16), "regularization must be at least 1e-14"),
+        # an int too large for a float raised TypeError from numpy
+        (lambda: SolverOptions(displacement_bound=10**400), "displacement_bound must be finite"),
+        # NaN and negative tolerances were accepted
+        (lambda: Tolerances(energy_gap=float("nan")), "energy_gap must be positive finite"),
+        (lambda: Tolerances(support_tol=-1.0), "support_tol must be positive finite"),
+        (lambda: Tolerances(crossover_taus=()), "crossover_taus must be positive finite numbers"),
+    ],
+)
+def test_options_outside_their_meaning_are_refused_in_one_line(make, needle):
+    from tensegrity_rigidity import InputError
+
+    with pytest.raises(InputError, match=needle):
+        make()
 
 
 def test_an_unresolved_verdict_names_how_its_solvers_ended():

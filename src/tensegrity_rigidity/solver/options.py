@@ -9,13 +9,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
 
-import numpy as np
-
 from ..errors import InputError
 from ..model.network import show
 from .certificates import Resolution, violation_roundoff
 from .stages import DEFAULT_STRATEGIES, STRATEGIES, Refiner
-from .tolerances import DEFAULT_REGULARIZATION, Tolerances
+from .tolerances import DEFAULT_REGULARIZATION, MIN_REGULARIZATION, Tolerances, finite_number
 
 
 def strategy_named(name: str):
@@ -100,14 +98,15 @@ class SolverOptions:
                 continue
             if not isinstance(value, kind) or isinstance(value, bool) != (kind is bool):
                 raise InputError(f"SolverOptions.{f.name} must be {f.type}, got {show(value)}")
-            if kind is not bool and not (np.isfinite(value) and value >= 0):
+            if kind is not bool and not (finite_number(value) and value >= 0):
                 raise InputError(
                     f"SolverOptions.{f.name} must be finite and non-negative, got {show(value)}"
                 )
-        if not self.regularization > 0:
+        if not self.regularization >= MIN_REGULARIZATION:
             raise InputError(
-                f"SolverOptions.regularization must be positive, got {show(self.regularization)}: "
-                "without it the Newton matrix of a floppy network is singular"
+                f"SolverOptions.regularization must be at least {MIN_REGULARIZATION:g}, got "
+                f"{show(self.regularization)}: below it the shift is lost in rounding and the "
+                "Newton matrix of a floppy network is singular"
             )
         for name, kind in (("refiner", Refiner), ("tolerances", Tolerances)):
             if not isinstance(getattr(self, name), kind):

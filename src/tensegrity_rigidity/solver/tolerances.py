@@ -8,10 +8,18 @@ stiffnesses relative to the mean. ``tau`` and ``U`` are ``SolverOptions.violatio
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, fields
+
+from ..errors import InputError
+from ..model.network import show
 
 #: ``mu`` of the Newton matrix ``R^T D R + mu I`` (relative to the mean stiffness) unless given
 DEFAULT_REGULARIZATION = 1e-12
+#: the least ``mu`` accepted: 100 times double precision's epsilon; a smaller shift is lost in
+#: the rounding of the Newton matrix's diagonal, and the factorisation of a floppy network's
+#: singular matrix fails (CHOLMOD at 1e-16)
+MIN_REGULARIZATION = 1e-14
 
 
 @dataclass(frozen=True)
@@ -124,3 +132,23 @@ class Tolerances:
     min_norm_kkt_stall: float = 1e-6
     min_norm_certify_below: float = 1e-4
     min_norm_multiplier_shifts: tuple[float, ...] = (1e-12, 1e-10, 1e-8)
+
+    def __post_init__(self) -> None:
+        # every constant is a positive finite number (a tuple: each of them); a NaN or a
+        # negative one was accepted and silently changed every comparison it enters
+        for f in fields(self):
+            value = getattr(self, f.name)
+            numbers = value if isinstance(value, tuple) else (value,)
+            if not numbers or not all(finite_number(x) and x > 0 for x in numbers):
+                what = "positive finite numbers" if isinstance(value, tuple) else "positive finite"
+                raise InputError(f"Tolerances.{f.name} must be {what}, got {show(value)}")
+
+
+def finite_number(x) -> bool:
+    """An int or float (not a bool) that is finite; an int too large for a float is not."""
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        return False
+    try:
+        return math.isfinite(x)
+    except OverflowError:
+        return False
