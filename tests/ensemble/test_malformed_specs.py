@@ -98,6 +98,12 @@ def test_every_key_with_every_malformed_value_is_one_line(base, where):
         ({"threshold": {"path": ["p_r"]}}, "[threshold] path must be one of"),
         ({"solver": {"regularization": 0}}, "regularization must be at least 1e-14"),
         ({"solver": {"regularization": 1e-17}}, "regularization must be at least 1e-14"),
+        # the pebble game on an undisordered lattice gave median thresholds 0.97 against the
+        # LP's 0.60 (square, n = 6): its positions are not generic
+        (
+            {"delta": 0.0, "p_t": 0.0, "threshold": {"path": "p_r", "method": "pebble"}},
+            "method 'pebble' decides generic positions",
+        ),
     ],
 )
 def test_the_reported_malformed_specs_are_refused(extra, needle):

@@ -674,6 +674,11 @@ def parse_spec(data: dict) -> Spec:
             raise SpecError(
                 "[threshold] method 'pebble' follows rods-only paths: path 'p_r' with p_t = 0"
             )
+        if any(d == 0 for d in grid["delta"]):
+            raise SpecError(
+                "[threshold] method 'pebble' decides generic positions, and delta = 0 leaves the "
+                "lattice's collinear bonds (its thresholds differ): use delta > 0 or method 'lp'"
+            )
     if threshold is None:
         worst = max(grid["p_r"]) + max(grid["p_t"])
         if worst > 1 + 1e-12:
