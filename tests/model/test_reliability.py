@@ -136,6 +136,18 @@ def test_failed_write_leaves_no_temporary(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_long_valid_file_name_is_written(tmp_path):
+    """246 characters plus ".npz" is a valid name; its temporary file (the name plus a pid
+    and ".tmp") passed the 255-byte limit: "File name too long", then a traceback from the
+    clean-up. A name too long for the file system is one line."""
+    inst = lattice_instance(3, 0.5, seed=0)
+    save_instance(tmp_path / ("q" * 246 + ".npz"), inst)
+    assert [p.name for p in tmp_path.iterdir()] == ["q" * 246 + ".npz"]
+    with pytest.raises(InputError, match="File name too long"):
+        save_instance(tmp_path / ("q" * 300 + ".npz"), inst)
+    assert len(list(tmp_path.iterdir())) == 1
+
+
 def test_complex_positions_and_bool_kinds_are_refused():
     with pytest.raises(InputError, match="complex"):
         PeriodicNetwork(**{**GOOD, "positions": np.array([[0, 0], [1, 0.3 + 1e-3j]])})

@@ -10,8 +10,10 @@ archive of pickled objects ends in one :class:`~tensegrity_rigidity.errors.Input
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
+import secrets
 import stat
 import tokenize
 import zipfile
@@ -26,6 +28,9 @@ import numpy as np
 from ..errors import InputError
 from .limits import check_memory, format_bytes
 from .network import Instance, show
+
+#: characters of an output file's stem and suffix kept in its temporary file's name
+TMP_STEM = 32
 
 REQUIRED_KEYS = ("box", "positions", "bonds", "shifts", "kinds", "strain")
 OPTIONAL_KEYS = ("stiffness",)
@@ -156,7 +161,10 @@ def atomic_output(
         As :func:`check_output_file`, or when the file cannot be written (one line).
     """
     p = check_output_file(path, what, example)
-    tmp = p.with_name(f".{p.stem}.{os.getpid()}.tmp{p.suffix}")
+    # a name of bounded length: the file's own name plus a tag can pass the file system's
+    # limit (255 bytes) where the name itself does not
+    tag = f"{os.getpid()}.{secrets.token_hex(4)}"
+    tmp = p.with_name(f".{p.stem[:TMP_STEM]}.{tag}.tmp{p.suffix[:TMP_STEM]}")
     try:
         yield tmp
         with open(tmp, "rb+") as fh:  # on the disk before it takes the name
@@ -164,10 +172,12 @@ def atomic_output(
         check_output_file(p, what, example)  # still no device, FIFO or link there
         os.replace(tmp, p)
     except OSError as exc:
-        tmp.unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)
         raise InputError(f"{p}: cannot write ({exc.strerror or exc})") from None
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)
         raise
 
 
