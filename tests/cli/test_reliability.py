@@ -135,6 +135,19 @@ def test_solve_output_to_a_full_device(instance_file):
     assert err.startswith("error: ") and "No space left on device" in err
 
 
+def test_a_command_with_its_output_closed_exits_quietly(instance_file):
+    """``solve FILE >&-``: Python has no sys.stdout; the work was done, then the final flush
+    ended in "AttributeError: 'NoneType' object has no attribute 'flush'" with status 1."""
+    proc = subprocess.run(
+        [sys.executable, "-m", "tensegrity_rigidity", "solve", str(instance_file)],
+        stdin=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: os.close(1),
+    )
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+
+
 def test_solve_into_a_closed_pipe(instance_file):
     """``solve FILE | head``: the reader is gone before the output is written. It printed
     "error: the output pipe was closed" with status 2, noise after ``info DIR | head -1``."""

@@ -316,6 +316,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     numerical stack is imported (:func:`_preload`); a signal that arrived meanwhile is then
     handled like any other, in one line.
     """
+    for name in ("stdout", "stderr"):
+        if getattr(sys, name) is None:  # closed by the caller (">&-"): the output goes nowhere
+            setattr(sys, name, open(os.devnull, "w"))
     in_main_thread = threading.current_thread() is threading.main_thread()
     start_mask = (
         signal.pthread_sigmask(signal.SIG_BLOCK, _START_SIGNALS) if in_main_thread else None
