@@ -7,7 +7,6 @@ import math
 import sys
 from pathlib import Path
 
-
 #: largest gap of a contact read from a GSD frame, in mean diameters: single precision's
 #: resolution with room for a few roundings
 GSD_TOLERANCE = 1e-5
