@@ -143,6 +143,10 @@ def test_sizes_meet_at_nearly_equal_node_counts_and_the_question_gets_its_answer
     assert [(int(a.n), int(b.n)) for a, b in el.equal_nodes(by)] == [(8, 4), (32, 10)]
     words = {"two": "vanishes", "three": "finite"}
     assert el._answer({2: "vanishes", 3: "finite"}) == el.T.label("answer.vanishes.finite", **words)
+    # limits less than two errors apart: a 2D limit consistent with 0 is not an answer "yes"
+    close = el._answer({2: "vanishes", 3: "finite"}, apart=False)
+    assert close == el.T.label("answer.vanishes.finite.close", **words)
+    assert close.startswith("Not established") and "yes" not in close
     assert el._answer({2: "finite", 3: "finite"}) == el.T.label("answer.finite.finite")
     assert '"undetermined" in 2D' in el._answer({2: "undetermined", 3: "finite"})
     assert el._answer({2: "vanishes"}) is None

@@ -143,6 +143,20 @@ def test_a_control_row_is_never_credited():
     assert credit(moved_p=1e-12, closes=True, control=False)
 
 
+def test_a_change_moves_ours_only_as_far_as_it_moves_its_own_control():
+    """delta = 0.1 measured on the delta study's samples sits 2.8 errors from ours, but its
+    control (delta = 0.2 on those same samples) sits 2.1 from ours: the change itself moves
+    the value by 0.7 errors, sample noise, so it accounts for nothing although the gap closes."""
+    control = Measurement.scalar(KEY, 0.375, 0.01, "n = 32", factor="delta", label="0.2",
+                                 control=True)  # fmt: skip
+    changed = Measurement.scalar(KEY, 0.385, 0.01, "n = 32", factor="delta", label="0.1")
+    e = _by_label(_row(OURS, control, changed))["0.1"]
+    assert e.moved_z == pytest.approx(0.01 / np.hypot(0.01, 0.01))
+    assert not e.credited
+    # without a control the move is from ours, and the same change is credited
+    assert _by_label(_row(OURS, changed))["0.1"].credited
+
+
 def test_the_correction_counts_every_row_tried_for_the_disagreement():
     """One row that moves ours by z = 2.1 (p = 0.036) alone is credited; tried beside a second
     row it is one of two tests, Holm-adjusted to 0.072 > MOVES_ALPHA: not credited."""

@@ -67,6 +67,13 @@ class Reference:
         if not self.who:
             object.__setattr__(self, "who", self.citation.split(",")[0].split(" (")[0])
 
+    @property
+    def tolerance(self) -> float:
+        """The error a comparison gives the value: the quoted one, or for a value quoted
+        without one half a unit of its last printed digit (1.86: 0.005), as an "about" claim
+        of the paper (:func:`about_tolerance`); never 0, which would take it as exact."""
+        return self.error if self.error is not None else about_tolerance(f"about {self.value!r}")
+
 
 @dataclass(frozen=True)
 class Claim:
@@ -185,9 +192,10 @@ REFERENCES = {
 }
 #: every claim, in the order of the comparison table
 CLAIMS = _claims(_DATA["claims"], REFERENCES)
-#: our own 2D values of the quantities the 3D study measures (extrapolated, reports/fss)
+#: our own 2D values of the quantities the 3D study measures (extrapolated: reports/fss, the
+#: rods-only threshold from the calibration of reports/pc)
 TWO_D_OURS = {
-    key: Reference(v["value"], v["error"], _DATA["two_d_ours"]["source"])
+    key: Reference(v["value"], v["error"], v.get("source", _DATA["two_d_ours"]["source"]))
     for key, v in _DATA["two_d_ours"]["values"].items()
 }
 

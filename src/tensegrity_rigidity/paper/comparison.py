@@ -192,6 +192,13 @@ def fmt(value, err=None, digits=3) -> str:
     return f"{value:.{digits}f} ± {err:.{digits}f}"
 
 
+def fit_form(row) -> str:
+    """A limit's fit-form systematic as a table prints it (``row``: ``limit_syst`` and
+    ``limit_laws``, the laws the data allow, comma-separated): "-" where they allow one law
+    alone (a 0 there read as a spread over laws that was measured and found null)."""
+    return f"{row.limit_syst:.2g}" if "," in str(row.limit_laws) else "-"
+
+
 def z_score(claim: Claim, m: Measurement) -> float:
     """The agreement statistic of one measurement of a claim (see the module docstring).
 
@@ -403,13 +410,18 @@ def _evidence(
     "disagrees": our error is not the yardstick there, since it is what is in question.
     For a disagreement each row is judged by the evidence rule (:func:`credit`): its move of
     our value (:func:`moved_z`) is tested at :data:`MOVES_ALPHA` with Holm's correction over
-    every non-control row of the claim's factors; a row the rule would credit is not credited
+    every non-control row of the claim's factors (a move from the factor's control row, where
+    it has one, else from ours); a row the rule would credit is not credited
     where ``opened(claim, row)`` names agreeing claims of the claim's family that the same
     change makes disagree (:func:`family_opened`). Returns the clauses joined, and the
     evidence rows behind them.
     """
     tried = [(factor, a) for factor in claim.factors for a in alternatives if a.factor == factor]
-    moves = np.array([moved_z(ours, a) for _, a in tried])
+    # a change is measured against its factor's control row where one exists (the factor at
+    # our setting on the change's own samples), else against ours: the control's own distance
+    # from ours is sample noise, not the factor's effect
+    control = {f: a for f, a in reversed(tried) if a.control}
+    moves = np.array([moved_z(ours if a.control else control.get(f, ours), a) for f, a in tried])
     judged_rows = [not agreeing and not a.control for _, a in tried]
     raw_p = np.where(judged_rows, 2 * stats.norm.sf(moves), np.nan)
     adjusted = holm_adjusted(raw_p)

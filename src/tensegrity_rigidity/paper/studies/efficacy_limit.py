@@ -306,15 +306,19 @@ def equal_nodes(by_size: pd.DataFrame) -> list[tuple[pd.Series, pd.Series]]:
     return out
 
 
-def _answer(verdicts: dict[int, str], rows: dict | None = None) -> str | None:
+def _answer(verdicts: dict[int, str], rows: dict | None = None, apart: bool = True) -> str | None:
     """The label that answers the study's question from the two verdicts of A (``rows``: each
-    dimension's limit row, whose words the answer quotes)."""
+    dimension's limit row, whose words the answer quotes). A 2D limit consistent with 0 beside
+    a finite 3D one answers "yes" only when the two limits are more than two errors ``apart``:
+    otherwise a vanishing 2D limit is allowed, not shown."""
     pair = (verdicts.get(2), verdicts.get(3))
     if None in pair:
         return None
     known = {("vanishes", "finite"), ("finite", "finite"), ("vanishes", "vanishes"),
              ("finite", "vanishes")}  # fmt: skip
     key = ".".join(pair) if pair in known else "open"
+    if key == "vanishes.finite" and not apart:
+        key += ".close"
     words = {d: _verdict_text(row) for d, row in (rows or {}).items()}
     return T.label(f"answer.{key}", two=words.get(2, pair[0]), three=words.get(3, pair[1]))
 
@@ -373,8 +377,9 @@ def numbers(r: EfficacyLimitResult) -> dict:
             out[f"binomial_share_{tag}"] = [
                 T.label("share", n=int(n), share=100 * v, err=100 * e)
                 for n, v, e in zip(w.n, share, err, strict=True)]  # fmt: skip
-    out["answer"] = _answer(verdicts, rows)
-    out.update(_caveats(rows))
+    caveats = _caveats(rows)
+    out["answer"] = _answer(verdicts, rows, apart="not_apart" not in caveats)
+    out.update(caveats)
     return out
 
 

@@ -27,7 +27,7 @@ from ...analysis import limits
 from ...analysis.agreement import chi2_against
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, REPLICATION, Measurement
-from ..comparison import AGREE_BELOW, decimals, fmt
+from ..comparison import AGREE_BELOW, decimals, fit_form, fmt
 from ..plotting import CYCLE, draw_clusters
 from ..study import Result, Scale, Study
 from ..style import PAGE, grid, save, size_axis, unresolved, width_panel
@@ -252,7 +252,7 @@ def fractal_dimensions(sizes, rows: list[pd.DataFrame], scale: Scale):
                 if k == 0:
                     by_size[f"{name}_{mass}"] = fit.mass
                     by_size[f"{name}_{mass}_err"] = fit.mass_err
-                ref_value, ref_err = (ref.value, ref.error or 0.0) if ref else (np.nan, np.nan)
+                ref_value, ref_err = (ref.value, ref.tolerance) if ref else (np.nan, np.nan)
                 fits.append(
                     {
                         "cluster": name,
@@ -918,13 +918,13 @@ def _calibration(r: FiniteSizeResult) -> dict:
            "cal_n_mins": sorted({int(f.n_min) for f in c.fits}),
            "cal_allowed": c.allowed, "cal_fits": len(c.fits), "cal_lo": c.low, "cal_hi": c.high,
            "anchors_z": abs(a.value - b.value)
-           / np.hypot(a.error or 0.0, b.error or 0.0),
+           / np.hypot(a.tolerance, b.tolerance),
            "cal_undetermined": "" if c.syst > c.stat else None}  # fmt: skip
     for i, ref in enumerate((a, b)):
         out |= {f"anchor{i}": ref.value, f"anchor{i}_err": ref.error,
                 f"anchor{i}_who": ref.who,
                 f"anchor{i}_z": abs(c.value - ref.value)
-                / np.hypot(np.hypot(c.stat, c.syst), ref.error or 0.0)}  # fmt: skip
+                / np.hypot(np.hypot(c.stat, c.syst), ref.tolerance)}  # fmt: skip
     return out
 
 
@@ -964,7 +964,7 @@ def _by_size_table(r: FiniteSizeResult) -> pd.DataFrame:
                                                  for x in rows]  # fmt: skip
     table[f"z_paper, nu = {NU_CHECK.value}"] = [f"{x.z_paper_nu_check:.2f}" for x in rows]
     table["n -> inf, laws"] = [fmt(x.limit, x.limit_stat) for x in rows]
-    table["fit form"] = [f"{x.limit_syst:.2g}" for x in rows]
+    table["fit form"] = [fit_form(x) for x in rows]
     table["own x"] = [f"{x.limit_x:.2f}" + (" " + T.label("at_bound")) * bool(x.limit_x_at_bound)
                       for x in rows]  # fmt: skip
     table["laws allowed"] = [x.limit_laws or "-" for x in rows]
@@ -1006,10 +1006,11 @@ def _against(quantity: str, how: str, value: float, err: float, keys) -> list[di
     out = []
     for key in keys:
         ref = REFERENCES[key]
-        ref_err = ref.error or 0.0
-        z = abs(value - ref.value) / np.hypot(err, ref_err) if err > 0 or ref_err > 0 else np.nan
+        z = abs(value - ref.value) / np.hypot(err, ref.tolerance)
         theirs = (
-            f"{ref.value} ± {ref.error:g}" if ref.error else T.label("no_error", value=ref.value)
+            f"{ref.value} ± {ref.error:g}"
+            if ref.error
+            else T.label("no_error", value=ref.value, tolerance=ref.tolerance)
         )
         out.append({"quantity": quantity, "ours": fmt(value, err), "how": how,
                     "literature": theirs, "source": ref.who,

@@ -27,7 +27,7 @@ from ...analysis import estimators as an
 from ...analysis import limits
 from ...model.lattice import DEFAULT_DELTA
 from ..claims import CLAIMS, REFERENCES, TWO_D_OURS, Measurement
-from ..comparison import fmt
+from ..comparison import fit_form, fmt
 from ..study import Result, Scale, Study
 from ..style import (
     CYCLE,
@@ -356,7 +356,10 @@ def numbers(r: ThreeDResult) -> dict:
     dz = np.abs(lam.value - lam.contour) / np.hypot(lam.err, lam.contour_err)
     half, cables = (_group(r, keys, few) for keys in (tuple(LAMBDA_3D)[:3], tuple(LAMBDA_3D)[3:]))
     z_check = an.agreement_z(
-        pc.y_inf_first_order, pc.y_inf_first_order_err**2, PC_3D_CHECK.value, 0.0
+        pc.y_inf_first_order,
+        pc.y_inf_first_order_err**2,
+        PC_3D_CHECK.value,
+        PC_3D_CHECK.tolerance,
     )
     return {
         **_envelope(r),
@@ -383,6 +386,7 @@ def numbers(r: ThreeDResult) -> dict:
         "pc_first": fmt(pc.y_inf_first_order, pc.y_inf_first_order_err),
         "misfit": misfit(pc.chi2_first_order, pc.dof_first_order),
         "check": PC_3D_CHECK.value,
+        "check_tolerance": PC_3D_CHECK.tolerance,
         # ours minus the literature's: negative where our threshold lies below 0.495
         "from_check": pc.y_inf_first_order - PC_3D_CHECK.value,
         "consistent": z_check if z_check < 2 else None,
@@ -429,7 +433,8 @@ def _envelope(r: ThreeDResult) -> dict:
             "env_fits": len(e.fits), "env_n_mins": sorted({int(f.n_min) for f in e.fits}),
             "env_x_low": e.x_low, "env_x_high": e.x_high,
             "env_at_ends": "" if (e.x_low, e.x_high) == (X_3D[0], X_3D[-1]) else None,
-            "env_z": an.agreement_z(e.value, e.err**2, PC_3D_CHECK.value, 0.0)}  # fmt: skip
+            "env_z": an.agreement_z(e.value, e.err**2, PC_3D_CHECK.value,
+                                    PC_3D_CHECK.tolerance)}  # fmt: skip
 
 
 def envelope_table(r: ThreeDResult) -> pd.DataFrame | None:
@@ -476,7 +481,7 @@ def report_tables(r: ThreeDResult) -> dict:
         "paper_2d": list(b.paper_2d), "z_2d": [f"{z:.2f}" for z in b.z_2d],
         "z_2d_inf": [f"{z:.2f}" for z in b.z_2d_inf],
         "own": [fmt(x.limit, x.limit_stat) for x in ex_rows],
-        "fit_form": [f"{x.limit_syst:.2g}" for x in ex_rows],
+        "fit_form": [fit_form(x) for x in ex_rows],
         "laws": [x.limit_laws or "-" for x in ex_rows],
     })  # fmt: skip
     return {"by_size": wide, "beside_2d": side}
