@@ -19,7 +19,7 @@ from tensegrity_rigidity.paper.comparison import compare
 from tensegrity_rigidity.paper.registry import SCALES, STUDIES, SWEEPS
 from tensegrity_rigidity.paper.report import render, tables_of
 from tensegrity_rigidity.paper.reproduce import EXPECTED
-from tensegrity_rigidity.paper.studies import headline, three_d
+from tensegrity_rigidity.paper.studies import fss, headline, three_d
 
 from .conftest import SERIAL
 
@@ -115,12 +115,22 @@ def test_stated_run_time_is_the_estimate():
 def test_two_d_values_are_those_of_the_committed_finite_size_report():
     """TWO_D_OURS restates reports/fss's own-law limits (no exponent borrowed from another
     transition): a new report must update them, to its digits (an error rounded to 0.016500
-    printed the 2D limit as 0.471 +- 0.017 beside 3D, where the fss report prints 0.016)."""
+    printed the 2D limit as 0.471 +- 0.017 beside 3D, where the fss report prints 0.016). The
+    rods-only threshold is the calibration of reports/pc (nu fixed, omega's range as its
+    systematic): the fss own limit rests on an exponent those sizes do not determine."""
     table = pd.read_csv(REPORTS / "fss" / "tables" / "fss_extrapolated.csv").set_index("key")
     for key, ref in TWO_D_OURS.items():
+        if key == "rods_only_pc":
+            continue
         row = table.loc[key]
         assert ref.value == pytest.approx(row.limit, rel=1e-9), key
         assert ref.error == pytest.approx(math.hypot(row.limit_stat, row.limit_syst), rel=1e-9)
+    fits = pd.read_csv(REPORTS / "pc" / "tables" / "pc_calibration_fits.csv")
+    ref_fit = fits[(fits.n_min == fits.n_min.min()) & (fits.omega == fss.OMEGA_REF)].iloc[0]
+    syst = (fits.p_c[fits.allowed] - ref_fit.p_c).abs().max()
+    pc = TWO_D_OURS["rods_only_pc"]
+    assert pc.value == pytest.approx(ref_fit.p_c, rel=1e-9)
+    assert pc.error == pytest.approx(math.hypot(ref_fit.p_c_err, syst), rel=1e-9)
     assert set(three_d.KEYS_3D) <= set(TWO_D_OURS)
 
 
