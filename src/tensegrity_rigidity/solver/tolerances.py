@@ -134,14 +134,17 @@ class Tolerances:
     min_norm_multiplier_shifts: tuple[float, ...] = (1e-12, 1e-10, 1e-8)
 
     def __post_init__(self) -> None:
-        # every constant is a positive finite number (a tuple: each of them); a NaN or a
-        # negative one was accepted and silently changed every comparison it enters
+        # every constant is a finite non-negative number (a tuple: each of them; 0 can mean
+        # "none", as a work floor of 0); a NaN or a negative one was accepted and silently
+        # changed every comparison it enters
         for f in fields(self):
             value = getattr(self, f.name)
             numbers = value if isinstance(value, tuple) else (value,)
-            if not numbers or not all(finite_number(x) and x > 0 for x in numbers):
-                what = "positive finite numbers" if isinstance(value, tuple) else "positive finite"
-                raise InputError(f"Tolerances.{f.name} must be {what}, got {show(value)}")
+            if not all(finite_number(x) and x >= 0 for x in numbers):
+                what = "numbers" if isinstance(value, tuple) else "a number"
+                raise InputError(
+                    f"Tolerances.{f.name} must be {what} finite and non-negative, got {show(value)}"
+                )
 
 
 def finite_number(x) -> bool:
