@@ -18,10 +18,11 @@ import scipy
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def machine() -> str:
+def machine(dated: bool = True) -> str:
     """One line naming what a run's timings and last bits depend on: the CPU, the libraries,
     and each BLAS with the kernel it picked for this CPU and its thread count (a verdict
-    within resolution of the boundary can change with any of these; docs/model.md), then how
+    within resolution of the boundary can change with any of these; docs/model.md), the date
+    unless not ``dated`` (the package's data files carry none: git dates them), then how
     steady the machine was where the script probed it (:func:`probe`)."""
     import os
 
@@ -47,8 +48,9 @@ def machine() -> str:
     highs = f"{h.versionMajor()}.{h.versionMinor()}.{h.versionPatch()}"
     return (
         f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, NumPy "
-        f"{np.__version__}, SciPy {scipy.__version__}, HiGHS {highs}, BLAS: {blas}, "
-        f"{time.strftime('%Y-%m-%d')}" + (f". {STEADINESS.summary()}" if STEADINESS.times else "")
+        f"{np.__version__}, SciPy {scipy.__version__}, HiGHS {highs}, BLAS: {blas}"
+        + (f", {time.strftime('%Y-%m-%d')}" if dated else "")
+        + (f". {STEADINESS.summary()}" if STEADINESS.times else "")
     )
 
 

@@ -109,13 +109,14 @@ def main() -> None:
     rows = pd.concat([priced_rows(r) for r in args.runs], ignore_index=True)
     costs = tomllib.loads(budget.DATA.read_text())
     runs = ", ".join(map(str, args.runs))
+    names = ", ".join(f"the {r.name} run" for r in args.runs)  # no machine's paths in the data
     out = []
     for (run, mode, n), g in rows.groupby(["run", "mode", "n"], sort=True):
         ratio = g.solve_seconds.sum() / g.model.sum()
         current, extrapolated = budget.row_seconds(mode, int(n), REFERENCE_PT[mode])
         entry = costs[ENTRY[mode]]
         entry["by_n"][str(int(n))] = float(f"{current * ratio:.4g}")
-        entry["source"] = f"benchmarks/calibrate_budget.py on {runs} ({machine()})"
+        entry["source"] = f"benchmarks/calibrate_budget.py on {names} ({machine(dated=False)})"
         out.append(
             [
                 run,

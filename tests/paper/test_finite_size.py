@@ -732,3 +732,17 @@ def test_every_claim_is_also_read_from_laws_with_its_own_exponent(runs):
     assert {"n -> inf, laws", "fit form", "laws allowed", "own x"} <= set(table.columns)
     text = " ".join(b[1] for b in render(fsm.T, v, {}, {}, []) if b[0] == "p")
     assert f"Extrapolated quantities: {len(ex)};" in text
+
+
+def test_a_fractal_dimension_from_the_last_fit_says_it_has_no_systematic():
+    """With 2,000 samples at n = 256 and 512 the fits from n >= 32 and 64 are rejected and
+    the one from n >= 128 (three sizes) is quoted: dropping another size leaves no fit, and
+    the report printed "1.8456 +- 0.0042 +- nan"."""
+    fits = pd.DataFrame({"cluster": "rigid", "mass": "nodes", "n_min": [32, 64, 128],
+                         "d": [1.807, 1.837, 1.846], "d_err": [0.002, 0.003, 0.004],
+                         "chi2": [221.0, 7.3, 0.0], "dof": [3, 2, 1]})  # fmt: skip
+    text = fsm._clusters(SimpleNamespace(fractal=fits))["d_rigid"]
+    assert "nan" not in text and "no fit-form systematic" in text and "n >= 128" in text
+    # an earlier accepted fit takes the move to the next as its systematic
+    fits.loc[1, "chi2"] = 1.0
+    assert "± 0.009 (fit form; n >= 64" in fsm._clusters(SimpleNamespace(fractal=fits))["d_rigid"]

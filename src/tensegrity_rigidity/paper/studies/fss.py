@@ -942,9 +942,11 @@ def _clusters(r: FiniteSizeResult) -> dict:
             continue
         i = ok.index(True)
         row = f.iloc[i]
-        syst = abs(f.d[i + 1] - row.d) if i + 1 < len(f) else np.nan
-        out[f"d_{cluster}"] = T.label("d_f", d=fmt(row.d, row.d_err), n_min=int(row.n_min),
-                                      syst=syst, chi2=row.chi2, dof=int(row.dof))  # fmt: skip
+        last = i + 1 == len(f)
+        syst = np.nan if last else abs(f.d[i + 1] - row.d)
+        out[f"d_{cluster}"] = T.label("d_f.last" if last else "d_f", d=fmt(row.d, row.d_err),
+                                      n_min=int(row.n_min), syst=syst, chi2=row.chi2,
+                                      dof=int(row.dof))  # fmt: skip
     return out
 
 
