@@ -70,15 +70,17 @@ def test_the_two_recent_anchors_of_p_c_disagree_beyond_their_errors():
 def test_the_committed_pebble_thresholds_with_nu_fixed_agree_with_both_anchors():
     """reports/pc's P = 1/2 points (n = 32 to 512, pebble game), refitted as the pc study's
     calibration: nu fixed at 1.1694(8), one correction over the omega range. Its statistical
-    error meets the 2e-4 aim and is well below the free-nu fit's; with the fit-form
-    systematic it lies within two combined errors of both anchors (which it cannot separate)."""
+    error is well below the free-nu fit's, and with the fit-form systematic (which, with 2,000
+    samples at n = 256 and 512, exceeds the statistical error: the sizes do not fix the
+    correction to scaling) its error meets the 2e-4 aim; it lies within two combined errors
+    of both anchors (which it cannot separate)."""
     from tensegrity_rigidity.paper.studies import fss
 
     by = pd.read_csv(REPORTS / "pc" / "tables" / "fss_by_size.csv").sort_values("n")
     free = pd.read_csv(REPORTS / "pc" / "tables" / "fss_extrapolated.csv").iloc[0]
     c = fss.pc_calibration(by.n, by.value, by.err)
     assert c is not None and c.stat <= 2e-4 and c.stat < free.y_inf_err / 2
-    assert c.allowed >= len(fss.OMEGAS) and 0 < c.syst < c.stat
+    assert c.allowed >= len(fss.OMEGAS) and 0 < c.syst and np.hypot(c.stat, c.syst) <= 2e-4
     for key in fss.PC_ANCHORS:
         lit = LITERATURE[key]
         assert abs(c.value - lit.value) < 2 * np.hypot(np.hypot(c.stat, c.syst), lit.error)
