@@ -16,7 +16,7 @@ from ..model.network import show
 
 #: ``mu`` of the Newton matrix ``R^T D R + mu I`` (relative to the mean stiffness) unless given
 DEFAULT_REGULARIZATION = 1e-12
-#: the least ``mu`` accepted: 100 times double precision's epsilon; a smaller shift is lost in
+#: the least ``mu`` accepted, about 45 times double precision's epsilon: a smaller shift is lost in
 #: the rounding of the Newton matrix's diagonal, and the factorisation of a floppy network's
 #: singular matrix fails (CHOLMOD at 1e-16)
 MIN_REGULARIZATION = 1e-14
