@@ -8,11 +8,10 @@ stiffnesses relative to the mean. ``tau`` and ``U`` are ``SolverOptions.violatio
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 
 from ..errors import InputError
-from ..model.network import show
+from ..model.network import check_real, show
 
 #: ``mu`` of the Newton matrix ``R^T D R + mu I`` (relative to the mean stiffness) unless given
 DEFAULT_REGULARIZATION = 1e-12
@@ -148,10 +147,11 @@ class Tolerances:
 
 
 def finite_number(x) -> bool:
-    """An int or float (not a bool) that is finite; an int too large for a float is not."""
-    if isinstance(x, bool) or not isinstance(x, (int, float)):
-        return False
+    """Whether ``x`` is a finite real scalar as
+    :func:`~tensegrity_rigidity.model.network.check_real` accepts it (a Python or NumPy number,
+    not a bool; an int too large for a float is not)."""
     try:
-        return math.isfinite(x)
-    except OverflowError:
+        check_real("value", x)
+    except InputError:
         return False
+    return True
